@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs every build, test and runtime dependency of volstream from Debian's packages.
+# Safe to run repeatedly; needs root (or sudo).
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config git
+  clang libclang-rt-dev            # libFuzzer targets and the sanitizer build
+  libcli11-dev nlohmann-json3-dev  # command line, manifests
+  libtbb-dev                       # CPU threads (parallel_for)
+  libpng-dev zlib1g-dev            # PNG output
+  libgtest-dev libgmock-dev        # tests
+  ffmpeg                           # video output
+  python3
+)
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  $SUDO apt-get update
+  $SUDO apt-get install -y --no-install-recommends "${missing[@]}"
+fi

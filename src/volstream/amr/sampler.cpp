@@ -1,0 +1,23 @@
+#include "volstream/amr/sampler.h"
+
+namespace vs {
+
+double sample_brute_force(const Cell* cells, const float* values, uint64_t n, const vec3d& p) {
+  double weight = 0, weighted = 0;
+  for (uint64_t i = 0; i < n; ++i) {
+    const Cell& c = cells[i];
+    const double w = double(level_width(c.level));
+    double wgt = 1;
+    for (int a = 0; a < 3 && wgt > 0; ++a) {
+      const double centre = c.lower[a] + 0.5 * w;
+      wgt *= std::max(0.0, 1.0 - std::fabs(p[a] - centre) / w);
+    }
+    if (wgt > 0) {
+      weight += wgt;
+      weighted += wgt * values[i];
+    }
+  }
+  return weight > 0 ? weighted / weight : NAN;
+}
+
+}  // namespace vs

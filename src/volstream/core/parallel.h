@@ -1,0 +1,28 @@
+// parallel_for: the one way kernels are launched. On the CPU it is a oneTBB loop over chunks;
+// the CUDA backend (cuda/launch.cuh) provides the same signature as a grid launch.
+#pragma once
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace vs {
+
+template <typename F>
+void parallel_for(const char* /*name*/, int64_t n, F&& f) {
+  if (n <= 0) return;
+  tbb::parallel_for(tbb::blocked_range<int64_t>(0, n), [&](const tbb::blocked_range<int64_t>& r) {
+    for (int64_t i = r.begin(); i != r.end(); ++i) f(i);
+  });
+}
+
+// Like parallel_for, but hands each task a contiguous [begin, end) range (for per-task state).
+template <typename F>
+void parallel_for_ranges(int64_t n, F&& f, int64_t grain = 1) {
+  if (n <= 0) return;
+  tbb::parallel_for(tbb::blocked_range<int64_t>(0, n, grain),
+                    [&](const tbb::blocked_range<int64_t>& r) { f(r.begin(), r.end()); });
+}
+
+}  // namespace vs

@@ -1,0 +1,97 @@
+// The native dataset directory (docs/formats.md): manifest.json, topology files, and one
+// float32 file per (field, step) in device order, padded to 4 KiB, plus per-ABR value ranges.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "volstream/amr/model.h"
+#include "volstream/amr/source.h"
+
+namespace vs {
+
+inline constexpr int kDatasetFormatVersion = 1;
+inline constexpr uint64_t kFileAlignment = 4096;
+
+inline uint64_t align_up(uint64_t n, uint64_t a = kFileAlignment) { return (n + a - 1) / a * a; }
+
+struct FieldInfo {
+  std::string name;
+  std::string dir;                 // sub-directory name under fields/
+  std::vector<Range> step_ranges;  // global min/max per step
+};
+
+struct LevelInfo {
+  int32_t level;        // log2 width
+  uint64_t cell_count;
+};
+
+struct DatasetManifest {
+  int format_version = kDatasetFormatVersion;
+  std::string source;              // what it was converted from
+  WorldTransform transform;
+  box3i grid_bounds;               // bounding box of all cells, grid units
+  uint64_t cell_count = 0;
+  std::vector<LevelInfo> levels;
+  std::vector<FieldInfo> fields;
+  std::vector<double> step_times;
+  uint64_t brick_count = 0, abr_count = 0, abr_brick_count = 0;
+  int step_count() const { return int(step_times.size()); }
+  int field_index(const std::string& name) const;  // -1 if absent
+};
+
+// Names of files inside a dataset directory.
+namespace dataset_files {
+inline constexpr const char* kManifest = "manifest.json";
+inline constexpr const char* kCells = "cells.bin";
+inline constexpr const char* kBricks = "bricks.bin";
+inline constexpr const char* kAbrs = "abrs.bin";
+inline constexpr const char* kAbrBricks = "abr_bricks.bin";
+std::string field_values(const FieldInfo& f, int step);  // relative path
+std::string field_ranges(const FieldInfo& f, int step);  // relative path
+}  // namespace dataset_files
+
+// Writes a dataset: topology first, then values step by step (any order), manifest last.
+class DatasetWriter {
+ public:
+  DatasetWriter(std::filesystem::path dir, DatasetManifest manifest_without_fields,
+                const std::vector<std::string>& field_names);
+  void write_topology(const AmrTopology& topology, const std::vector<Cell>& device_cells);
+  // values: cell_count floats in device order. Computes and stores the per-ABR ranges.
+  void write_values(int field, int step, const std::vector<float>& values);
+  void finish();  // writes manifest.json
+  const DatasetManifest& manifest() const { return manifest_; }
+
+ private:
+  std::filesystem::path dir_;
+  DatasetManifest manifest_;
+  const AmrTopology* topology_ = nullptr;
+};
+
+// A dataset opened for reading. Topology is loaded on open; values on request.
+class Dataset {
+ public:
+  explicit Dataset(const std::filesystem::path& dir);  // throws InputError
+  const DatasetManifest& manifest() const { return manifest_; }
+  const AmrTopology& topology() const { return topology_; }
+  const std::filesystem::path& dir() const { return dir_; }
+  std::vector<Cell> load_cells() const;  // device order; for brute-force reference only
+  std::vector<float> load_values(int field, int step) const;
+  std::vector<Range> load_abr_ranges(int field, int step) const;
+  // Path of a field file (for the streaming reader).
+  std::filesystem::path values_path(int field, int step) const;
+
+ private:
+  std::filesystem::path dir_;
+  DatasetManifest manifest_;
+  AmrTopology topology_;
+};
+
+// Converts any source into a dataset directory, reading one (field, step) at a time.
+struct ConvertOptions {
+  bool quiet = false;  // no progress bar
+};
+void convert_to_dataset(AmrSource& source, const std::filesystem::path& out_dir, const ConvertOptions& options = {});
+
+}  // namespace vs

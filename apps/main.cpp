@@ -1,1 +1,35 @@
-int main() { return 0; }
+// volstream: the command-line tool. Errors in input become one line on stderr and exit status 2.
+#include <cstdio>
+#include <exception>
+#include <new>
+
+#include "commands.h"
+#include "volstream/core/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"volstream: streaming renderer for huge time-varying AMR volumes"};
+  app.require_subcommand(1);
+  vs::cli::add_demo_command(app);
+  vs::cli::add_convert_command(app);
+  vs::cli::add_info_command(app);
+  vs::cli::add_probe_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  } catch (const vs::InputError& e) {
+    std::fprintf(stderr, "volstream: %s: %s\n", e.file().c_str(), e.what());
+    return 2;
+  } catch (const vs::UsageError& e) {
+    std::fprintf(stderr, "volstream: %s\n", e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "volstream: out of memory\n");
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "volstream: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

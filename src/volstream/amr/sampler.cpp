@@ -1,5 +1,7 @@
 #include "volstream/amr/sampler.h"
 
+#include <algorithm>
+
 namespace vs {
 
 double sample_brute_force(const Cell* cells, const float* values, uint64_t n, const vec3d& p) {

@@ -33,6 +33,8 @@ class AmrSource {
   virtual void read_values(int field, int step, float* out) = 0;
   // A short description for `info` ("AMReX plotfile", "demo jet", ...).
   virtual std::string description() const = 0;
+  // The file named in errors about the cells (e.g. overlapping cells); defaults to description().
+  virtual std::string origin() const { return description(); }
 };
 
 }  // namespace vs

@@ -92,6 +92,10 @@ class Dataset {
 struct ConvertOptions {
   bool quiet = false;  // no progress bar
 };
-void convert_to_dataset(AmrSource& source, const std::filesystem::path& out_dir, const ConvertOptions& options = {});
+struct ConvertStats {
+  double cells_seconds = 0, bricks_seconds = 0, abrs_seconds = 0, values_seconds = 0;
+  uint64_t topology_bytes = 0;  // bricks + ABRs + ABR brick lists
+};
+ConvertStats convert_to_dataset(AmrSource& source, const std::filesystem::path& out_dir, const ConvertOptions& options = {});
 
 }  // namespace vs

@@ -1,0 +1,45 @@
+// A binary BVH over boxes (the ABRs), one box per leaf so that a leaf can be culled on its own.
+// Children of a node are stored next to each other: right child = left child + 1.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "volstream/core/math.h"
+
+namespace vs {
+
+struct BvhNode {
+  box3f box;
+  uint32_t index;    // inner node: first child; leaf: item index
+  uint32_t is_leaf;
+};
+
+struct Bvh {
+  std::vector<BvhNode> nodes;  // nodes[0] is the root (when not empty)
+};
+
+// Builds over `boxes` by splitting at the median centroid of the longest axis.
+Bvh build_bvh(const std::vector<box3f>& boxes);
+
+// Index of an item whose box contains p (closed boxes), or -1. For disjoint items (ABRs) any
+// point on a shared face belongs to either, both give the same reconstruction.
+template <typename ItemBox>
+VS_HOST_DEVICE int64_t bvh_locate(const BvhNode* nodes, uint32_t node_count, ItemBox&& item_box, const vec3f& p) {
+  if (node_count == 0) return -1;
+  uint32_t stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const BvhNode& n = nodes[stack[--top]];
+    if (!n.box.contains(p)) continue;
+    if (n.is_leaf) {
+      if (item_box(n.index).contains(p)) return n.index;
+      continue;
+    }
+    stack[top++] = n.index + 1;
+    stack[top++] = n.index;
+  }
+  return -1;
+}
+
+}  // namespace vs

@@ -1,0 +1,204 @@
+// ABR builder. Space is cut recursively at the faces of brick support boxes: a region whose
+// overlapping bricks all contain it completely (no support face inside it) is a leaf, an ABR.
+// Every region keeps the list of bricks whose support overlaps it, so each ABR's list is exact.
+// Coordinates are doubled (half-grid units) so that supports, which reach half a cell beyond the
+// brick, stay integer.
+#include "volstream/amr/abrs.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "volstream/core/error.h"
+#include "volstream/core/parallel.h"
+
+namespace vs {
+namespace {
+
+struct Region {
+  box3i box_x2;                  // half-grid units
+  std::vector<uint32_t> bricks;  // bricks whose support overlaps box_x2 (open overlap)
+};
+
+struct AbrOutput {
+  std::vector<Abr> abrs;
+  std::vector<uint32_t> abr_bricks;
+};
+
+class AbrBuilder {
+ public:
+  AbrBuilder(const std::vector<Brick>& bricks, const std::string& source) : bricks_(bricks), source_(source) {
+    supports_.reserve(bricks.size());
+    for (const Brick& b : bricks) supports_.push_back(b.support_x2());
+  }
+
+  // Splits `r` at the support face that leaves the larger smaller half (the most central cut
+  // over all axes), which keeps the recursion shallow. Returns false when `r` is a leaf.
+  bool split(Region& r, Region& left, Region& right) const {
+    int best_axis = -1;
+    int32_t best_plane = 0;
+    int64_t best_score = 0;
+    for (uint32_t id : r.bricks) {
+      for (int axis = 0; axis < 3; ++axis) {
+        const int32_t lo = r.box_x2.lower[axis], hi = r.box_x2.upper[axis];
+        for (int32_t face : {supports_[id].lower[axis], supports_[id].upper[axis]}) {
+          const int64_t score = std::min(int64_t(face) - lo, int64_t(hi) - face);
+          if (score > best_score || (score == best_score && score > 0 && (axis < best_axis || (axis == best_axis && face < best_plane)))) {
+            best_score = score;
+            best_axis = axis;
+            best_plane = face;
+          }
+        }
+      }
+    }
+    if (best_axis < 0) return false;
+    left.box_x2 = right.box_x2 = r.box_x2;
+    left.box_x2.upper[best_axis] = best_plane;
+    right.box_x2.lower[best_axis] = best_plane;
+    left.bricks.clear();
+    right.bricks.clear();
+    for (uint32_t id : r.bricks) {
+      if (supports_[id].lower[best_axis] < best_plane) left.bricks.push_back(id);
+      if (supports_[id].upper[best_axis] > best_plane) right.bricks.push_back(id);
+    }
+    return true;
+  }
+
+  void build_subtree(Region& r, AbrOutput& out) const {
+    if (r.bricks.empty()) return;  // outside every support
+    Region left, right;
+    if (!split(r, left, right)) return emit_leaf(r, out);
+    std::vector<uint32_t>().swap(r.bricks);
+    build_subtree(left, out);
+    build_subtree(right, out);
+  }
+
+ private:
+  void emit_leaf(const Region& r, AbrOutput& out) const {
+    check_no_overlap(r);
+    Abr a;
+    a.box = {vec3f(r.box_x2.lower) * 0.5f, vec3f(r.box_x2.upper) * 0.5f};
+    a.first_brick = uint32_t(out.abr_bricks.size());  // local; rebased when outputs are joined
+    a.brick_count = uint32_t(r.bricks.size());
+    int32_t finest = INT32_MAX;
+    for (uint32_t id : r.bricks) finest = std::min(finest, bricks_[id].width());
+    a.finest_width = float(finest);
+    out.abrs.push_back(a);
+    out.abr_bricks.insert(out.abr_bricks.end(), r.bricks.begin(), r.bricks.end());
+  }
+
+  // Two bricks whose cells overlap would both be listed in some leaf and overlap inside it.
+  void check_no_overlap(const Region& r) const {
+    uint32_t inside[8];
+    int n = 0;
+    for (uint32_t id : r.bricks) {
+      const box3i cells = bricks_[id].cell_box();
+      const box3i cells_x2{cells.lower * 2, cells.upper * 2};
+      if (!cells_x2.overlaps_open(r.box_x2)) continue;
+      for (int j = 0; j < n; ++j) {
+        const box3i other = bricks_[inside[j]].cell_box();
+        if (cells.overlaps_open(other)) overlap_error(id, inside[j]);
+      }
+      if (n == 8) overlap_error(id, inside[0]);  // more than 8 disjoint boxes cannot meet here
+      inside[n++] = id;
+    }
+  }
+
+  [[noreturn]] void overlap_error(uint32_t a, uint32_t b) const {
+    const Brick &A = bricks_[a], &B = bricks_[b];
+    input_error(source_, "cells overlap: level " + std::to_string(A.level) + " cells at (" + std::to_string(A.lower.x) +
+                             "," + std::to_string(A.lower.y) + "," + std::to_string(A.lower.z) + ") and level " +
+                             std::to_string(B.level) + " cells at (" + std::to_string(B.lower.x) + "," +
+                             std::to_string(B.lower.y) + "," + std::to_string(B.lower.z) + ")");
+  }
+
+  const std::vector<Brick>& bricks_;
+  const std::string& source_;
+  std::vector<box3i> supports_;
+};
+
+// Splits breadth-first (keeping left-before-right order) until there is enough independent work.
+std::vector<Region> expand_frontier(const AbrBuilder& builder, Region root, size_t want) {
+  std::vector<Region> frontier;
+  frontier.push_back(std::move(root));
+  for (int round = 0; round < 16 && frontier.size() < want; ++round) {
+    std::vector<Region> next;
+    bool changed = false;
+    for (Region& r : frontier) {
+      Region left, right;
+      if (r.bricks.size() > 64 && builder.split(r, left, right)) {
+        next.push_back(std::move(left));
+        next.push_back(std::move(right));
+        changed = true;
+      } else {
+        next.push_back(std::move(r));
+      }
+    }
+    frontier.swap(next);
+    if (!changed) break;
+  }
+  return frontier;
+}
+
+}  // namespace
+
+void build_abrs(AmrTopology& topology, const std::string& source_name) {
+  topology.abrs.clear();
+  topology.abr_bricks.clear();
+  if (topology.bricks.empty()) return;
+  AbrBuilder builder(topology.bricks, source_name);
+  Region root;
+  root.box_x2 = box3i::make_empty();
+  for (uint32_t i = 0; i < topology.bricks.size(); ++i) {
+    root.box_x2.extend(topology.bricks[i].support_x2());
+    root.bricks.push_back(i);
+  }
+  std::vector<Region> frontier = expand_frontier(builder, std::move(root), 256);
+  std::vector<AbrOutput> outputs(frontier.size());
+  parallel_for("abr_build", int64_t(frontier.size()), [&](int64_t i) { builder.build_subtree(frontier[size_t(i)], outputs[size_t(i)]); });
+  for (AbrOutput& out : outputs) {
+    const uint32_t base = uint32_t(topology.abr_bricks.size());
+    if (topology.abr_bricks.size() + out.abr_bricks.size() >= UINT32_MAX)
+      input_error(source_name, "too many ABR brick references");
+    for (Abr& a : out.abrs) a.first_brick += base;
+    topology.abrs.insert(topology.abrs.end(), out.abrs.begin(), out.abrs.end());
+    topology.abr_bricks.insert(topology.abr_bricks.end(), out.abr_bricks.begin(), out.abr_bricks.end());
+    out = {};
+  }
+}
+
+std::vector<Range> compute_brick_ranges(const AmrTopology& topology, const float* values) {
+  std::vector<Range> ranges(topology.bricks.size());
+  parallel_for("brick_ranges", int64_t(ranges.size()), [&](int64_t i) {
+    const Brick& b = topology.bricks[size_t(i)];
+    Range r{INFINITY, -INFINITY};
+    const float* v = values + b.value_offset;
+    for (int64_t c = 0; c < b.cell_count(); ++c) {
+      if (std::isnan(v[c])) continue;
+      r.lo = std::min(r.lo, v[c]);
+      r.hi = std::max(r.hi, v[c]);
+    }
+    ranges[size_t(i)] = r;
+  });
+  return ranges;
+}
+
+std::vector<Range> compute_abr_ranges(const AmrTopology& topology, const std::vector<Range>& brick_ranges) {
+  std::vector<Range> ranges(topology.abrs.size());
+  parallel_for("abr_ranges", int64_t(ranges.size()), [&](int64_t i) {
+    const Abr& a = topology.abrs[size_t(i)];
+    Range r{INFINITY, -INFINITY};
+    for (uint32_t k = 0; k < a.brick_count; ++k) {
+      const Range& b = brick_ranges[topology.abr_bricks[a.first_brick + k]];
+      r.lo = std::min(r.lo, b.lo);
+      r.hi = std::max(r.hi, b.hi);
+    }
+    // The sampler's float weighted average can land a few ulps outside the exact convex hull of
+    // its inputs; widen so the range bounds every value it returns.
+    const float slack = 1e-5f * std::max(std::abs(r.lo), std::abs(r.hi));
+    if (r.lo <= r.hi) r = {r.lo - slack, r.hi + slack};
+    ranges[size_t(i)] = r;
+  });
+  return ranges;
+}
+
+}  // namespace vs

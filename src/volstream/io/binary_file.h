@@ -1,0 +1,32 @@
+// Checked binary file access: every read states how many bytes it expects, so a short or
+// oversized file becomes an InputError instead of garbage.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace vs {
+
+uint64_t file_size_checked(const std::filesystem::path& path);  // InputError if missing
+// Reads exactly `bytes` bytes from `offset`; InputError if the file is shorter.
+void read_exact(const std::filesystem::path& path, uint64_t offset, void* dst, uint64_t bytes);
+std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes = 64u << 20);
+// Writes `bytes` bytes, zero-padded to a multiple of `pad_to` (1 = no padding).
+void write_file(const std::filesystem::path& path, const void* data, uint64_t bytes, uint64_t pad_to = 1);
+
+[[noreturn]] void throw_size_mismatch(const std::filesystem::path& path, uint64_t size, uint64_t expected);
+
+// Reads a whole file of trivially copyable records; the size must be exactly count * sizeof(T).
+template <typename T>
+std::vector<T> read_records(const std::filesystem::path& path, uint64_t count, uint64_t allowed_padding = 1) {
+  const uint64_t size = file_size_checked(path);
+  const uint64_t bytes = count * sizeof(T);
+  if (count > (uint64_t(1) << 40) / sizeof(T) || size < bytes || size - bytes >= allowed_padding)
+    throw_size_mismatch(path, size, bytes);
+  std::vector<T> out(count);
+  if (bytes) read_exact(path, 0, out.data(), bytes);
+  return out;
+}
+
+}  // namespace vs

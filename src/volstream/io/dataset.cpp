@@ -1,0 +1,293 @@
+#include "volstream/io/dataset.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "volstream/amr/abrs.h"
+#include "volstream/amr/bricks.h"
+#include "volstream/core/error.h"
+#include "volstream/core/parallel.h"
+#include "volstream/core/progress.h"
+#include "volstream/io/binary_file.h"
+
+namespace vs {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+int DatasetManifest::field_index(const std::string& name) const {
+  for (size_t i = 0; i < fields.size(); ++i)
+    if (fields[i].name == name) return int(i);
+  return -1;
+}
+
+namespace dataset_files {
+static std::string step_name(int step) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "step_%06d", step);
+  return buf;
+}
+std::string field_values(const FieldInfo& f, int step) { return "fields/" + f.dir + "/" + step_name(step) + ".f32"; }
+std::string field_ranges(const FieldInfo& f, int step) { return "fields/" + f.dir + "/" + step_name(step) + ".abr_ranges"; }
+}  // namespace dataset_files
+
+namespace {
+
+// A field name made safe as a directory name; unique among the dataset's fields.
+std::string field_dir_name(const std::string& name, size_t index) {
+  std::string dir;
+  for (char c : name) dir += (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-') ? c : '_';
+  if (dir.empty() || dir.size() > 64) dir = "field";
+  return std::to_string(index) + "_" + dir;
+}
+
+json to_json(const vec3d& v) { return json::array({v.x, v.y, v.z}); }
+json to_json(const vec3i& v) { return json::array({v.x, v.y, v.z}); }
+
+json manifest_to_json(const DatasetManifest& m) {
+  json j;
+  j["format"] = "volstream-amr";
+  j["format_version"] = m.format_version;
+  j["source"] = m.source;
+  j["transform"] = {{"origin", to_json(m.transform.origin)}, {"cell_size", to_json(m.transform.cell_size)}};
+  j["grid_bounds"] = {{"lower", to_json(m.grid_bounds.lower)}, {"upper", to_json(m.grid_bounds.upper)}};
+  j["cell_count"] = m.cell_count;
+  j["brick_count"] = m.brick_count;
+  j["abr_count"] = m.abr_count;
+  j["abr_brick_count"] = m.abr_brick_count;
+  for (const auto& l : m.levels) j["levels"].push_back({{"level", l.level}, {"cells", l.cell_count}});
+  j["step_times"] = m.step_times;
+  for (const auto& f : m.fields) {
+    json ranges = json::array();
+    for (const Range& r : f.step_ranges) ranges.push_back({r.lo, r.hi});
+    j["fields"].push_back({{"name", f.name}, {"dir", f.dir}, {"step_ranges", ranges}});
+  }
+  return j;
+}
+
+template <typename T>
+Vec3<T> vec_from_json(const json& j) {
+  if (!j.is_array() || j.size() != 3) throw std::runtime_error("expected an array of 3 numbers");
+  return {j[0].get<T>(), j[1].get<T>(), j[2].get<T>()};
+}
+
+DatasetManifest manifest_from_json(const json& j) {
+  DatasetManifest m;
+  if (j.at("format").get<std::string>() != "volstream-amr") throw std::runtime_error("not a volstream-amr manifest");
+  m.format_version = j.at("format_version").get<int>();
+  if (m.format_version != kDatasetFormatVersion)
+    throw std::runtime_error("format version " + std::to_string(m.format_version) + " is not supported");
+  m.source = j.at("source").get<std::string>();
+  m.transform.origin = vec_from_json<double>(j.at("transform").at("origin"));
+  m.transform.cell_size = vec_from_json<double>(j.at("transform").at("cell_size"));
+  m.grid_bounds.lower = vec_from_json<int32_t>(j.at("grid_bounds").at("lower"));
+  m.grid_bounds.upper = vec_from_json<int32_t>(j.at("grid_bounds").at("upper"));
+  m.cell_count = j.at("cell_count").get<uint64_t>();
+  m.brick_count = j.at("brick_count").get<uint64_t>();
+  m.abr_count = j.at("abr_count").get<uint64_t>();
+  m.abr_brick_count = j.at("abr_brick_count").get<uint64_t>();
+  for (const auto& l : j.at("levels")) m.levels.push_back({l.at("level").get<int32_t>(), l.at("cells").get<uint64_t>()});
+  m.step_times = j.at("step_times").get<std::vector<double>>();
+  for (const auto& f : j.at("fields")) {
+    FieldInfo info{f.at("name").get<std::string>(), f.at("dir").get<std::string>(), {}};
+    for (const auto& r : f.at("step_ranges")) info.step_ranges.push_back({r.at(0).get<float>(), r.at(1).get<float>()});
+    m.fields.push_back(std::move(info));
+  }
+  return m;
+}
+
+void validate_manifest(const DatasetManifest& m) {
+  auto fail = [](const std::string& what) { throw std::runtime_error(what); };
+  for (int a = 0; a < 3; ++a)
+    if (!(m.transform.cell_size[a] > 0) || !std::isfinite(m.transform.cell_size[a]) || !std::isfinite(m.transform.origin[a]))
+      fail("transform must be finite with positive cell size");
+  if (m.step_times.empty()) fail("no time steps");
+  if (m.step_times.size() > 1000000) fail("too many time steps");
+  if (m.fields.empty()) fail("no fields");
+  for (const auto& f : m.fields) {
+    if (f.step_ranges.size() != m.step_times.size()) fail("field '" + f.name + "' has a range count unequal to the step count");
+    if (f.dir.empty() || f.dir.find('/') != std::string::npos || f.dir.find("..") != std::string::npos)
+      fail("field '" + f.name + "' has a bad directory name");
+  }
+  uint64_t level_cells = 0;
+  for (const auto& l : m.levels) {
+    if (l.level < 0 || l.level > kMaxLevel) fail("level out of range");
+    level_cells += l.cell_count;
+  }
+  if (level_cells != m.cell_count) fail("cells per level do not add up to cell_count");
+  if (m.cell_count >= UINT32_MAX || m.brick_count > m.cell_count || m.abr_brick_count >= UINT32_MAX)
+    fail("counts out of range");
+}
+
+void validate_topology(const AmrTopology& t, const std::string& file) {
+  uint64_t next = 0;
+  for (const Brick& b : t.bricks) {
+    bool ok = b.level >= 0 && b.level <= kMaxLevel && b.value_offset == next;
+    for (int a = 0; a < 3 && ok; ++a)
+      ok = b.dims[a] > 0 && b.dims[a] <= (1 << 20) && b.lower[a] > -kMaxCoord && b.lower[a] < kMaxCoord &&
+           int64_t(b.lower[a]) + int64_t(b.dims[a]) * b.width() < kMaxCoord;
+    if (!ok) input_error(file, "brick " + std::to_string(&b - t.bricks.data()) + " is invalid");
+    next += uint64_t(b.cell_count());
+  }
+  if (next != t.cell_count) input_error(file, "bricks hold " + std::to_string(next) + " cells, manifest says " + std::to_string(t.cell_count));
+  for (const Abr& a : t.abrs) {
+    if (uint64_t(a.first_brick) + a.brick_count > t.abr_bricks.size() || a.brick_count == 0 || !(a.finest_width >= 1))
+      input_error(file, "ABR " + std::to_string(&a - t.abrs.data()) + " is invalid");
+  }
+  for (uint32_t id : t.abr_bricks)
+    if (id >= t.bricks.size()) input_error(file, "ABR brick index " + std::to_string(id) + " out of range");
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+DatasetWriter::DatasetWriter(fs::path dir, DatasetManifest manifest, const std::vector<std::string>& field_names)
+    : dir_(std::move(dir)), manifest_(std::move(manifest)) {
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec) input_error(dir_.string(), "cannot create directory: " + ec.message());
+  for (size_t i = 0; i < field_names.size(); ++i) {
+    FieldInfo f{field_names[i], field_dir_name(field_names[i], i), {}};
+    f.step_ranges.assign(manifest_.step_times.size(), Range{INFINITY, -INFINITY});
+    fs::create_directories(dir_ / "fields" / f.dir, ec);
+    if (ec) input_error((dir_ / "fields" / f.dir).string(), "cannot create directory: " + ec.message());
+    manifest_.fields.push_back(std::move(f));
+  }
+}
+
+void DatasetWriter::write_topology(const AmrTopology& t, const std::vector<Cell>& device_cells) {
+  topology_ = &t;
+  manifest_.cell_count = t.cell_count;
+  manifest_.brick_count = t.bricks.size();
+  manifest_.abr_count = t.abrs.size();
+  manifest_.abr_brick_count = t.abr_bricks.size();
+  write_file(dir_ / dataset_files::kCells, device_cells.data(), device_cells.size() * sizeof(Cell));
+  write_file(dir_ / dataset_files::kBricks, t.bricks.data(), t.bricks.size() * sizeof(Brick));
+  write_file(dir_ / dataset_files::kAbrs, t.abrs.data(), t.abrs.size() * sizeof(Abr));
+  write_file(dir_ / dataset_files::kAbrBricks, t.abr_bricks.data(), t.abr_bricks.size() * sizeof(uint32_t));
+}
+
+void DatasetWriter::write_values(int field, int step, const std::vector<float>& values) {
+  FieldInfo& f = manifest_.fields.at(size_t(field));
+  write_file(dir_ / dataset_files::field_values(f, step), values.data(), values.size() * sizeof(float), kFileAlignment);
+  const auto brick_ranges = compute_brick_ranges(*topology_, values.data());
+  const auto abr_ranges = compute_abr_ranges(*topology_, brick_ranges);
+  write_file(dir_ / dataset_files::field_ranges(f, step), abr_ranges.data(), abr_ranges.size() * sizeof(Range));
+  Range global{INFINITY, -INFINITY};
+  for (const Range& r : brick_ranges) global = {std::min(global.lo, r.lo), std::max(global.hi, r.hi)};
+  f.step_ranges.at(size_t(step)) = global;
+}
+
+void DatasetWriter::finish() {
+  const std::string text = manifest_to_json(manifest_).dump(1);
+  write_file(dir_ / dataset_files::kManifest, text.data(), text.size());
+}
+
+// ---------------------------------------------------------------------------------------------
+Dataset::Dataset(const fs::path& dir) : dir_(dir) {
+  const fs::path manifest_path = dir / dataset_files::kManifest;
+  try {
+    manifest_ = manifest_from_json(json::parse(read_text_file(manifest_path)));
+    validate_manifest(manifest_);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    input_error(manifest_path.string(), std::string("bad manifest: ") + e.what());
+  }
+  topology_.cell_count = manifest_.cell_count;
+  topology_.bricks = read_records<Brick>(dir / dataset_files::kBricks, manifest_.brick_count);
+  topology_.abrs = read_records<Abr>(dir / dataset_files::kAbrs, manifest_.abr_count);
+  topology_.abr_bricks = read_records<uint32_t>(dir / dataset_files::kAbrBricks, manifest_.abr_brick_count);
+  validate_topology(topology_, (dir / dataset_files::kBricks).string());
+}
+
+std::vector<Cell> Dataset::load_cells() const { return read_records<Cell>(dir_ / dataset_files::kCells, manifest_.cell_count); }
+
+fs::path Dataset::values_path(int field, int step) const {
+  return dir_ / dataset_files::field_values(manifest_.fields.at(size_t(field)), step);
+}
+
+std::vector<float> Dataset::load_values(int field, int step) const {
+  return read_records<float>(values_path(field, step), manifest_.cell_count, kFileAlignment);
+}
+
+std::vector<Range> Dataset::load_abr_ranges(int field, int step) const {
+  return read_records<Range>(dir_ / dataset_files::field_ranges(manifest_.fields.at(size_t(field)), step), manifest_.abr_count);
+}
+
+// ---------------------------------------------------------------------------------------------
+namespace {
+std::vector<LevelInfo> count_levels(const std::vector<Brick>& bricks) {
+  std::vector<uint64_t> counts(kMaxLevel + 1, 0);
+  for (const Brick& b : bricks) counts[size_t(b.level)] += uint64_t(b.cell_count());
+  std::vector<LevelInfo> levels;
+  for (int l = 0; l <= kMaxLevel; ++l)
+    if (counts[size_t(l)]) levels.push_back({l, counts[size_t(l)]});
+  return levels;
+}
+
+box3i grid_bounds(const std::vector<Brick>& bricks) {
+  box3i b = box3i::make_empty();
+  for (const Brick& br : bricks) b.extend(br.cell_box());
+  return b;
+}
+}  // namespace
+
+ConvertStats convert_to_dataset(AmrSource& source, const fs::path& out_dir, const ConvertOptions& options) {
+  using clock = std::chrono::steady_clock;
+  auto seconds_since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
+  ConvertStats stats;
+  auto t0 = clock::now();
+  const std::string origin = source.origin();
+  std::vector<Cell> cells = source.take_cells();
+  if (cells.empty()) input_error(origin, "no cells");
+  stats.cells_seconds = seconds_since(t0);
+
+  t0 = clock::now();
+  BrickBuildResult built = build_bricks(std::move(cells), origin);
+  AmrTopology topology;
+  topology.cell_count = built.device_cells.size();
+  topology.bricks = std::move(built.bricks);
+  stats.bricks_seconds = seconds_since(t0);
+
+  t0 = clock::now();
+  build_abrs(topology, origin);
+  stats.abrs_seconds = seconds_since(t0);
+  stats.topology_bytes = topology.bricks.size() * sizeof(Brick) + topology.abrs.size() * sizeof(Abr) +
+                         topology.abr_bricks.size() * sizeof(uint32_t);
+
+  DatasetManifest manifest;
+  manifest.source = source.description();
+  manifest.transform = source.transform();
+  manifest.grid_bounds = grid_bounds(topology.bricks);
+  manifest.levels = count_levels(topology.bricks);
+  for (int s = 0; s < source.step_count(); ++s) manifest.step_times.push_back(source.step_time(s));
+  const auto field_names = source.field_names();
+  DatasetWriter writer(out_dir, manifest, field_names);
+  writer.write_topology(topology, built.device_cells);
+  std::vector<Cell>().swap(built.device_cells);
+
+  t0 = clock::now();
+  const uint64_t n = topology.cell_count;
+  std::vector<float> input(n), device(n);
+  const int steps = source.step_count();
+  Progress progress("converting", uint64_t(steps) * field_names.size(), !options.quiet);
+  for (int step = 0; step < steps; ++step) {
+    for (size_t field = 0; field < field_names.size(); ++field) {
+      progress.set_detail(field_names[field] + " step " + std::to_string(step));
+      source.read_values(int(field), step, input.data());
+      const uint32_t* index = built.input_index.data();
+      parallel_for("reorder", int64_t(n), [&](int64_t i) { device[size_t(i)] = input[index[i]]; });
+      writer.write_values(int(field), step, device);
+      progress.advance();
+    }
+  }
+  progress.finish();
+  stats.values_seconds = seconds_since(t0);
+  writer.finish();
+  return stats;
+}
+
+}  // namespace vs

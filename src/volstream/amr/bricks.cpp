@@ -47,8 +47,9 @@ class LevelBuilder {
   void build_node(uint64_t begin, uint64_t end, tbb::task_group& tasks) {
     box3i box = bounds(begin, end);
     const vec3i dims = box.upper - box.lower + vec3i(1);
-    const uint64_t volume = uint64_t(dims.x) * dims.y * dims.z;
     const uint64_t count = end - begin;
+    // Saturate instead of overflowing: coordinates may span 2^29 cells per axis.
+    const uint64_t volume = std::min<uint64_t>(uint64_t(dims.x) * uint64_t(dims.y), count + 1) * uint64_t(dims.z);
     if (count > volume) input_error(source_, "two cells at the same position (level " + std::to_string(level_) + ")");
     Split split;
     if (count == volume) {

@@ -1,0 +1,42 @@
+// The native dataset reader: a valid small dataset with one of its files patched.
+#include "fuzz_util.h"
+#include "volstream/amr/probe.h"
+#include "volstream/io/dataset.h"
+#include "volstream/io/raw_grid.h"
+
+#include <fstream>
+#include <vector>
+
+namespace {
+std::filesystem::path make_base(const std::filesystem::path& dir) {
+  using namespace vs;
+  std::vector<float> v(4 * 3 * 2);
+  for (size_t i = 0; i < v.size(); ++i) v[i] = float(i);
+  std::ofstream(dir / "g.raw", std::ios::binary).write((const char*)v.data(), std::streamsize(v.size() * 4));
+  RawGridInput in;
+  in.files = {dir / "g.raw"};
+  in.dims = {4, 3, 2};
+  auto source = open_raw_grid(in);
+  convert_to_dataset(*source, dir / "base", {true});
+  return dir / "base";
+}
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace vs;
+  static const auto dir = fuzz::scratch("dataset");
+  static const auto base = make_base(dir);
+  const auto work = dir / "work";
+  fuzz::copy_tree(base, work);
+  const std::vector<std::filesystem::path> files = {
+      work / "manifest.json", work / "bricks.bin", work / "abrs.bin", work / "abr_bricks.bin", work / "cells.bin",
+      work / "fields/0_scalar/step_000000.f32"};
+  if (!fuzz::apply_patch(files, data, size)) return 0;
+  fuzz::expect_clean([&] {
+    Dataset ds(work);
+    const auto values = ds.load_values(0, 0);
+    const Bvh bvh = build_abr_bvh(ds.topology());
+    (void)probe_points(ds.topology(), bvh, values.data(), {vec3f(1.f, 1.f, 1.f), vec3f(3.5f, 2.5f, 1.5f)});
+  });
+  return 0;
+}

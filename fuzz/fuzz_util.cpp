@@ -1,0 +1,60 @@
+#include "fuzz_util.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string>
+
+#include "volstream/core/error.h"
+
+namespace vs::fuzz {
+namespace fs = std::filesystem;
+
+fs::path scratch(const char* name) {
+  fs::path dir = fs::temp_directory_path() / ("volstream_fuzz_" + std::string(name) + "_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+void copy_tree(const fs::path& from, const fs::path& to) {
+  fs::remove_all(to);
+  fs::copy(from, to, fs::copy_options::recursive);
+}
+
+bool apply_patch(const std::vector<fs::path>& files, const uint8_t* data, size_t size) {
+  if (size < 5 || files.empty()) return false;
+  const fs::path& file = files[(data[0] & 0x7f) % files.size()];
+  uint32_t offset;
+  std::memcpy(&offset, data + 1, 4);
+  std::string content;
+  {
+    std::ifstream in(file, std::ios::binary);
+    content.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  offset = content.empty() ? 0 : offset % uint32_t(content.size() + 1);
+  if (data[0] & 0x80) {
+    content.resize(offset);
+  } else {
+    const size_t n = size - 5;
+    if (content.size() < offset + n) content.resize(offset + n);
+    std::memcpy(content.data() + offset, data + 5, n);
+  }
+  std::ofstream(file, std::ios::binary | std::ios::trunc).write(content.data(), std::streamsize(content.size()));
+  return true;
+}
+
+void expect_clean(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError&) {
+  } catch (const UsageError&) {
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "unexpected exception: %s\n", e.what());
+    std::abort();
+  }
+}
+
+}  // namespace vs::fuzz

@@ -1,0 +1,21 @@
+// Shared by the fuzz targets: a scratch directory per process, and "patch a valid file" inputs
+// (byte 0 picks the file, bytes 1-4 an offset; the rest overwrites the file there, or with the
+// top bit of byte 0 set the file is truncated at the offset) so the fuzzer explores deep paths
+// of the parsers starting from valid data.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <vector>
+
+namespace vs::fuzz {
+
+std::filesystem::path scratch(const char* name);  // created once per process
+void copy_tree(const std::filesystem::path& from, const std::filesystem::path& to);  // replaces `to`
+// Applies the patch in data to one of `files`; returns false if data is too short.
+bool apply_patch(const std::vector<std::filesystem::path>& files, const uint8_t* data, size_t size);
+// Runs f; InputError and UsageError are the expected outcomes of bad input, anything else aborts.
+void expect_clean(const std::function<void()>& f);
+
+}  // namespace vs::fuzz

@@ -1,0 +1,54 @@
+// CUDA error checking and device memory owners (only included by .cu files).
+#pragma once
+#include <cuda_runtime.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace vs::cuda {
+
+inline void check(cudaError_t e, const char* what, const char* file, int line) {
+  if (e != cudaSuccess)
+    throw std::runtime_error(std::string("CUDA error in ") + what + " at " + file + ":" + std::to_string(line) + ": " +
+                             cudaGetErrorString(e));
+}
+#define VS_CUDA_CHECK(call) ::vs::cuda::check((call), #call, __FILE__, __LINE__)
+
+// An owning device array (RAII). Kernels get its data() pointer.
+template <typename T>
+class DeviceBuffer {
+ public:
+  DeviceBuffer() = default;
+  explicit DeviceBuffer(size_t n) { resize(n); }
+  explicit DeviceBuffer(const std::vector<T>& host) { upload(host); }
+  DeviceBuffer(const DeviceBuffer&) = delete;
+  DeviceBuffer& operator=(const DeviceBuffer&) = delete;
+  DeviceBuffer(DeviceBuffer&& o) noexcept : ptr_(o.ptr_), n_(o.n_) { o.ptr_ = nullptr, o.n_ = 0; }
+  ~DeviceBuffer() { cudaFree(ptr_); }
+  void resize(size_t n) {
+    if (n == n_) return;
+    cudaFree(ptr_);
+    ptr_ = nullptr;
+    n_ = n;
+    if (n) VS_CUDA_CHECK(cudaMalloc(&ptr_, n * sizeof(T)));
+  }
+  void upload(const T* host, size_t n) {
+    resize(n);
+    if (n) VS_CUDA_CHECK(cudaMemcpy(ptr_, host, n * sizeof(T), cudaMemcpyHostToDevice));
+  }
+  void upload(const std::vector<T>& host) { upload(host.data(), host.size()); }
+  std::vector<T> download() const {
+    std::vector<T> host(n_);
+    if (n_) VS_CUDA_CHECK(cudaMemcpy(host.data(), ptr_, n_ * sizeof(T), cudaMemcpyDeviceToHost));
+    return host;
+  }
+  T* data() const { return ptr_; }
+  size_t size() const { return n_; }
+
+ private:
+  T* ptr_ = nullptr;
+  size_t n_ = 0;
+};
+
+}  // namespace vs::cuda

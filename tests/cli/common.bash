@@ -1,0 +1,48 @@
+# Sourced by the CLI tests: $VS is the volstream binary, $WORK a fresh scratch directory.
+set -euo pipefail
+VS="$1"
+WORK="$2"
+rm -rf "$WORK" && mkdir -p "$WORK"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# expect_bad_input DESCRIPTION ARGS...: exit status 2 and exactly one line "volstream: ...".
+expect_bad_input() {
+  local what="$1"; shift
+  local status=0
+  "$VS" "$@" >"$WORK/out.txt" 2>"$WORK/err.txt" || status=$?
+  [ "$status" = 2 ] || fail "$what: exit status $status, expected 2 (stderr: $(head -c 300 "$WORK/err.txt"))"
+  [ "$(wc -l <"$WORK/err.txt")" = 1 ] || fail "$what: expected one line on stderr, got: $(cat "$WORK/err.txt")"
+  grep -q '^volstream: ' "$WORK/err.txt" || fail "$what: message does not start with 'volstream: '"
+  echo "ok: $what -> $(cat "$WORK/err.txt")"
+}
+
+# random_points DATASET N SEED: N random world points in the dataset's domain (slightly beyond).
+random_points() {
+  "$VS" info "$1" --json | awk -v n="$2" -v seed="$3" '
+    /"lower": \[/ { mode = "lo"; k = 0; next }
+    /"upper": \[/ { mode = "hi"; k = 0; next }
+    mode != "" && /^[ \t]*-?[0-9]/ { v = $1; sub(/,/, "", v); if (mode == "lo") lo[k++] = v; else hi[k++] = v; if (k == 3) mode = ""; next }
+    END {
+      srand(seed);
+      for (i = 0; i < n; i++) {
+        line = "";
+        for (a = 0; a < 3; a++) { e = 0.02 * (hi[a] - lo[a]); line = line sprintf("%.9g ", lo[a] - e + rand() * (hi[a] - lo[a] + 2 * e)); }
+        print line;
+      }
+    }'
+}
+
+# compare_probes A B: same count, NaN exactly where the other is NaN, and |a - b| <= 1e-5 |b|
+# (plus 1e-7 of the largest magnitude, since float sums cannot resolve values near zero better).
+compare_probes() {
+  paste "$1" "$2" | awk '
+    function abs(x) { return x < 0 ? -x : x }
+    { n++; a[n] = $1; b[n] = $2; if ($2 != "nan" && abs($2) > big) big = abs($2) }
+    END {
+      for (i = 1; i <= n; i++) {
+        if (a[i] == "nan" || b[i] == "nan") { if (a[i] != b[i]) { bad++; if (bad < 5) print "nan mismatch line " i ": " a[i] " " b[i] } else nan++; continue }
+        if (abs(a[i] - b[i]) > 1e-5 * abs(b[i]) + 1e-7 * big) { bad++; if (bad < 5) print "line " i ": " a[i] " vs " b[i] }
+      }
+      print n " points, " nan + 0 " outside, " bad + 0 " mismatches"; exit (bad > 0 || n == 0)
+    }'
+}

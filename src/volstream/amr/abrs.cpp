@@ -26,28 +26,46 @@ struct AbrOutput {
 
 class AbrBuilder {
  public:
+  static constexpr double kBalanceWeight = 0.05;
+
   AbrBuilder(const std::vector<Brick>& bricks, const std::string& source) : bricks_(bricks), source_(source) {
     supports_.reserve(bricks.size());
     for (const Brick& b : bricks) supports_.push_back(b.support_x2());
   }
 
-  // Splits `r` at the support face that leaves the larger smaller half (the most central cut
-  // over all axes), which keeps the recursion shallow. Returns false when `r` is a leaf.
+  // Splits `r` at a support face. A cut through a support duplicates that brick into both
+  // halves and fragments it into more ABRs, so the plane minimises the number of supports cut,
+  // plus a balance term (a fraction of the count difference of the two sides) that keeps the
+  // recursion shallow. Returns false when `r` is a leaf (no face strictly inside).
   bool split(Region& r, Region& left, Region& right) const {
     int best_axis = -1;
     int32_t best_plane = 0;
-    int64_t best_score = 0;
-    for (uint32_t id : r.bricks) {
-      for (int axis = 0; axis < 3; ++axis) {
-        const int32_t lo = r.box_x2.lower[axis], hi = r.box_x2.upper[axis];
-        for (int32_t face : {supports_[id].lower[axis], supports_[id].upper[axis]}) {
-          const int64_t score = std::min(int64_t(face) - lo, int64_t(hi) - face);
-          if (score > best_score || (score == best_score && score > 0 && (axis < best_axis || (axis == best_axis && face < best_plane)))) {
-            best_score = score;
-            best_axis = axis;
-            best_plane = face;
-          }
+    double best_cost = INFINITY;
+    const size_t n = r.bricks.size();
+    std::vector<int32_t> lows(n), highs(n);
+    for (int axis = 0; axis < 3; ++axis) {
+      const int32_t lo = r.box_x2.lower[axis], hi = r.box_x2.upper[axis];
+      for (size_t i = 0; i < n; ++i) {
+        lows[i] = supports_[r.bricks[i]].lower[axis];
+        highs[i] = supports_[r.bricks[i]].upper[axis];
+      }
+      std::sort(lows.begin(), lows.end());
+      std::sort(highs.begin(), highs.end());
+      auto consider = [&](int32_t plane) {
+        if (plane <= lo || plane >= hi) return;
+        // Bricks reaching left of the plane, and right of it; the excess over n is the cut count.
+        const double n_left = double(std::lower_bound(lows.begin(), lows.end(), plane) - lows.begin());
+        const double n_right = double(highs.end() - std::upper_bound(highs.begin(), highs.end(), plane));
+        const double cost = (n_left + n_right - double(n)) + kBalanceWeight * std::abs(n_left - n_right);
+        if (cost < best_cost || (cost == best_cost && (axis < best_axis || (axis == best_axis && plane < best_plane)))) {
+          best_cost = cost;
+          best_axis = axis;
+          best_plane = plane;
         }
+      };
+      for (size_t i = 0; i < n; ++i) {
+        if (i == 0 || lows[i] != lows[i - 1]) consider(lows[i]);
+        if (i == 0 || highs[i] != highs[i - 1]) consider(highs[i]);
       }
     }
     if (best_axis < 0) return false;
@@ -63,16 +81,37 @@ class AbrBuilder {
     return true;
   }
 
-  void build_subtree(Region& r, AbrOutput& out) const {
-    if (r.bricks.empty()) return;  // outside every support
+  // Builds the ABRs of `r` into `out`; returns how many it emitted. Two sibling leaves with the
+  // same bricks are merged back into one box: the cut between them was needed elsewhere in
+  // their parent, not for them.
+  size_t build_subtree(Region& r, AbrOutput& out) const {
+    if (r.bricks.empty()) return 0;  // outside every support
     Region left, right;
-    if (!split(r, left, right)) return emit_leaf(r, out);
+    if (!split(r, left, right)) {
+      emit_leaf(r, out);
+      return 1;
+    }
     std::vector<uint32_t>().swap(r.bricks);
-    build_subtree(left, out);
-    build_subtree(right, out);
+    const size_t n_left = build_subtree(left, out);
+    const size_t n_right = build_subtree(right, out);
+    if (n_left == 1 && n_right == 1 && try_merge_last_two(out)) return 1;
+    return n_left + n_right;
   }
 
  private:
+  static bool try_merge_last_two(AbrOutput& out) {
+    Abr& a = out.abrs[out.abrs.size() - 2];
+    const Abr& b = out.abrs.back();
+    if (a.brick_count != b.brick_count ||
+        !std::equal(out.abr_bricks.begin() + a.first_brick, out.abr_bricks.begin() + a.first_brick + a.brick_count,
+                    out.abr_bricks.begin() + b.first_brick))
+      return false;
+    a.box.extend(b.box);  // siblings: the union is a box
+    out.abr_bricks.resize(b.first_brick);
+    out.abrs.pop_back();
+    return true;
+  }
+
   void emit_leaf(const Region& r, AbrOutput& out) const {
     check_no_overlap(r);
     Abr a;

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 
@@ -130,6 +131,7 @@ void validate_topology(const AmrTopology& t, const std::string& file) {
            int64_t(b.lower[a]) + int64_t(b.dims[a]) * b.width() < kMaxCoord;
     if (!ok) input_error(file, "brick " + std::to_string(&b - t.bricks.data()) + " is invalid");
     next += uint64_t(b.cell_count());
+    if (next > t.cell_count) break;  // reported below; also keeps the sum from overflowing
   }
   if (next != t.cell_count) input_error(file, "bricks hold " + std::to_string(next) + " cells, manifest says " + std::to_string(t.cell_count));
   for (const Abr& a : t.abrs) {

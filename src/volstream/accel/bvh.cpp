@@ -1,15 +1,20 @@
 #include "volstream/accel/bvh.h"
 
+#include <tbb/task_group.h>
+
 #include <algorithm>
 #include <numeric>
 
 namespace vs {
 namespace {
 
+// A subtree over k items uses exactly 2k-1 nodes, so every subtree's node range is known before
+// it is built: subtrees are built in parallel and the layout is still deterministic.
 struct Builder {
   const std::vector<box3f>& boxes;
   std::vector<uint32_t> items;
   std::vector<BvhNode> nodes;
+  static constexpr uint32_t kParallelThreshold = 1 << 14;
 
   box3f bounds(uint32_t begin, uint32_t end) const {
     box3f b = box3f::make_empty();
@@ -17,8 +22,8 @@ struct Builder {
     return b;
   }
 
-  // Fills nodes[node] for items [begin, end). Depth stays below 64 because splits are medians.
-  void build(uint32_t node, uint32_t begin, uint32_t end) {
+  // Fills nodes[node] for items [begin, end); its descendants go to nodes[free ...].
+  void build(uint32_t node, uint32_t begin, uint32_t end, uint32_t free, tbb::task_group& tasks) {
     nodes[node].box = bounds(begin, end);
     if (end - begin == 1) {
       nodes[node].index = items[begin];
@@ -34,12 +39,15 @@ struct Builder {
       const float ca = boxes[a].lower[axis] + boxes[a].upper[axis], cb = boxes[b].lower[axis] + boxes[b].upper[axis];
       return ca < cb || (ca == cb && a < b);
     });
-    const uint32_t left = uint32_t(nodes.size());
-    nodes.resize(nodes.size() + 2);
-    nodes[node].index = left;
+    nodes[node].index = free;
     nodes[node].is_leaf = 0;
-    build(left, begin, mid);
-    build(left + 1, mid, end);
+    const uint32_t left_free = free + 2, right_free = left_free + 2 * (mid - begin) - 2;
+    if (end - begin > kParallelThreshold) {
+      tasks.run([=, this, &tasks] { build(free, begin, mid, left_free, tasks); });
+    } else {
+      build(free, begin, mid, left_free, tasks);
+    }
+    build(free + 1, mid, end, right_free, tasks);
   }
 };
 
@@ -48,11 +56,11 @@ struct Builder {
 Bvh build_bvh(const std::vector<box3f>& boxes) {
   Bvh bvh;
   if (boxes.empty()) return bvh;
-  Builder b{boxes, std::vector<uint32_t>(boxes.size()), {}};
+  Builder b{boxes, std::vector<uint32_t>(boxes.size()), std::vector<BvhNode>(2 * boxes.size() - 1)};
   std::iota(b.items.begin(), b.items.end(), 0u);
-  b.nodes.reserve(2 * boxes.size());
-  b.nodes.resize(1);
-  b.build(0, 0, uint32_t(boxes.size()));
+  tbb::task_group tasks;
+  b.build(0, 0, uint32_t(boxes.size()), 1, tasks);
+  tasks.wait();
   bvh.nodes = std::move(b.nodes);
   return bvh;
 }

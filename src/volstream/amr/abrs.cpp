@@ -42,7 +42,9 @@ class AbrBuilder {
     int32_t best_plane = 0;
     double best_cost = INFINITY;
     const size_t n = r.bricks.size();
-    std::vector<int32_t> lows(n), highs(n);
+    thread_local std::vector<int32_t> lows, highs;  // scratch, reused: this runs once per node
+    lows.resize(n);
+    highs.resize(n);
     for (int axis = 0; axis < 3; ++axis) {
       const int32_t lo = r.box_x2.lower[axis], hi = r.box_x2.upper[axis];
       for (size_t i = 0; i < n; ++i) {

@@ -7,4 +7,9 @@ void add_demo_command(CLI::App& app);
 void add_convert_command(CLI::App& app);
 void add_info_command(CLI::App& app);
 void add_probe_command(CLI::App& app);
+void add_render_command(CLI::App& app);
+void add_play_command(CLI::App& app);
+void add_timeline_command(CLI::App& app);
+void add_bench_command(CLI::App& app);
+void add_bench_integrators(CLI::App& bench);  // `bench integrators` (cmd_bench_integrators.cpp)
 }  // namespace vs::cli

@@ -13,6 +13,10 @@ int main(int argc, char** argv) {
   vs::cli::add_convert_command(app);
   vs::cli::add_info_command(app);
   vs::cli::add_probe_command(app);
+  vs::cli::add_render_command(app);
+  vs::cli::add_play_command(app);
+  vs::cli::add_timeline_command(app);
+  vs::cli::add_bench_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,112 @@
+// play: stream a time series through the per-frame pipeline (read, upload, ranges, refit,
+// render, output) at a chosen optimisation level, writing PNG frames or a video.
+#include <chrono>
+#include <cstdio>
+
+#include "commands.h"
+#include "stream_options.h"
+#include "volstream/core/error.h"
+#include "volstream/core/progress.h"
+#include "volstream/stream/pipeline.h"
+#include "volstream/stream/render_stages.h"
+#include "volstream/stream/timeline.h"
+
+namespace vs::cli {
+namespace {
+using namespace vs::stream;
+
+struct PlayArgs {
+  std::string dir, steps, pipeline = "overlap", timeline, output;
+  int loop = 1;
+  double fps = 24;
+  bool quiet = false;
+  StreamRenderArgs render;
+};
+
+std::unique_ptr<FrameWriter> make_writer(const PlayArgs& a, const StreamRender& r) {
+  if (a.output.empty()) return nullptr;
+  if (is_video_path(a.output))
+    return std::make_unique<VideoWriter>(a.output, r.setup.settings.width, r.setup.settings.height, a.fps, r.background);
+  return std::make_unique<PngSequenceWriter>(a.output, r.background);
+}
+
+// "12.3 frames/s, slowest: render 45.1 ms" from what the timeline holds so far.
+std::string progress_detail(const Timeline& timeline, int frames, double seconds) {
+  const StageSummary* slowest = nullptr;
+  const auto summary = summarize(timeline.events());
+  for (const StageSummary& s : summary)
+    if (!slowest || s.mean_ms > slowest->mean_ms) slowest = &s;
+  char text[128];
+  std::snprintf(text, sizeof(text), "%.1f frames/s, slowest: %s %.1f ms", frames / std::max(seconds, 1e-9),
+                slowest ? stage_name(slowest->stage) : "-", slowest ? slowest->mean_ms : 0.0);
+  return text;
+}
+
+void print_report(const Pipeline& p, const Timeline& timeline, const PlayStats& stats, const std::string& level) {
+  std::printf("played %d frames at level %s in %.3f s: %.2f frames/s\n", stats.frames, level.c_str(), stats.seconds,
+              stats.frames / std::max(stats.seconds, 1e-9));
+  std::printf("buffers: %s\n", p.describe_buffers().c_str());
+  if (!p.pin_failure().empty()) std::printf("staging not page-locked: %s\n", p.pin_failure().c_str());
+  std::printf("reads: %.1f MiB%s\n", double(stats.bytes_read) / (1 << 20),
+              p.flags().direct_io ? (p.direct_io_active() ? ", O_DIRECT" : ", buffered (O_DIRECT refused)") : ", buffered");
+  std::fputs(format_summary(summarize(timeline.events())).c_str(), stdout);
+}
+
+void run_play(const PlayArgs& a) {
+  const Dataset ds(a.dir);
+  Level level;
+  if (!parse_level(a.pipeline, level)) throw UsageError("--pipeline: unknown level '" + a.pipeline + "' (" + level_names() + ")");
+  if (a.loop < 1) throw UsageError("--loop must be at least 1");
+  const std::vector<int> once = parse_steps(a.steps, ds.manifest().step_count());
+  std::vector<int> steps;
+  for (int i = 0; i < a.loop; ++i) steps.insert(steps.end(), once.begin(), once.end());
+
+  const StreamRender render = make_stream_render(ds, a.render);
+  std::unique_ptr<FrameWriter> writer = make_writer(a, render);
+  RendererStages stages(ds, render.setup, writer.get());
+  Timeline timeline(std::string("play ") + level_name(level));
+  Pipeline pipeline(ds, render.field, PipelineFlags::at(level), stages, &timeline);
+
+  Progress progress("playing", steps.size(), !a.quiet);
+  const auto start = std::chrono::steady_clock::now();
+  auto last_detail = start;
+  auto on_frame = [&](int frame, int) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_detail > std::chrono::milliseconds(250)) {
+      last_detail = now;
+      progress.set_detail(progress_detail(timeline, frame + 1, std::chrono::duration<double>(now - start).count()));
+    }
+    progress.set(uint64_t(frame) + 1);
+  };
+  PlayStats stats;
+  try {
+    stats = pipeline.play(steps, on_frame);
+    if (writer) writer->finish();
+  } catch (...) {
+    // The trace up to the failure is the most useful thing to look at then.
+    if (!a.timeline.empty()) write_chrome_trace(a.timeline, {&timeline});
+    throw;
+  }
+  progress.finish();
+  if (!a.timeline.empty()) write_chrome_trace(a.timeline, {&timeline});
+  print_report(pipeline, timeline, stats, a.pipeline);
+}
+
+}  // namespace
+
+void add_play_command(CLI::App& app) {
+  auto a = std::make_shared<PlayArgs>();
+  auto* cmd = app.add_subcommand("play", "Stream and render a time series frame by frame (paper 000's pipeline)");
+  cmd->add_option("dataset", a->dir, "dataset directory")->required();
+  cmd->add_option("--steps", a->steps, "A:B[:S] (half-open, stride S) or a list 17,3,250 (default: all)");
+  cmd->add_option("--pipeline", a->pipeline, "optimisation level: " + level_names())->capture_default_str();
+  cmd->add_option("--timeline", a->timeline, "write the per-stage timeline as Chrome-trace JSON (Perfetto)");
+  cmd->add_option("-o,--output", a->output, "frames_%04d.png (PNG sequence) or OUT.mp4 (via ffmpeg); default: none");
+  cmd->add_option("--fps", a->fps, "video frame rate")->capture_default_str();
+  cmd->add_option("--loop", a->loop, "play the steps N times")->capture_default_str();
+  cmd->add_flag("-q,--quiet", a->quiet, "no progress bar");
+  add_stream_render_options(cmd, a->render);
+  cmd->callback([a] { run_play(*a); });
+}
+
+}  // namespace vs::cli

@@ -1,0 +1,146 @@
+#include "volstream/io/image.h"
+
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "volstream/core/error.h"
+#include "volstream/render/transfer_function.h"
+
+namespace vs {
+namespace {
+
+uint8_t to_byte(float srgb) { return uint8_t(std::lround(std::clamp(srgb, 0.f, 1.f) * 255.f)); }
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  if (s.size() < suffix.size()) return false;
+  return std::equal(suffix.rbegin(), suffix.rend(), s.rbegin(),
+                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
+}
+
+struct FileCloser {
+  void operator()(FILE* f) const { std::fclose(f); }
+};
+
+void write_pfm_channels(const std::string& path, uint32_t w, uint32_t h, int channels, const std::vector<float>& data) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw std::runtime_error("cannot write " + path);
+  out << (channels == 3 ? "PF" : "Pf") << "\n" << w << " " << h << "\n-1.0\n";  // negative scale: little-endian
+  // PFM stores rows bottom to top.
+  for (uint32_t y = h; y-- > 0;)
+    out.write(reinterpret_cast<const char*>(data.data() + size_t(y) * w * channels), std::streamsize(sizeof(float) * w * channels));
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+}  // namespace
+
+std::vector<float> composite_rgb(const Image& img, const vec3f& bg_srgb) {
+  const float bg[3] = {srgb_to_linear(bg_srgb.x), srgb_to_linear(bg_srgb.y), srgb_to_linear(bg_srgb.z)};
+  std::vector<float> rgb(size_t(img.width) * img.height * 3);
+  for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
+    const float* p = img.rgba.data() + 4 * i;
+    for (int c = 0; c < 3; ++c) rgb[3 * i + c] = p[c] + (1.f - p[3]) * bg[c];
+  }
+  return rgb;
+}
+
+void write_png(const Image& img, const std::string& path, const ImageWriteOptions& opt) {
+  const int channels = opt.alpha ? 4 : 3;
+  std::vector<uint8_t> bytes(size_t(img.width) * img.height * channels);
+  if (opt.alpha) {
+    for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
+      const float* p = img.rgba.data() + 4 * i;
+      const float a = std::clamp(p[3], 0.f, 1.f);
+      for (int c = 0; c < 3; ++c) bytes[4 * i + c] = to_byte(a > 0.f ? linear_to_srgb(p[c] / a) : 0.f);  // straight alpha
+      bytes[4 * i + 3] = to_byte(a);
+    }
+  } else {
+    const std::vector<float> rgb = composite_rgb(img, opt.background);
+    for (size_t i = 0; i < rgb.size(); ++i) bytes[i] = to_byte(linear_to_srgb(rgb[i]));
+  }
+  std::unique_ptr<FILE, FileCloser> f(std::fopen(path.c_str(), "wb"));
+  if (!f) throw std::runtime_error("cannot write " + path);
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    throw std::runtime_error("libpng: out of memory");
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("libpng failed writing " + path);
+  }
+  png_init_io(png, f.get());
+  png_set_IHDR(png, info, img.width, img.height, 8, opt.alpha ? PNG_COLOR_TYPE_RGB_ALPHA : PNG_COLOR_TYPE_RGB,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+  png_write_info(png, info);
+  for (uint32_t y = 0; y < img.height; ++y) png_write_row(png, bytes.data() + size_t(y) * img.width * channels);
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+}
+
+void write_pfm(const Image& img, const std::string& path, const ImageWriteOptions& opt) {
+  if (!opt.alpha) {
+    write_pfm_channels(path, img.width, img.height, 3, composite_rgb(img, opt.background));
+    return;
+  }
+  std::vector<float> rgb(size_t(img.width) * img.height * 3), alpha(size_t(img.width) * img.height);
+  for (size_t i = 0; i < alpha.size(); ++i) {
+    for (int c = 0; c < 3; ++c) rgb[3 * i + c] = img.rgba[4 * i + c];
+    alpha[i] = img.rgba[4 * i + 3];
+  }
+  write_pfm_channels(path, img.width, img.height, 3, rgb);
+  const std::string stem = ends_with(path, ".pfm") ? path.substr(0, path.size() - 4) : path;
+  write_pfm_channels(stem + ".alpha.pfm", img.width, img.height, 1, alpha);
+}
+
+void write_image(const Image& img, const std::string& path, const ImageWriteOptions& opt) {
+  if (ends_with(path, ".png")) return write_png(img, path, opt);
+  if (ends_with(path, ".pfm")) return write_pfm(img, path, opt);
+  throw UsageError("output '" + path + "' must end in .png or .pfm");
+}
+
+Image read_pfm(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) input_error(path, "cannot open");
+  std::string magic;
+  long long w = 0, h = 0;
+  double scale = 0;
+  in >> magic >> w >> h >> scale;
+  input_check(in && (magic == "PF" || magic == "Pf"), path, "not a PFM file");
+  input_check(w > 0 && h > 0 && w <= 65536 && h <= 65536, path, "bad PFM size");
+  input_check(scale != 0 && std::isfinite(scale), path, "bad PFM scale");
+  in.get();  // the single whitespace after the header
+  const int channels = magic == "PF" ? 3 : 1;
+  std::vector<float> data(size_t(w) * size_t(h) * channels);
+  in.read(reinterpret_cast<char*>(data.data()), std::streamsize(data.size() * sizeof(float)));
+  input_check(in.gcount() == std::streamsize(data.size() * sizeof(float)), path, "PFM file is truncated");
+  const bool file_little = scale < 0;
+  const uint16_t probe = 1;
+  const bool host_little = *reinterpret_cast<const uint8_t*>(&probe) == 1;
+  if (file_little != host_little)
+    for (float& v : data) {
+      uint32_t u;
+      std::memcpy(&u, &v, 4);
+      u = __builtin_bswap32(u);
+      std::memcpy(&v, &u, 4);
+    }
+  Image img{uint32_t(w), uint32_t(h)};
+  for (uint32_t y = 0; y < img.height; ++y)
+    for (uint32_t x = 0; x < img.width; ++x) {
+      const float* src = data.data() + (size_t(img.height - 1 - y) * img.width + x) * channels;
+      float* dst = img.rgba.data() + 4 * (size_t(y) * img.width + x);
+      for (int c = 0; c < 3; ++c) dst[c] = src[channels == 3 ? c : 0];
+      dst[3] = 1.f;
+    }
+  return img;
+}
+
+}  // namespace vs

@@ -1,0 +1,39 @@
+// Images: premultiplied linear RGBA floats in memory; PNG (8-bit sRGB) and PFM (float) files.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "volstream/core/math.h"
+
+namespace vs {
+
+struct Image {
+  uint32_t width = 0, height = 0;
+  std::vector<float> rgba;  // premultiplied linear RGBA, rows top to bottom
+  Image() = default;
+  Image(uint32_t w, uint32_t h) : width(w), height(h), rgba(size_t(w) * h * 4, 0.f) {}
+  const float* pixel(uint32_t x, uint32_t y) const { return rgba.data() + 4 * (size_t(y) * width + x); }
+};
+
+struct ImageWriteOptions {
+  bool alpha = false;           // keep transparency instead of compositing over the background
+  vec3f background{0.f, 0.f, 0.f};  // sRGB-encoded colour in [0, 1]
+};
+
+// The image over the background (ignored with alpha), in linear RGB: one value per channel.
+std::vector<float> composite_rgb(const Image& image, const vec3f& background_srgb);
+
+// 8-bit sRGB PNG: RGB composited over the background, or RGBA with straight alpha.
+void write_png(const Image& image, const std::string& path, const ImageWriteOptions& options = {});
+// Little-endian colour PFM ("PF"), linear RGB composited over the background. With alpha, the
+// RGB stays premultiplied (no background) and the alpha goes to a grey PFM beside it
+// (<path without .pfm>.alpha.pfm).
+void write_pfm(const Image& image, const std::string& path, const ImageWriteOptions& options = {});
+// Picks the format from the extension (.png or .pfm); UsageError for anything else.
+void write_image(const Image& image, const std::string& path, const ImageWriteOptions& options = {});
+
+// Reads a colour or grey PFM (either byte order) into an image with alpha 1. InputError on bad files.
+Image read_pfm(const std::string& path);
+
+}  // namespace vs

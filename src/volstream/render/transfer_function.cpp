@@ -1,0 +1,169 @@
+#include "volstream/render/transfer_function.h"
+
+#include <algorithm>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "volstream/core/error.h"
+
+namespace vs {
+
+float srgb_to_linear(float c) {
+  c = std::clamp(c, 0.f, 1.f);
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+float linear_to_srgb(float c) {
+  c = std::clamp(c, 0.f, 1.f);
+  return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.f / 2.4f) - 0.055f;
+}
+
+std::vector<OpacityPoint> default_opacity_ramp(float max_alpha) { return {{0.f, 0.f}, {0.1f, 0.f}, {1.f, max_alpha}}; }
+
+float normalised_position(const TransferFunctionSpec& spec, double value) {
+  auto scale = [&](double v) { return spec.log_scale ? (v > 0 ? std::log10(v) : NAN) : v; };
+  const double lo = scale(spec.lo), hi = scale(spec.hi), v = scale(value);
+  if (!std::isfinite(v)) return NAN;
+  return hi > lo ? float((v - lo) / (hi - lo)) : 0.f;
+}
+
+namespace {
+
+// Piecewise-linear interpolation of points sorted by x, clamped at both ends.
+template <typename P, typename Get>
+float interpolate(const std::vector<P>& pts, float x, Get get) {
+  if (x <= pts.front().x) return get(pts.front());
+  if (x >= pts.back().x) return get(pts.back());
+  const auto it = std::upper_bound(pts.begin(), pts.end(), x, [](float v, const P& p) { return v < p.x; });
+  const P& b = *it;
+  const P& a = *(it - 1);
+  const float t = b.x > a.x ? (x - a.x) / (b.x - a.x) : 1.f;
+  return get(a) + (get(b) - get(a)) * t;
+}
+
+std::vector<float> numbers(const nlohmann::json& j, const char* key, const std::string& file) {
+  const auto& arr = j.at(key);
+  input_check(arr.is_array(), file, std::string("\"") + key + "\" is not an array");
+  std::vector<float> out;
+  out.reserve(arr.size());
+  for (const auto& v : arr) {
+    input_check(v.is_number(), file, std::string("\"") + key + "\" holds a non-number");
+    const double d = v.get<double>();
+    input_check(std::isfinite(d), file, std::string("\"") + key + "\" holds a non-finite number");
+    out.push_back(float(d));
+  }
+  return out;
+}
+
+}  // namespace
+
+ParaviewColorMap parse_paraview_color_map(const std::string& text, const std::string& file) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    input_error(file, std::string("not valid JSON: ") + e.what());
+  }
+  // ParaView writes an array of presets; take the first one that has RGBPoints.
+  const nlohmann::json* preset = nullptr;
+  if (j.is_array()) {
+    for (const auto& p : j)
+      if (p.is_object() && p.contains("RGBPoints")) {
+        preset = &p;
+        break;
+      }
+  } else if (j.is_object() && j.contains("RGBPoints")) {
+    preset = &j;
+  }
+  input_check(preset != nullptr, file, "no colour map with \"RGBPoints\"");
+  ParaviewColorMap cm;
+  if (preset->contains("Name") && preset->at("Name").is_string()) cm.name = preset->at("Name").get<std::string>();
+  const std::vector<float> rgb = numbers(*preset, "RGBPoints", file);
+  input_check(rgb.size() >= 4 && rgb.size() % 4 == 0, file, "\"RGBPoints\" must hold groups of 4 numbers x,r,g,b");
+  for (size_t i = 0; i < rgb.size(); i += 4) {
+    input_check(i == 0 || rgb[i] >= rgb[i - 4], file, "\"RGBPoints\" positions are not sorted");
+    cm.colors.push_back({rgb[i], std::clamp(rgb[i + 1], 0.f, 1.f), std::clamp(rgb[i + 2], 0.f, 1.f),
+                         std::clamp(rgb[i + 3], 0.f, 1.f)});
+  }
+  // Presets are stored over arbitrary ranges ([-1,1], [0,1], data units): normalise to [0, 1].
+  const float x0 = cm.colors.front().x, x1 = cm.colors.back().x;
+  const float span = x1 > x0 ? x1 - x0 : 1.f;
+  for (ColorPoint& c : cm.colors) c.x = x1 > x0 ? (c.x - x0) / span : 0.f;
+  if (preset->contains("Points")) {
+    const std::vector<float> pts = numbers(*preset, "Points", file);
+    input_check(pts.size() % 4 == 0, file, "\"Points\" must hold groups of 4 numbers x,alpha,midpoint,sharpness");
+    for (size_t i = 0; i < pts.size(); i += 4) {
+      input_check(i == 0 || pts[i] >= pts[i - 4], file, "\"Points\" positions are not sorted");
+      cm.opacity.push_back({(pts[i] - x0) / span, std::clamp(pts[i + 1], 0.f, 1.f)});
+    }
+  }
+  return cm;
+}
+
+ParaviewColorMap load_paraview_color_map(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) input_error(path, "cannot open");
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  input_check(size >= 0 && size < (64 << 20), path, "colour map file is larger than 64 MiB");
+  in.seekg(0);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_paraview_color_map(ss.str(), path);
+}
+
+TransferTable::TransferTable(const TransferFunctionSpec& spec, uint32_t size) : spec_(spec) {
+  if (size < 2) size = 2;
+  if (spec_.colors.empty()) spec_.colors = builtin_color_map("viridis");
+  if (spec_.opacity.empty()) spec_.opacity = default_opacity_ramp();
+  entries_.resize(size);
+  for (uint32_t i = 0; i < size; ++i) {
+    const float x = float(i) / float(size - 1);
+    Rgba& e = entries_[i];
+    e.r = srgb_to_linear(interpolate(spec_.colors, x, [](const ColorPoint& p) { return p.r; }));
+    e.g = srgb_to_linear(interpolate(spec_.colors, x, [](const ColorPoint& p) { return p.g; }));
+    e.b = srgb_to_linear(interpolate(spec_.colors, x, [](const ColorPoint& p) { return p.b; }));
+    e.a = std::clamp(interpolate(spec_.opacity, x, [](const OpacityPoint& p) { return p.a; }), 0.f, 1.f);
+  }
+  // Sparse table for O(1) range-max queries of alpha (classification runs once per ABR).
+  sparse_max_.push_back({});
+  for (const Rgba& e : entries_) sparse_max_[0].push_back(e.a);
+  for (uint32_t k = 1; (1u << k) <= size; ++k) {
+    const auto& prev = sparse_max_[k - 1];
+    std::vector<float> cur(size - (1u << k) + 1);
+    for (size_t i = 0; i < cur.size(); ++i) cur[i] = std::max(prev[i], prev[i + (1u << (k - 1))]);
+    sparse_max_.push_back(std::move(cur));
+  }
+}
+
+TfView TransferTable::view() const {
+  TfView v;
+  v.table = entries_.data();
+  v.size = uint32_t(entries_.size());
+  v.log_scale = spec_.log_scale ? 1u : 0u;
+  const float lo = v.scaled(spec_.lo), hi = v.scaled(spec_.hi);
+  v.lo = std::isfinite(lo) ? lo : 0.f;
+  v.inv_span = (std::isfinite(hi) && hi > v.lo) ? 1.f / (hi - v.lo) : 0.f;  // zero span: everything at entry 0
+  return v;
+}
+
+float TransferTable::max_alpha(uint32_t first, uint32_t last) const {
+  const uint32_t n = last - first + 1;
+  uint32_t k = 0;
+  while ((2u << k) <= n) ++k;
+  return std::max(sparse_max_[k][first], sparse_max_[k][last + 1 - (1u << k)]);
+}
+
+bool TransferTable::any_opacity(float lo, float hi) const {
+  if (!(lo <= hi)) return false;  // empty range or NaN
+  const TfView v = view();
+  // A lookup at position x reads entries floor(x) and floor(x)+1. One more entry on each side
+  // absorbs rounding differences between this host computation and a device's log10f.
+  const uint32_t last = uint32_t(entries_.size()) - 1;
+  const uint32_t first = uint32_t(std::max(0.f, std::floor(v.position(lo)) - 1.f));
+  const uint32_t end = std::min(last, uint32_t(std::floor(v.position(hi))) + 2);
+  return max_alpha(std::min(first, last), end) > 0.f;
+}
+
+}  // namespace vs

@@ -1,0 +1,203 @@
+#include "volstream/stream/pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <future>
+#include <numeric>
+
+#include "volstream/amr/abrs.h"
+#include "volstream/core/error.h"
+#include "volstream/core/parallel.h"
+
+namespace vs::stream {
+
+namespace {
+constexpr const char* kLevelNames[kLevelCount] = {"baseline", "async-io", "pinned", "direct-io",
+                                                  "preordered", "refit", "overlap"};
+}
+
+const char* level_name(Level level) { return kLevelNames[int(level)]; }
+
+bool parse_level(const std::string& name, Level& out) {
+  for (int i = 0; i < kLevelCount; ++i)
+    if (name == kLevelNames[i]) {
+      out = Level(i);
+      return true;
+    }
+  return false;
+}
+
+std::string level_names() {
+  std::string s;
+  for (const char* n : kLevelNames) {
+    if (!s.empty()) s += '|';
+    s += n;
+  }
+  return s;
+}
+
+PipelineFlags PipelineFlags::at(Level level) {
+  const int l = int(level);
+  PipelineFlags f;
+  f.async_io = l >= int(Level::async_io);
+  f.pinned = l >= int(Level::pinned);
+  f.direct_io = l >= int(Level::direct_io);
+  f.preordered = l >= int(Level::preordered);
+  f.refit = l >= int(Level::refit);
+  f.overlap = l >= int(Level::overlap);
+  return f;
+}
+
+// Where one step's values travel: file buffer -(flatten)-> staging -(upload)-> device. Without
+// flattening the file buffer is the staging buffer. Two slots alternate when a background loader
+// fills one while the frame thread uses the other.
+struct Pipeline::Slot {
+  float* file = nullptr;
+  float* staging = nullptr;
+  float* device = nullptr;
+  int step = -1;
+  Phase done = Phase::none;
+};
+
+Pipeline::Pipeline(const Dataset& dataset, int field, PipelineFlags flags, FrameStages& stages, Timeline* timeline)
+    : dataset_(dataset), field_(field), flags_(flags), stages_(stages), timeline_(timeline),
+      reader_(dataset.manifest().cell_count, flags.direct_io ? ReadMode::direct : ReadMode::buffered) {
+  if (flags_.overlap) flags_.async_io = true;  // the overlapped upload runs on the loader thread
+  const int slots = flags_.async_io ? 2 : 1;
+  // A buffer that the loader writes while the frame thread may still use the other one needs two
+  // copies; one the frame thread alone writes needs one.
+  const int staging_copies = (flags_.preordered || flags_.overlap) ? slots : 1;
+  const int device_copies = flags_.overlap ? 2 : 1;
+  auto allocate = [&](int count, bool pinned) {
+    std::vector<HostBuffer> v;
+    for (int i = 0; i < count; ++i) v.emplace_back(reader_.padded_bytes(), pinned);
+    return v;
+  };
+  if (!flags_.preordered) file_buffers_ = allocate(slots, false);
+  staging_buffers_ = allocate(staging_copies, flags_.pinned);
+  device_buffers_ = allocate(device_copies, false);
+  if (!flags_.preordered) {
+    flatten_index_.resize(dataset.manifest().cell_count);
+    std::iota(flatten_index_.begin(), flatten_index_.end(), 0u);
+  }
+  for (int k = 0; k < slots; ++k) {
+    auto slot = std::make_unique<Slot>();
+    slot->staging = staging_buffers_[size_t(k % staging_copies)].floats();
+    slot->file = flags_.preordered ? slot->staging : file_buffers_[size_t(k)].floats();
+    slot->device = device_buffers_[size_t(k % device_copies)].floats();
+    slots_.push_back(std::move(slot));
+  }
+}
+
+Pipeline::~Pipeline() = default;
+
+Pipeline::Slot& Pipeline::slot_for(int frame) { return *slots_[size_t(frame) % slots_.size()]; }
+
+uint64_t Pipeline::buffer_bytes() const {
+  uint64_t total = flatten_index_.size() * sizeof(uint32_t);
+  for (const auto* list : {&file_buffers_, &staging_buffers_, &device_buffers_})
+    for (const HostBuffer& b : *list) total += b.bytes();
+  return total;
+}
+
+std::string Pipeline::describe_buffers() const {
+  char text[256];
+  // Page-locking can succeed for the first buffer and fail for the next (RLIMIT_MEMLOCK).
+  HostBuffer::Pinning weakest = staging_buffers_.front().pinning();
+  for (const HostBuffer& b : staging_buffers_) weakest = std::min(weakest, b.pinning());
+  const char* pinning = pinning_name(weakest);
+  std::snprintf(text, sizeof(text), "%zu file + %zu staging (%s) + %zu device buffers: %.1f MiB", file_buffers_.size(),
+                staging_buffers_.size(), pinning, device_buffers_.size(), double(buffer_bytes()) / (1 << 20));
+  return text;
+}
+
+bool Pipeline::direct_io_active() const { return reader_.direct(); }
+
+std::string Pipeline::pin_failure() const {
+  for (const HostBuffer& b : staging_buffers_)
+    if (!b.pin_failure().empty()) return b.pin_failure();
+  return {};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Advances `slot` (already assigned its step) through the phases up to `upto`, skipping what is
+// done; the loader thread and the frame thread share this one code path.
+void Pipeline::load(Slot& slot, int step, Phase upto, int lane) {
+  if (slot.done < Phase::read) {
+    Timeline::Scope s(timeline_, Stage::read, step, lane);
+    reader_.read(dataset_.values_path(field_, step), step, slot.file);
+    slot.done = Phase::read;
+  }
+  if (upto >= Phase::uploaded && slot.done < Phase::uploaded) {
+    Timeline::Scope s(timeline_, Stage::upload, step, lane);
+    if (!flags_.preordered) flatten(slot);
+    std::memcpy(slot.device, slot.staging, reader_.value_bytes());
+    slot.done = Phase::uploaded;
+  }
+}
+
+// The baseline's per-frame reorder from file order to device order (see pipeline.h).
+void Pipeline::flatten(const Slot& slot) {
+  const uint32_t* index = flatten_index_.data();
+  const float* in = slot.file;
+  float* out = slot.staging;
+  parallel_for_ranges(int64_t(flatten_index_.size()), [&](int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) out[i] = in[index[i]];
+  }, 1 << 16);
+}
+
+void Pipeline::process(Slot& slot, int frame) {
+  const int step = slot.step;
+  const FrameData f{frame, step, slot.device, &abr_ranges_};
+  {
+    Timeline::Scope s(timeline_, Stage::ranges, step, kFrameLane);
+    abr_ranges_ = compute_abr_ranges(dataset_.topology(), compute_brick_ranges(dataset_.topology(), slot.device));
+  }
+  {
+    Timeline::Scope s(timeline_, Stage::refit, step, kFrameLane);
+    stages_.refit(f, !flags_.refit);
+  }
+  {
+    Timeline::Scope s(timeline_, Stage::render, step, kFrameLane);
+    stages_.render(f);
+  }
+  Timeline::Scope s(timeline_, Stage::output, step, kFrameLane);
+  stages_.output(f);
+}
+
+PlayStats Pipeline::play(const std::vector<int>& steps, const std::function<void(int, int)>& on_frame) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const uint64_t bytes_before = reader_.bytes_read();
+  const int frames = int(steps.size());
+  const Phase loader_upto = flags_.overlap ? Phase::uploaded : Phase::read;
+  std::future<void> pending;  // the loader's work on the next frame's slot
+  for (int i = 0; i < frames; ++i) {
+    Slot& slot = slot_for(i);
+    if (pending.valid()) {
+      pending.get();  // rethrows the loader's error for steps[i]
+    } else {
+      slot.step = steps[size_t(i)];
+      slot.done = Phase::none;
+    }
+    // Start the next step on the loader before touching this one (paper 000, Fig. 4).
+    if (flags_.async_io && i + 1 < frames) {
+      Slot& next = slot_for(i + 1);
+      next.step = steps[size_t(i) + 1];
+      next.done = Phase::none;
+      pending = std::async(std::launch::async, [this, &next, loader_upto] { load(next, next.step, loader_upto, kPrefetchLane); });
+    }
+    load(slot, slot.step, Phase::uploaded, kFrameLane);  // whatever the loader did not do
+    process(slot, i);
+    if (on_frame) on_frame(i, slot.step);
+  }
+  PlayStats stats;
+  stats.frames = frames;
+  stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  stats.bytes_read = reader_.bytes_read() - bytes_before;
+  return stats;
+}
+
+}  // namespace vs::stream

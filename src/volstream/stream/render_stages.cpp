@@ -1,0 +1,160 @@
+#include "volstream/stream/render_stages.h"
+
+#include <sys/wait.h>
+
+#include <cctype>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+
+#include "volstream/core/error.h"
+
+namespace vs::stream {
+
+std::vector<uint8_t> to_rgb8(const Image& image, const vec3f& background_srgb) {
+  const std::vector<float> rgb = composite_rgb(image, background_srgb);
+  std::vector<uint8_t> bytes(rgb.size());
+  for (size_t i = 0; i < rgb.size(); ++i) {
+    const float c = linear_to_srgb(rgb[i]);
+    bytes[i] = uint8_t(c <= 0.f ? 0 : (c >= 1.f ? 255 : int(c * 255.f + 0.5f)));
+  }
+  return bytes;
+}
+
+// ---------------------------------------------------------------------------------------------
+namespace {
+// The one "%[0][width]d" of a pattern ("%%" is a literal percent sign).
+struct Conversion {
+  size_t begin = std::string::npos, end = 0;
+  bool zero = false;
+  int width = 0;
+};
+
+Conversion find_conversion(const std::string& p) {
+  Conversion c;
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (p[i] != '%') continue;
+    if (i + 1 < p.size() && p[i + 1] == '%') {
+      ++i;
+      continue;
+    }
+    if (c.begin != std::string::npos) throw UsageError("-o " + p + ": more than one %d");
+    c.begin = i++;
+    c.zero = i < p.size() && p[i] == '0';
+    while (i < p.size() && std::isdigit(static_cast<unsigned char>(p[i]))) c.width = c.width * 10 + (p[i++] - '0');
+    if (i >= p.size() || p[i] != 'd' || c.width > 12) throw UsageError("-o " + p + ": only %d, %0Nd and %% may appear");
+    c.end = i + 1;
+  }
+  if (c.begin == std::string::npos) throw UsageError("-o " + p + ": a PNG sequence needs a %d for the frame number (frames_%04d.png)");
+  return c;
+}
+
+std::string unescape_percent(const std::string& s) {
+  std::string out;
+  for (size_t i = 0; i < s.size(); ++i) {
+    out += s[i];
+    if (s[i] == '%' && i + 1 < s.size() && s[i + 1] == '%') ++i;
+  }
+  return out;
+}
+}  // namespace
+
+std::string PngSequenceWriter::format(const std::string& pattern, int frame) {
+  const Conversion c = find_conversion(pattern);
+  std::string number = std::to_string(frame);
+  if (int(number.size()) < c.width) number.insert(0, size_t(c.width) - number.size(), c.zero ? '0' : ' ');
+  return unescape_percent(pattern.substr(0, c.begin)) + number + unescape_percent(pattern.substr(c.end));
+}
+
+PngSequenceWriter::PngSequenceWriter(std::string pattern, vec3f background)
+    : pattern_(std::move(pattern)), background_(background) {
+  find_conversion(pattern_);  // reject a bad pattern before the first frame
+}
+
+void PngSequenceWriter::write(const Image& image, int frame, int) {
+  const std::string path = format(pattern_, frame);
+  const std::string tmp = path + ".part";
+  ImageWriteOptions options;
+  options.background = background_;
+  write_png(image, tmp, options);
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error("cannot write " + path + ": " + ec.message());
+}
+
+// ---------------------------------------------------------------------------------------------
+bool is_video_path(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  return ext == ".mp4" || ext == ".mkv" || ext == ".mov";
+}
+
+namespace {
+std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+}  // namespace
+
+VideoWriter::VideoWriter(std::string path, uint32_t width, uint32_t height, double fps, vec3f background)
+    : path_(std::move(path)), width_(width), height_(height), background_(background) {
+  if (!(fps > 0 && fps <= 1000)) throw UsageError("--fps must be in (0, 1000]");
+  // A dead ffmpeg must turn into an error from fwrite (EPIPE), not kill us with SIGPIPE.
+  std::signal(SIGPIPE, SIG_IGN);
+  char size[64], rate[32];
+  std::snprintf(size, sizeof(size), "%ux%u", width, height);
+  std::snprintf(rate, sizeof(rate), "%g", fps);
+  const std::string command = std::string("ffmpeg -hide_banner -loglevel error -y -f rawvideo -pix_fmt rgb24 -s ") + size +
+                              " -r " + rate + " -i - -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p " +
+                              shell_quote(path_);
+  pipe_ = ::popen(command.c_str(), "w");
+  if (!pipe_) throw std::runtime_error("cannot start ffmpeg: " + std::string(std::strerror(errno)));
+}
+
+VideoWriter::~VideoWriter() {
+  if (pipe_) ::pclose(pipe_);  // after an error: ffmpeg still closes the video on the frames it got
+}
+
+void VideoWriter::write(const Image& image, int, int step) {
+  if (image.width != width_ || image.height != height_) throw std::logic_error("frame size changed during a video");
+  const std::vector<uint8_t> rgb = to_rgb8(image, background_);
+  if (std::fwrite(rgb.data(), 1, rgb.size(), pipe_) != rgb.size())
+    throw std::runtime_error("ffmpeg stopped taking frames at step " + std::to_string(step) + " (see its message above)");
+}
+
+void VideoWriter::finish() {
+  if (!pipe_) return;
+  const int status = ::pclose(pipe_);
+  pipe_ = nullptr;
+  if (status == -1) throw std::runtime_error("ffmpeg: " + std::string(std::strerror(errno)));
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
+    throw std::runtime_error("ffmpeg not found (scripts/setup.sh installs it)");
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    throw std::runtime_error("ffmpeg failed writing " + path_ + " (exit status " +
+                             std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
+}
+
+// ---------------------------------------------------------------------------------------------
+RendererStages::RendererStages(const Dataset& dataset, const RenderSetup& setup, FrameWriter* writer)
+    : dataset_(dataset), setup_(setup), tf_(setup.tf), writer_(writer),
+      // The BVH template is built once before the first frame (paper 000, section 5.6).
+      renderer_(std::make_unique<AmrRenderer>(dataset.topology(), dataset.manifest().transform)) {}
+
+void RendererStages::refit(const FrameData& frame, bool rebuild) {
+  // The renderer builds its BVH over all ABRs on construction, so constructing it anew is the
+  // from-scratch rebuild; the refit levels keep it and only refit (paper 000, section 5.6).
+  if (rebuild) renderer_ = std::make_unique<AmrRenderer>(dataset_.topology(), dataset_.manifest().transform);
+  visible_ = renderer_->classify(*frame.abr_ranges, tf_, setup_.settings.integrator, setup_.settings.skip);
+}
+
+void RendererStages::render(const FrameData& frame) {
+  image_ = renderer_->render(setup_.device, frame.values, tf_, nullptr, nullptr, setup_.camera, setup_.settings);
+}
+
+void RendererStages::output(const FrameData& frame) {
+  if (writer_) writer_->write(image_, frame.frame, frame.step);
+  if (on_image) on_image(frame, image_);
+}
+
+}  // namespace vs::stream

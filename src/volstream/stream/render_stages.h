@@ -1,0 +1,93 @@
+// The pipeline's refit, render and output stages done by the AMR renderer (render/renderer.h),
+// and the frame writers behind the output stage: a PNG sequence or a video through ffmpeg.
+#pragma once
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "volstream/io/dataset.h"
+#include "volstream/io/image.h"
+#include "volstream/render/renderer.h"
+#include "volstream/stream/pipeline.h"
+
+namespace vs::stream {
+
+// Receives each finished frame (the output stage).
+class FrameWriter {
+ public:
+  virtual ~FrameWriter() = default;
+  virtual void write(const Image& image, int frame, int step) = 0;
+  virtual void finish() {}  // flush and check (e.g. the encoder's exit status)
+};
+
+// 8-bit sRGB RGB over the background, rows top to bottom: what PNG and ffmpeg's rgb24 take.
+std::vector<uint8_t> to_rgb8(const Image& image, const vec3f& background_srgb);
+
+// Writes `pattern` with the frame index substituted for its one %d (e.g. frames_%04d.png). Each
+// file is written under a temporary name and renamed, so an interrupted run leaves no partial frame.
+class PngSequenceWriter : public FrameWriter {
+ public:
+  PngSequenceWriter(std::string pattern, vec3f background);  // UsageError for a bad pattern
+  void write(const Image& image, int frame, int step) override;
+  static std::string format(const std::string& pattern, int frame);
+
+ private:
+  std::string pattern_;
+  vec3f background_;
+};
+
+// Pipes rgb24 frames into `ffmpeg ... -c:v libx264 -pix_fmt yuv420p OUT` (odd sizes are padded
+// to even ones, as yuv420p needs). finish() closes the pipe and checks ffmpeg's exit status.
+class VideoWriter : public FrameWriter {
+ public:
+  VideoWriter(std::string path, uint32_t width, uint32_t height, double fps, vec3f background);
+  ~VideoWriter() override;
+  void write(const Image& image, int frame, int step) override;
+  void finish() override;
+
+ private:
+  std::string path_;
+  uint32_t width_, height_;
+  vec3f background_;
+  FILE* pipe_ = nullptr;
+};
+
+// True for outputs that go to ffmpeg (.mp4, .mkv, .mov).
+bool is_video_path(const std::string& path);
+
+// What to render: all fixed for the whole animation (the transfer function's range too).
+struct RenderSetup {
+  TransferFunctionSpec tf;
+  FrameSettings settings;
+  Camera camera;
+  Device device = Device::cpu;
+};
+
+// refit: classify the ABRs from the frame's ranges and refit the BVH template; a rebuild builds
+// the renderer's BVH from scratch first (what the levels before `refit` pay every frame).
+// render: one image; output: hands it to the writer (if any).
+class RendererStages : public FrameStages {
+ public:
+  RendererStages(const Dataset& dataset, const RenderSetup& setup, FrameWriter* writer);
+  void refit(const FrameData& frame, bool rebuild) override;
+  void render(const FrameData& frame) override;
+  void output(const FrameData& frame) override;
+  const Image& image() const { return image_; }
+  uint64_t visible_abrs() const { return visible_; }
+  // Called after each frame's output with its image (tests and benchmarks compare frames).
+  std::function<void(const FrameData&, const Image&)> on_image;
+
+ private:
+  const Dataset& dataset_;
+  RenderSetup setup_;
+  TransferTable tf_;
+  FrameWriter* writer_;
+  std::unique_ptr<AmrRenderer> renderer_;
+  Image image_;
+  uint64_t visible_ = 0;
+};
+
+}  // namespace vs::stream

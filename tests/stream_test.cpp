@@ -1,0 +1,398 @@
+// The streaming pipeline (paper 000, section 5): timeline, Chrome trace and Gantt chart, the step
+// reader, and the pipeline at every level: same frames, overlap where promised, jumps, and
+// mid-stream errors.
+#include <gtest/gtest.h>
+#include <unistd.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <thread>
+
+#include "test_util.h"
+#include "volstream/amr/demo.h"
+#include "volstream/core/error.h"
+#include "volstream/stream/gantt.h"
+#include "volstream/stream/pipeline.h"
+#include "volstream/stream/render_stages.h"
+#include "volstream/stream/step_reader.h"
+#include "volstream/stream/timeline.h"
+
+namespace vs::stream {
+namespace {
+namespace fs = std::filesystem;
+
+constexpr int kSteps = 5;
+
+// One small time series (the demo jet, about 10^4 cells) per test process: ctest runs tests in
+// parallel processes, so the directory is private to this one and removed at exit.
+struct Series {
+  fs::path dir = fs::temp_directory_path() / "volstream_tests" / ("stream_series_" + std::to_string(::getpid()));
+  Series() {
+    fs::remove_all(dir);
+    auto source = make_demo({"jet", 10000, kSteps});
+    convert_to_dataset(*source, dir, {true});
+  }
+  ~Series() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+};
+
+const fs::path& series_dir() {
+  static const Series series;
+  return series.dir;
+}
+
+// A copy of the series whose step 2 (field 0) is damaged by `damage`.
+fs::path damaged_copy(const std::string& name, const std::function<void(const fs::path&, uint64_t)>& damage) {
+  const fs::path dir = test::scratch_dir(name);
+  fs::copy(series_dir(), dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  const Dataset ds(dir);
+  damage(ds.values_path(0, 2), ds.manifest().cell_count * 4);
+  return dir;
+}
+
+// A render stage that only checksums the values and ranges. With `await_reads_in`, rendering
+// step t waits (up to 2 s) until that timeline holds a read of step t+1: a prefetching pipeline
+// gets there during the frame, so the test does not depend on how fast threads are scheduled.
+class ChecksumStages : public FrameStages {
+ public:
+  explicit ChecksumStages(uint64_t count, const Timeline* await_reads_in = nullptr)
+      : count_(count), await_(await_reads_in) {}
+  void refit(const FrameData& f, bool rebuild) override {
+    rebuilds += rebuild ? 1 : 0;
+    ranges_sum_ = sum_ranges(f);
+  }
+  void render(const FrameData& f) override {
+    uint64_t h = 1469598103934665603ull;
+    const auto* bytes = reinterpret_cast<const uint8_t*>(f.values);
+    for (uint64_t i = 0; i < count_ * 4; ++i) h = (h ^ bytes[i]) * 1099511628211ull;
+    hash_ = h ^ uint64_t(ranges_sum_ * 1e3);
+    if (await_ && f.step + 1 < kSteps) await_read(f.step + 1);
+  }
+  void output(const FrameData& f) override { frames.emplace_back(f.step, hash_); }
+  std::vector<std::pair<int, uint64_t>> frames;  // (step, checksum) per output frame
+  int rebuilds = 0;
+
+ private:
+  static double sum_ranges(const FrameData& f) {
+    double s = 0;
+    for (const Range& r : *f.abr_ranges) s += r.lo <= r.hi ? double(r.lo) + r.hi : 0.0;
+    return s;
+  }
+  void await_read(int step) const {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    while (std::chrono::steady_clock::now() < deadline) {
+      for (const TimelineEvent& e : await_->events())
+        if (e.stage == Stage::read && e.step == step) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  }
+  uint64_t count_;
+  const Timeline* await_;
+  uint64_t hash_ = 0;
+  double ranges_sum_ = 0;
+};
+
+std::vector<int> all_steps() {
+  std::vector<int> s(kSteps);
+  std::iota(s.begin(), s.end(), 0);
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+TEST(Timeline, ConcurrentAppendsAllArrive) {
+  Timeline t;
+  std::vector<std::thread> threads;
+  for (int lane = 0; lane < 4; ++lane)
+    threads.emplace_back([&t, lane] {
+      for (int i = 0; i < 500; ++i) {
+        const auto now = Timeline::Clock::now();
+        t.record(Stage(i % kStageCount), i, lane, now, now + std::chrono::microseconds(i));
+      }
+    });
+  for (auto& th : threads) th.join();
+  const auto events = t.events();
+  ASSERT_EQ(events.size(), 2000u);
+  EXPECT_TRUE(std::is_sorted(events.begin(), events.end(), [](auto& a, auto& b) { return a.begin_ns < b.begin_ns; }));
+}
+
+TEST(Timeline, SummaryCountsTotalsMeansMedians) {
+  Timeline t;
+  const auto o = t.origin();
+  using std::chrono::milliseconds;
+  for (int ms : {1, 2, 6}) t.record(Stage::read, 0, 0, o, o + milliseconds(ms));
+  for (int ms : {4, 8}) t.record(Stage::render, 0, 0, o, o + milliseconds(ms));
+  const auto sum = summarize(t.events());
+  ASSERT_EQ(sum.size(), 2u);
+  EXPECT_EQ(sum[0].stage, Stage::read);
+  EXPECT_EQ(sum[0].count, 3u);
+  EXPECT_NEAR(sum[0].total_ms, 9, 1e-9);
+  EXPECT_NEAR(sum[0].mean_ms, 3, 1e-9);
+  EXPECT_NEAR(sum[0].median_ms, 2, 1e-9);
+  EXPECT_NEAR(sum[1].median_ms, 6, 1e-9);
+  EXPECT_NE(format_summary(sum).find("render"), std::string::npos);
+}
+
+TEST(Timeline, WritesAValidChromeTrace) {
+  Timeline a("baseline", 1), b("overlap", 2);
+  Timeline::Scope(&a, Stage::read, 7, kFrameLane);
+  Timeline::Scope(&b, Stage::upload, 8, kPrefetchLane);
+  const fs::path path = test::scratch_dir("trace") / "t.json";
+  write_chrome_trace(path, {&a, &b});
+  std::ifstream in(path);
+  const auto doc = nlohmann::json::parse(in);
+  ASSERT_TRUE(doc.at("traceEvents").is_array());
+  int complete = 0;
+  for (const auto& e : doc["traceEvents"]) {
+    ASSERT_TRUE(e.contains("ph") && e.contains("pid"));
+    if (e["ph"] != "X") continue;
+    ++complete;
+    Stage s;
+    EXPECT_TRUE(parse_stage(e.at("name").get<std::string>(), s));
+    EXPECT_TRUE(e.at("ts").is_number());
+    EXPECT_GE(e.at("dur").get<double>(), 0);
+    EXPECT_TRUE(e.at("tid").is_number_integer());
+    EXPECT_TRUE(e.at("args").at("step").is_number_integer());
+  }
+  EXPECT_EQ(complete, 2);
+  const auto events = read_chrome_trace(path);
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].process, "baseline");
+  EXPECT_EQ(events[1].thread, "prefetch");
+  EXPECT_EQ(events[1].step, 8);
+}
+
+TEST(Gantt, DrawsOneBarPerEventWithAxisAndLegend) {
+  std::vector<TraceEvent> events;
+  for (int i = 0; i < kStageCount; ++i) events.push_back({stage_name(Stage(i)), i, 1, i % 2, "run", "lane", 1000.0 * i, 900});
+  const std::string svg = gantt_svg(events, {});
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  size_t bars = 0;
+  for (size_t p = svg.find("<title>"); p != std::string::npos; p = svg.find("<title>", p + 1)) ++bars;
+  EXPECT_EQ(bars, events.size());
+  for (int i = 0; i < kStageCount; ++i) EXPECT_NE(svg.find(std::string(">") + stage_name(Stage(i)) + "<"), std::string::npos);
+  EXPECT_NE(svg.find("time [ms]"), std::string::npos);
+}
+
+TEST(Gantt, BadTracesAreInputErrors) {
+  const fs::path dir = test::scratch_dir("bad_trace");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"garbage.json", "{not json"},
+      {"empty.json", "{\"traceEvents\": []}"},
+      {"nots.json", "[{\"ph\": \"X\", \"name\": \"read\", \"dur\": 1}]"},
+      {"negative.json", "[{\"ph\": \"X\", \"name\": \"read\", \"ts\": 0, \"dur\": -1}]"},
+      {"scalar.json", "42"}};
+  for (const auto& [name, text] : cases) {
+    std::ofstream(dir / name) << text;
+    try {
+      read_chrome_trace(dir / name);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), (dir / name).string());
+    }
+  }
+  EXPECT_THROW(read_chrome_trace(dir / "missing.json"), InputError);
+}
+
+// ---------------------------------------------------------------------------------------------
+TEST(StepReader, BufferedAndDirectReadTheStoredValues) {
+  const Dataset ds(series_dir());
+  const uint64_t n = ds.manifest().cell_count;
+  const std::vector<float> expected = ds.load_values(1, 3);
+  for (ReadMode mode : {ReadMode::buffered, ReadMode::direct}) {
+    StepReader reader(n, mode);
+    HostBuffer buffer(reader.padded_bytes(), mode == ReadMode::direct);
+    EXPECT_EQ(reinterpret_cast<uintptr_t>(buffer.data()) % kIoAlignment, 0u);
+    EXPECT_EQ(buffer.bytes() % kIoAlignment, 0u);
+    reader.read(ds.values_path(1, 3), 3, buffer.data());
+    EXPECT_EQ(std::memcmp(buffer.data(), expected.data(), n * 4), 0);
+    EXPECT_GE(reader.bytes_read(), n * 4);
+  }
+}
+
+TEST(StepReader, AcceptsFilesWithoutPadding) {
+  const fs::path dir = damaged_copy("unpadded", [](const fs::path& f, uint64_t bytes) { fs::resize_file(f, bytes); });
+  const Dataset ds(dir);
+  const uint64_t n = ds.manifest().cell_count;
+  ASSERT_NE(n * 4 % kIoAlignment, 0u);
+  const std::vector<float> expected = ds.load_values(0, 2);
+  StepReader reader(n, ReadMode::direct);
+  HostBuffer buffer(reader.padded_bytes(), false);
+  reader.read(ds.values_path(0, 2), 2, buffer.data());
+  EXPECT_EQ(std::memcmp(buffer.data(), expected.data(), n * 4), 0);
+  EXPECT_TRUE(reader.direct());  // no fallback to buffered reads was needed
+}
+
+TEST(StepReader, MissingTruncatedOrWronglySizedFilesNameTheStep) {
+  const std::map<std::string, std::function<void(const fs::path&, uint64_t)>> damages = {
+      {"missing", [](const fs::path& f, uint64_t) { fs::remove(f); }},
+      {"truncated", [](const fs::path& f, uint64_t bytes) { fs::resize_file(f, bytes - 4); }},
+      {"wrong size", [](const fs::path& f, uint64_t) { fs::resize_file(f, fs::file_size(f) + kIoAlignment); }}};
+  for (const auto& [what, damage] : damages) {
+    const fs::path dir = damaged_copy("reader_" + what.substr(0, 5), damage);
+    const Dataset ds(dir);
+    for (ReadMode mode : {ReadMode::buffered, ReadMode::direct}) {
+      StepReader reader(ds.manifest().cell_count, mode);
+      HostBuffer buffer(reader.padded_bytes(), false);
+      try {
+        reader.read(ds.values_path(0, 2), 2, buffer.data());
+        ADD_FAILURE() << what << " file accepted";
+      } catch (const InputError& e) {
+        EXPECT_EQ(e.file(), ds.values_path(0, 2).string());
+        EXPECT_NE(std::string(e.what()).find("step 2"), std::string::npos) << e.what();
+        const std::string word = what == "missing" ? "missing" : what;
+        EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
+      }
+    }
+  }
+}
+
+TEST(StepReader, EvictionLeavesTheFileOutOfThePageCache) {
+  const Dataset ds(series_dir());
+  const fs::path f = ds.values_path(0, 0);
+  (void)ds.load_values(0, 0);
+  ASSERT_TRUE(evict_from_page_cache(f));
+  const double resident = page_cache_resident_fraction(f);
+  if (resident < 0) GTEST_SKIP() << "mincore not available";
+  EXPECT_LT(resident, 0.5);  // a few pages may be pulled back in by readahead elsewhere
+}
+
+// ---------------------------------------------------------------------------------------------
+TEST(Pipeline, LevelsAreCumulativeAndBuffersFixed) {
+  const Dataset ds(series_dir());
+  for (int l = 0; l < kLevelCount; ++l) {
+    const PipelineFlags f = PipelineFlags::at(Level(l));
+    EXPECT_EQ(f.async_io, l >= 1);
+    EXPECT_EQ(f.overlap, l == kLevelCount - 1);
+    Level parsed;
+    ASSERT_TRUE(parse_level(level_name(Level(l)), parsed));
+    EXPECT_EQ(parsed, Level(l));
+    ChecksumStages stages(ds.manifest().cell_count);
+    Pipeline p(ds, 0, f, stages, nullptr);
+    const uint64_t before = p.buffer_bytes();
+    p.play(all_steps());
+    p.play(all_steps());
+    EXPECT_EQ(p.buffer_bytes(), before);  // memory does not grow with the number of steps
+    EXPECT_EQ(stages.rebuilds, f.refit ? 0 : 2 * kSteps);
+  }
+}
+
+TEST(Pipeline, EveryLevelRendersIdenticalFrames) {
+  const Dataset ds(series_dir());
+  RenderSetup setup;
+  setup.tf.colors = builtin_color_map("viridis");
+  setup.tf.opacity = default_opacity_ramp();
+  const Range r = ds.manifest().fields[0].step_ranges[0];
+  setup.tf.lo = r.lo;
+  setup.tf.hi = r.hi;
+  setup.settings.width = 32;
+  setup.settings.height = 24;
+  setup.settings.integrator.ref_step = 0;
+  const AmrRenderer bounds(ds.topology(), ds.manifest().transform);
+  setup.camera = default_camera(bounds.world_bounds(), 32.0 / 24.0);
+
+  std::map<int, std::vector<float>> reference;  // step -> baseline image
+  for (int l = 0; l < kLevelCount; ++l) {
+    RendererStages stages(ds, setup, nullptr);
+    int frames = 0;
+    stages.on_image = [&](const FrameData& f, const Image& img) {
+      ++frames;
+      if (l == 0) reference[f.step] = img.rgba;
+      else EXPECT_EQ(img.rgba, reference.at(f.step)) << level_name(Level(l)) << " step " << f.step;
+    };
+    Pipeline(ds, 0, PipelineFlags::at(Level(l)), stages, nullptr).play(all_steps());
+    EXPECT_EQ(frames, kSteps);
+  }
+  // Something was drawn, and the steps differ (the data moves).
+  EXPECT_NE(reference.at(0), std::vector<float>(reference.at(0).size(), 0.f));
+  EXPECT_NE(reference.at(0), reference.at(kSteps - 1));
+}
+
+TEST(Pipeline, ReadOfTheNextStepOverlapsProcessingOnlyWhenAsync) {
+  const Dataset ds(series_dir());
+  for (Level level : {Level::baseline, Level::async_io, Level::direct_io, Level::overlap}) {
+    Timeline timeline(level_name(level));
+    const bool async = level != Level::baseline;
+    ChecksumStages stages(ds.manifest().cell_count, async ? &timeline : nullptr);
+    Pipeline(ds, 0, PipelineFlags::at(level), stages, &timeline).play(all_steps());
+    // The read of t+1 overlaps the processing of t when it starts before t's output has ended
+    // (at the baseline it can only start after).
+    std::map<int, int64_t> read_begin, processing_end;
+    for (const TimelineEvent& e : timeline.events()) {
+      if (e.stage == Stage::read) read_begin[e.step] = e.begin_ns;
+      if (e.stage == Stage::output) processing_end[e.step] = e.end_ns;
+    }
+    int overlapped = 0;
+    for (int t = 0; t + 1 < kSteps; ++t) overlapped += read_begin.at(t + 1) < processing_end.at(t);
+    EXPECT_EQ(overlapped, async ? kSteps - 1 : 0) << level_name(level);
+    // The overlap level also uploads on the loader; the others upload on the frame thread.
+    for (const TimelineEvent& e : timeline.events())
+      if (e.stage == Stage::upload && e.step > 0)
+        EXPECT_EQ(e.lane, level == Level::overlap ? kPrefetchLane : kFrameLane) << level_name(level);
+  }
+}
+
+TEST(Pipeline, JumpsCostOneLoadAndMatchSequentialPlay) {
+  const Dataset ds(series_dir());
+  ChecksumStages sequential(ds.manifest().cell_count);
+  Pipeline(ds, 0, PipelineFlags::at(Level::overlap), sequential, nullptr).play(all_steps());
+  const std::map<int, uint64_t> by_step(sequential.frames.begin(), sequential.frames.end());
+  for (Level level : {Level::baseline, Level::overlap}) {
+    ChecksumStages jumps(ds.manifest().cell_count);
+    Timeline timeline;
+    const std::vector<int> order = {3, 0, 4, 4, 1};
+    Pipeline(ds, 0, PipelineFlags::at(level), jumps, &timeline).play(order);
+    ASSERT_EQ(jumps.frames.size(), order.size());
+    for (size_t i = 0; i < order.size(); ++i) {
+      EXPECT_EQ(jumps.frames[i].first, order[i]);
+      EXPECT_EQ(jumps.frames[i].second, by_step.at(order[i])) << "step " << order[i];
+    }
+    const auto events = timeline.events();
+    const auto reads = std::count_if(events.begin(), events.end(), [](const TimelineEvent& e) { return e.stage == Stage::read; });
+    EXPECT_EQ(size_t(reads), order.size());
+  }
+}
+
+TEST(Pipeline, MidStreamErrorsNameTheStepAndStopBeforeItsFrame) {
+  const std::map<std::string, std::function<void(const fs::path&, uint64_t)>> damages = {
+      {"missing", [](const fs::path& f, uint64_t) { fs::remove(f); }},
+      {"truncated", [](const fs::path& f, uint64_t bytes) { fs::resize_file(f, bytes / 2); }},
+      {"wrong size", [](const fs::path& f, uint64_t) { fs::resize_file(f, fs::file_size(f) + 3 * kIoAlignment); }}};
+  for (const auto& [what, damage] : damages) {
+    const fs::path dir = damaged_copy("pipeline_" + what.substr(0, 5), damage);
+    const Dataset ds(dir);
+    for (int l = 0; l < kLevelCount; ++l) {
+      ChecksumStages stages(ds.manifest().cell_count);
+      try {
+        Pipeline(ds, 0, PipelineFlags::at(Level(l)), stages, nullptr).play(all_steps());
+        ADD_FAILURE() << what << " step file accepted at " << level_name(Level(l));
+      } catch (const InputError& e) {
+        EXPECT_EQ(e.file(), ds.values_path(0, 2).string());
+        EXPECT_NE(std::string(e.what()).find("step 2"), std::string::npos) << e.what();
+      }
+      ASSERT_EQ(stages.frames.size(), 2u) << what << " at " << level_name(Level(l));
+      EXPECT_EQ(stages.frames[1].first, 1);
+    }
+  }
+}
+
+TEST(FrameWriters, PngPatternsAreValidated) {
+  EXPECT_EQ(PngSequenceWriter::format("f_%04d.png", 7), "f_0007.png");
+  EXPECT_EQ(PngSequenceWriter::format("100%%_%d.png", 12), "100%_12.png");
+  EXPECT_EQ(PngSequenceWriter::format("%3d.png", 5), "  5.png");
+  for (const char* bad : {"frames.png", "%s.png", "%d_%d.png", "%x.png", "%"})
+    EXPECT_THROW(PngSequenceWriter(bad, {}), UsageError) << bad;
+  EXPECT_TRUE(is_video_path("a/b.mp4"));
+  EXPECT_FALSE(is_video_path("a/b_%04d.png"));
+}
+
+}  // namespace
+}  // namespace vs::stream

@@ -118,7 +118,10 @@ template <typename Split, typename Leaf>
 void walk(const Cell& c, Split& split, Leaf& leaf) {
   if (c.level == 0 || !split(c)) return leaf(c);
   const int32_t h = level_width(c.level - 1);
-  for (int k = 0; k < 8; ++k) walk(Cell{c.lower + vec3i(k & 1 ? h : 0, k & 2 ? h : 0, k & 4 ? h : 0), c.level - 1}, split, leaf);
+  for (int k = 0; k < 8; ++k) {
+    const Cell child{c.lower + vec3i(k & 1 ? h : 0, k & 2 ? h : 0, k & 4 ? h : 0), c.level - 1};
+    walk(child, split, leaf);
+  }
 }
 
 template <typename Split, typename Leaf>
@@ -557,7 +560,8 @@ class NeighbourBins {
 
  private:
   // The clumps and filaments whose profiles reach within `reach` of p.
-  static Nearby within(const vec3d& p, double reach, const std::vector<Clump>& clumps, const std::vector<Filament>& filaments) {
+  static Nearby within(const vec3d& p, double reach, const std::vector<Clump>& clumps,
+                       const std::vector<Filament>& filaments) {
     Nearby n;
     for (size_t i = 0; i < clumps.size(); ++i)
       if (length(p - clumps[i].center) < kCutoffRadii * clumps[i].radius + reach) n.clumps.push_back(uint16_t(i));
@@ -579,7 +583,8 @@ class CosmoModel final : public DemoModel {
     connect_filaments(rng);
     const vec3d directions[3] = {{1, 0.3, 0.2}, {-0.2, 1, 0.4}, {0.3, -0.5, 1}};
     const double wavelengths[3] = {17, 13, 11};
-    for (int i = 0; i < 3; ++i) waves_[i] = {normalize(directions[i]) * (2 * kPi / wavelengths[i]), rng.uniform(0, 2 * kPi)};
+    for (int i = 0; i < 3; ++i)
+      waves_[i] = {normalize(directions[i]) * (2 * kPi / wavelengths[i]), rng.uniform(0, 2 * kPi)};
     final_ = universe_at(1);
     max_background_ = background_from_g(1, final_);
     bins_ = std::make_unique<NeighbourBins>(clumps_, filaments_);
@@ -632,7 +637,8 @@ class CosmoModel final : public DemoModel {
       std::vector<int> others;
       for (int j = 0; j < kClumps; ++j)
         if (j != i) others.push_back(j);
-      std::partial_sort(others.begin(), others.begin() + 2, others.end(), [&](int a, int b) { return distance(a) < distance(b); });
+      std::partial_sort(others.begin(), others.begin() + 2, others.end(),
+                        [&](int a, int b) { return distance(a) < distance(b); });
       for (int k = 0; k < 2; ++k) {
         const std::pair<int, int> pair(std::min(i, others[size_t(k)]), std::max(i, others[size_t(k)]));
         if (std::find(pairs.begin(), pairs.end(), pair) == pairs.end()) pairs.push_back(pair);
@@ -642,17 +648,25 @@ class CosmoModel final : public DemoModel {
       filaments_.push_back({clumps_[size_t(i)].center, clumps_[size_t(j)].center, rng.uniform(12, 30)});
   }
 
+  // The state at progress u in [0, 1]: cores collapse (central density up kCollapse times while the
+  // outer profile stays), shocks expand, filaments and the background's contrast grow.
   Universe universe_at(double u) const {
     Universe w;
     w.background_offset = -1.2 - 0.2 * u;
     w.background_contrast = 1.8 + 0.4 * u;
     for (const Clump& c : clumps_) {
       const double central = c.final_central_density / std::pow(kCollapse, 1 - u);
-      const double mass = kOverdensityAtRadius * std::pow(c.radius, 3);
+      const double mass = kOverdensityAtRadius * std::pow(c.radius, 3);  // the r^-3 tail's amplitude
       const double core2 = sqr(std::cbrt(mass / central));
       const double cutoff = kCutoffRadii * c.radius;
-      w.clumps.push_back({c.center, mass, core2, cutoff, cutoff * cutoff, 1e7 * sqr(c.radius / 1.8),
-                          c.radius * (0.6 + 0.8 * u), 9 * core2});
+      w.clumps.push_back({.center = c.center,
+                          .mass = mass,
+                          .core2 = core2,
+                          .cutoff = cutoff,
+                          .cutoff2 = cutoff * cutoff,
+                          .virial_temperature = 1e7 * sqr(c.radius / 1.8),  // T ~ M^(2/3) ~ R^2
+                          .shock_radius = c.radius * (0.6 + 0.8 * u),
+                          .cooling2 = 9 * core2});
     }
     for (const Filament& f : filaments_) w.filaments.push_back(filament_state(f, 0.5 + 0.5 * u));
     return w;
@@ -700,7 +714,8 @@ class CosmoModel final : public DemoModel {
       const ClumpState& c = w.clumps[i];
       const double r2 = dot(p - c.center, p - c.center);
       if (r2 >= c.cutoff2) continue;
-      heat += c.virial_temperature * window(r2, c.cutoff2) / (1 + sqr(sqr(r2 / sqr(c.shock_radius))));  // sharp edge: (r/R)^8
+      const double shock = 1 + sqr(sqr(r2 / sqr(c.shock_radius)));  // 1 + (r/R)^8: a sharp edge
+      heat += c.virial_temperature * window(r2, c.cutoff2) / shock;
       cooling *= sqr(r2 / (r2 + c.cooling2));
     }
     for (uint16_t i : near.filaments) {

@@ -21,13 +21,13 @@ struct BenchIntegratorsArgs {
   double rate = 2;
 };
 
-// The field's range, log10 over 6 decades when positive; inferno with the default ramp.
+// The field's range, log10 over up to 8 decades when positive; inferno with the default ramp.
 TransferTable bench_tf(const FieldInfo& f, int step) {
   TransferFunctionSpec spec;
   Range r = f.step_ranges.at(size_t(step));
   if (!(r.lo <= r.hi)) r = {0.f, 1.f};
   spec.log_scale = r.lo > 0.f;
-  if (spec.log_scale) r.lo = std::max(r.lo, r.hi * 1e-6f);
+  if (spec.log_scale) r.lo = std::max(r.lo, r.hi * 1e-8f);
   spec.lo = r.lo;
   spec.hi = r.hi;
   spec.colors = builtin_color_map("inferno");
@@ -88,7 +88,10 @@ void run_bench_integrators(const BenchIntegratorsArgs& a) {
   Image ref;
   const double t_abr = best_seconds(a.repeat, [&] { return abr.render(Device::cpu, values.data(), tf, nullptr, nullptr, camera, fs); }, ref);
   std::printf("\n%-22s %10s %12s %12s\n", "integrator", "ms", "RMSE vs abr", "max vs abr");
-  std::printf("%-22s %10.1f %12s %12s\n", "abr (tent)", 1e3 * t_abr, "-", "-");
+  double coverage = 0;  // mean alpha: how much of the image the comparison covers
+  for (size_t i = 3; i < ref.rgba.size(); i += 4) coverage += ref.rgba[i];
+  coverage /= double(std::max<size_t>(ref.rgba.size() / 4, 1));
+  std::printf("%-22s %10.1f %12s %12s   (mean alpha %.3f)\n", "abr (tent)", 1e3 * t_abr, "-", "-", coverage);
   const TfView view = tf.view();
   for (Reconstruction r : {Reconstruction::nearest, Reconstruction::trilinear}) {
     BlockFrame frame;

@@ -24,6 +24,8 @@ void add_block_render_options(CLI::App* cmd, BlockRenderArgs& a) {
   cmd->add_option("--absorption", a.absorption, "blackbody: Rayleigh extinction (V band) per unit distance at max density")
       ->capture_default_str();
   cmd->add_option("--emission", a.emission, "blackbody: emission per unit distance at max density")->capture_default_str();
+  cmd->add_option("--emission-power", a.emission_power,
+                  "blackbody: emission ~ normalised density^P (default: 1 for a linear density scale, 4 for a log one)");
 }
 
 Image render_with_blocks(const Dataset& ds, int step, int field, const TransferTable& tf,
@@ -47,15 +49,16 @@ Image render_with_blocks(const Dataset& ds, int step, int field, const TransferT
   const TransferFunctionSpec& spec = tf.spec();
   frame.rho_max = spec.hi;
   if (spec.log_scale && spec.lo > 0.f && spec.hi > spec.lo) frame.log_decades = std::log10(spec.hi / spec.lo);
+  frame.emission_power = a.emission_power > 0 ? float(a.emission_power) : (frame.log_decades > 0.f ? 4.f : 1.f);
   frame.emission = float(a.emission);
   frame.absorption = float(a.absorption);
   const BlockRenderer renderer(ds.topology(), ds.manifest().transform);
   const TfView view = tf.view();
   BlockStats bs;
   Image img = renderer.render(values.data(), bb ? temperature.data() : nullptr, &view, camera, frame, &bs);
-  std::printf("blocks: %zu blocks from %zu bricks, kd-tree %zu nodes built in %.3fs; %s, %s optics\n",
+  std::printf("blocks: %zu blocks from %zu bricks, kd-tree %zu nodes built in %.3fs; %s (vertex values %.3fs), %s optics\n",
               renderer.kd().blocks.size(), ds.topology().bricks.size(), renderer.kd().nodes.size(), bs.build_seconds,
-              a.reconstruction.c_str(), a.optics.c_str());
+              a.reconstruction.c_str(), bs.vertex_seconds, a.optics.c_str());
   if (stats) {
     stats->render_seconds = bs.render_seconds;
     stats->samples = bs.samples;

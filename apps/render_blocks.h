@@ -10,7 +10,7 @@ namespace vs::cli {
 
 struct BlockRenderArgs {
   std::string integrator = "abr", reconstruction = "trilinear", optics = "tf", temperature_field = "temperature";
-  double absorption = 1, emission = 1;
+  double absorption = 0.25, emission = 4, emission_power = 0;  // power 0: 1 linear, 4 log
   bool enabled() const { return integrator == "blocks" || optics == "blackbody"; }
 };
 

@@ -120,27 +120,40 @@ TEST(KdBlocks, TraversalIsFrontToBack) {
 
 Camera test_camera(const BlockRenderer& r) { return default_camera(r.world_bounds(), 1.0); }
 
-// A plain marcher over one uniform grid: global trilinear between cell centres, clamped at the
-// domain, the same step and opacity correction, no blocks.
+// A plain marcher over one uniform grid: vertex values = mean of the (up to 8) cells around each
+// vertex, global trilinear between them; the same step and opacity correction, no blocks.
 Image reference_march(const Vol& v, vec3i dims, const TransferTable& tf, const Camera& cam, uint32_t n, float rate,
                       float ref_step) {
   Image img(n, n);
   const CameraView cv = make_camera_view(cam, n, n);
   const box3f bounds{vec3f(0.f), vec3f(dims)};
-  auto value = [&](int x, int y, int z) { return v.values[(size_t(z) * dims.y + y) * dims.x + x]; };
+  std::vector<float> grid(size_t(dims.x) * dims.y * dims.z);  // values are in device (brick) order
+  for (size_t i = 0; i < v.cells.size(); ++i)
+    grid[(size_t(v.cells[i].lower.z) * dims.y + v.cells[i].lower.y) * dims.x + v.cells[i].lower.x] = v.values[i];
+  auto cell = [&](int x, int y, int z) { return grid[(size_t(z) * dims.y + y) * dims.x + x]; };
+  auto vertex = [&](int x, int y, int z) {
+    float sum = 0;
+    int count = 0;
+    for (int k = 0; k < 8; ++k) {
+      const int cx = x - 1 + (k & 1), cy = y - 1 + (k >> 1 & 1), cz = z - 1 + (k >> 2 & 1);
+      if (cx < 0 || cy < 0 || cz < 0 || cx >= dims.x || cy >= dims.y || cz >= dims.z) continue;
+      sum += cell(cx, cy, cz);
+      ++count;
+    }
+    return sum / float(count);
+  };
   auto sample = [&](vec3f p) {
-    int i0[3], i1[3];
+    int i0[3];
     float f[3];
     for (int a = 0; a < 3; ++a) {
-      const float uu = std::clamp(p[a] - 0.5f, 0.f, float(dims[a] - 1));
+      const float uu = std::clamp(p[a], 0.f, float(dims[a]));
       i0[a] = std::min(int(uu), dims[a] - 1);
-      i1[a] = std::min(i0[a] + 1, dims[a] - 1);
       f[a] = uu - float(i0[a]);
     }
     float r = 0;
     for (int k = 0; k < 8; ++k) {
       const float w = (k & 1 ? f[0] : 1 - f[0]) * (k & 2 ? f[1] : 1 - f[1]) * (k & 4 ? f[2] : 1 - f[2]);
-      r += w * value(k & 1 ? i1[0] : i0[0], k & 2 ? i1[1] : i0[1], k & 4 ? i1[2] : i0[2]);
+      r += w * vertex(i0[0] + (k & 1), i0[1] + (k >> 1 & 1), i0[2] + (k >> 2 & 1));
     }
     return r;
   };
@@ -176,34 +189,68 @@ double mean_abs_diff(const Image& a, const Image& b, double* max_diff = nullptr)
   return s / double(a.rgba.size());
 }
 
-// One brick (trilinear clamps at brick faces, so only a single brick matches a global
-// interpolation exactly); nearest on many bricks/blocks (exact whatever the decomposition).
+// Trilinear with shared vertices on a volume cut into many bricks and blocks equals one global
+// interpolation; nearest on many blocks equals nearest on one brick.
 TEST(BlockRaycaster, MatchesReferenceMarcherOnSingleLevel) {
   const vec3i dims{24, 20, 16};
   const TransferTable tf = test_tf();
   const TfView tv = tf.view();
-  const Vol one = uniform_vol(dims, 64);
-  const BlockRenderer r1(one.topology, {});
+  const Vol many = uniform_vol(dims, 5);
+  const BlockRenderer rm(many.topology, {});
+  ASSERT_GT(rm.kd().blocks.size(), 8u);
   BlockFrame frame;
   frame.width = frame.height = 48;
   frame.settings.rate = 4;
   frame.settings.ref_step = 1;
-  const Camera cam = test_camera(r1);
-  const Image got = r1.render(one.values.data(), nullptr, &tv, cam, frame);
-  const Image ref = reference_march(one, dims, tf, cam, 48, 4, 1);
+  const Camera cam = test_camera(rm);
+  const Image got = rm.render(many.values.data(), nullptr, &tv, cam, frame);
+  const Image ref = reference_march(many, dims, tf, cam, 48, 4, 1);
   double max_d = 0;
   const double mean_d = mean_abs_diff(got, ref, &max_d);
-  EXPECT_LT(mean_d, 2e-3) << "max " << max_d;  // tolerance: sample positions restart per block
+  // Tolerance: sample positions restart at every block face (the reference marches straight on).
+  EXPECT_LT(mean_d, 2e-3) << "max " << max_d;
   EXPECT_LT(max_d, 2e-2);
 
-  // Nearest on a volume cut into many bricks vs one brick: the decomposition must not show.
-  const Vol many = uniform_vol(dims, 5);
-  const BlockRenderer rm(many.topology, {});
-  ASSERT_GT(rm.kd().blocks.size(), 8u);
+  const Vol one = uniform_vol(dims, 64);
+  const BlockRenderer r1(one.topology, {});
   frame.settings.reconstruction = Reconstruction::nearest;
   const Image a = r1.render(one.values.data(), nullptr, &tv, cam, frame);
   const Image b = rm.render(many.values.data(), nullptr, &tv, cam, frame);
   EXPECT_LT(mean_abs_diff(a, b, &max_d), 2e-3) << "max " << max_d;
+}
+
+// The vertex-centred interpolant is continuous across block faces, also coarse-fine ones
+// (dangling nodes): the two blocks on either side of a face give (nearly) the same value.
+TEST(BlockRaycaster, TrilinearIsContinuousAcrossBlocks) {
+  const Vol v = octree_vol(9);
+  const KdBlocks kd = build_kd_blocks(v.topology.bricks);
+  const KdView view = make_kd_view(kd);
+  const VertexField vf = build_vertex_field(kd, v.topology.bricks, v.values.data());
+  std::mt19937 rng(3);
+  int faces = 0, coarse_fine = 0;
+  for (const Block& b : kd.blocks) {
+    for (int a = 0; a < 3; ++a) {
+      if (b.box.upper[a] >= kd.bounds.upper[a]) continue;
+      std::uniform_real_distribution<float> s0(float(b.box.lower[(a + 1) % 3]), float(b.box.upper[(a + 1) % 3]));
+      std::uniform_real_distribution<float> s1(float(b.box.lower[(a + 2) % 3]), float(b.box.upper[(a + 2) % 3]));
+      vec3f p;
+      p[a] = float(b.box.upper[a]);
+      p[(a + 1) % 3] = s0(rng);
+      p[(a + 2) % 3] = s1(rng);
+      vec3f q = p;
+      q[a] += 1e-3f;
+      const int64_t other = kd_locate(view, q);
+      ASSERT_GE(other, 0);
+      const uint32_t self = uint32_t(&b - kd.blocks.data());
+      const float inside = sample_vertices(vf.values.data(), vf.offsets[self], b, p);
+      const float outside = sample_vertices(vf.values.data(), vf.offsets[size_t(other)], kd.blocks[size_t(other)], p);
+      EXPECT_NEAR(inside, outside, 1e-4f) << "levels " << b.level << " / " << kd.blocks[size_t(other)].level;
+      ++faces;
+      coarse_fine += kd.blocks[size_t(other)].level != b.level;
+    }
+  }
+  EXPECT_GT(faces, 50);
+  EXPECT_GT(coarse_fine, 10);
 }
 
 // Rate 1 vs rate 4 on an AMR volume: the opacity correction keeps the image (nearly) the same.

@@ -28,6 +28,10 @@ struct BlackbodyView {
   // > 0: normalise on a log scale instead, over this many decades below rho_max, for data whose
   // density spans many decades (cosmology: linear rho / rho_max shows only the densest peaks).
   float log_decades = 0.f;
+  // Emission uses normalised density^emission_power (1: the paper). On a log scale a power > 1
+  // keeps the diffuse gas from glowing as brightly as the clumps; absorption stays linear, so
+  // that thin cool gas still darkens what lies behind it.
+  float emission_power = 1.f;
   float emission = 1.f;      // emission per reference step at rho = rho_max
   float absorption = 1.f;    // extinction (V band) per reference step at rho = rho_max
   vec3f rayleigh{1.f, 1.f, 1.f};

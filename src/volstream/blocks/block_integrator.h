@@ -6,16 +6,17 @@
 // alpha' = 1 - (1 - alpha)^(dt / dt_ref) (paper Eq. 1 for any step ratio), so the last, shorter
 // step of each segment is exact too. Samples sit at the middle of their step.
 //
-// Reconstruction: nearest (the value of the cell containing the sample) or trilinear between cell
-// centres of the sample's brick. The trilinear mode clamps at brick faces (the value is held
-// constant in the outer half cell), so blocks cut from the same brick join seamlessly but
-// neighbouring bricks do not share vertices (no dangling-node fix-up; see the README of blocks/).
+// Reconstruction: nearest (the value of the cell containing the sample) or trilinear. Trilinear
+// interpolates the vertex values of vertex_field.h (shared by neighbouring blocks, dangling nodes
+// fixed up) when the view has them; without them it falls back to interpolating between the cell
+// centres of the sample's brick, clamped at the brick's faces (seams between bricks).
 #pragma once
 #include <cmath>
 #include <cstdint>
 
 #include "volstream/blocks/blackbody.h"
 #include "volstream/blocks/kd_blocks.h"
+#include "volstream/blocks/vertex_field.h"
 #include "volstream/render/camera.h"
 #include "volstream/render/integrator.h"
 #include "volstream/render/transfer_function.h"
@@ -37,6 +38,9 @@ struct BlockRenderView {
   const Brick* bricks = nullptr;
   const float* values = nullptr;       // primary field (density for blackbody), device order
   const float* temperature = nullptr;  // blackbody only
+  const uint64_t* vertex_offsets = nullptr;   // trilinear: per block (vertex_field.h); null: per-brick fallback
+  const float* vertex_values = nullptr;
+  const float* vertex_temperature = nullptr;
   TfView tf;
   BlackbodyView bb;
   CameraView camera;
@@ -91,10 +95,13 @@ VS_HOST_DEVICE inline float sample_trilinear(const float* values, const Brick& b
   return y0 + (y1 - y0) * f[2];
 }
 
-VS_HOST_DEVICE inline float sample_block(const BlockRenderView& v, const float* values, const Block& b, const vec3f& p) {
+VS_HOST_DEVICE inline float sample_block(const BlockRenderView& v, const float* cells, const float* vertices,
+                                         uint32_t block, const vec3f& p) {
+  const Block& b = v.kd.blocks[block];
   const Brick& br = v.bricks[b.brick];
-  return v.settings.reconstruction == Reconstruction::nearest ? sample_nearest(values, br, b, p)
-                                                              : sample_trilinear(values, br, p);
+  if (v.settings.reconstruction == Reconstruction::nearest) return sample_nearest(cells, br, b, p);
+  if (vertices && v.vertex_offsets) return sample_vertices(vertices, v.vertex_offsets[block], b, p);
+  return sample_trilinear(cells, br, p);
 }
 
 // Accumulated light along the ray: premultiplied colour and per-channel transmittance (the
@@ -129,7 +136,8 @@ VS_HOST_DEVICE inline void shade_blackbody(const BlockRenderView& v, float rho, 
   const BlackbodyView& bb = v.bb;
   const float rn = bb.normalised_density(rho);
   if (!(rn > 0.f)) return;
-  const vec3f e = bb.color(temperature) * (bb.emission * rn);
+  const float re = bb.emission_power == 1.f ? rn : powf(rn, bb.emission_power);
+  const vec3f e = bb.color(temperature) * (bb.emission * re);
   for (int c = 0; c < 3; ++c) {
     const float k = bb.absorption * rn * bb.rayleigh[c];
     const float x = k * len_ref;
@@ -142,8 +150,9 @@ VS_HOST_DEVICE inline void shade_blackbody(const BlockRenderView& v, float rho, 
 
 // Marches the block's segment [t0, t1] with steps of the block's cell width / rate; the last step
 // is shortened to end exactly at t1 and its opacity uses that true length.
-VS_HOST_DEVICE inline void march_block(const BlockRenderView& v, const detail::Ray& ray, const Block& b, float t0, float t1,
-                                       Accum& acc) {
+VS_HOST_DEVICE inline void march_block(const BlockRenderView& v, const detail::Ray& ray, uint32_t block, float t0,
+                                       float t1, Accum& acc) {
+  const Block& b = v.kd.blocks[block];
   const float len = t1 - t0;
   if (!(len > 0.f)) return;
   const float dt = float(level_width(b.level)) / (v.settings.rate * ray.dir_len);
@@ -155,10 +164,10 @@ VS_HOST_DEVICE inline void march_block(const BlockRenderView& v, const detail::R
     const float e = k + 1 < n ? a + dt : t1;
     const float step = e - a;
     const vec3f p = ray.at(0.5f * (a + e));
-    const float f = sample_block(v, v.values, b, p);
+    const float f = sample_block(v, v.values, v.vertex_values, block, p);
     ++acc.samples;
     if (v.settings.optics == Optics::blackbody) {
-      const float temp = sample_block(v, v.temperature, b, p);
+      const float temp = sample_block(v, v.temperature, v.vertex_temperature, block, p);
       ++acc.samples;
       shade_blackbody(v, f, temp, step * inv_ref, acc);
     } else {
@@ -176,7 +185,7 @@ VS_HOST_DEVICE inline Accum trace_blocks(const BlockRenderView& v, const vec3f& 
   ray.dir_len = length(ray.dir);
   Accum acc;
   kd_traverse(v.kd, ray.org, ray.dir, 0.f, INFINITY, [&](uint32_t block, float t0, float t1) {
-    march_block(v, ray, v.kd.blocks[block], t0, t1, acc);
+    march_block(v, ray, block, t0, t1, acc);
     return !acc.opaque();
   });
   return acc;

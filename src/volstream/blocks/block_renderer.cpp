@@ -28,6 +28,7 @@ BlockRenderView BlockRenderer::host_view(const float* values, const float* tempe
   v.temperature = temperature;
   if (tf) v.tf = *tf;
   v.bb = bb_.view(frame.rho_max, frame.emission, frame.absorption, frame.log_decades);
+  v.bb.emission_power = frame.emission_power;
   v.camera = make_camera_view(camera, frame.width, frame.height);
   v.grid.origin = vec3f(transform_.origin);
   v.grid.inv_cell_size = vec3f(vec3d(1.0) / transform_.cell_size);
@@ -48,6 +49,17 @@ Image BlockRenderer::render(const float* values, const float* temperature, const
   BlockRenderView v = host_view(values, temperature, tf, camera, frame);
   v.rgba = img.rgba.data();
   v.sample_counts = counts.data();
+  const auto tv = std::chrono::steady_clock::now();
+  VertexField vf, vt;  // shared vertex samples for trilinear reconstruction
+  if (frame.settings.reconstruction == Reconstruction::trilinear && !kd_.blocks.empty()) {
+    vf = build_vertex_field(kd_, topology_.bricks, values);
+    v.vertex_offsets = vf.offsets.data();
+    v.vertex_values = vf.values.data();
+    if (temperature) {
+      vt = build_vertex_field(kd_, topology_.bricks, temperature);
+      v.vertex_temperature = vt.values.data();
+    }
+  }
   const auto t0 = std::chrono::steady_clock::now();
   if (!kd_.blocks.empty()) {
     // Rows of 8x8 tiles: neighbouring rays visit the same blocks (cache locality).
@@ -61,6 +73,7 @@ Image BlockRenderer::render(const float* values, const float* temperature, const
   if (stats) {
     stats->render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     stats->build_seconds = build_seconds_;
+    stats->vertex_seconds = std::chrono::duration<double>(t0 - tv).count();
     stats->samples = 0;
     for (uint32_t c : counts) stats->samples += c;
   }

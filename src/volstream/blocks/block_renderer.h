@@ -8,6 +8,7 @@
 #include "volstream/blocks/blackbody.h"
 #include "volstream/blocks/block_integrator.h"
 #include "volstream/blocks/kd_blocks.h"
+#include "volstream/blocks/vertex_field.h"
 #include "volstream/io/image.h"
 
 namespace vs {
@@ -17,11 +18,13 @@ struct BlockFrame {
   BlockSettings settings;  // ref_step <= 0: 1/256 of the domain's largest extent (as the ABR renderer)
   // Blackbody optics: rho_max normalises the density; emission and absorption per reference step.
   float rho_max = 1.f, emission = 1.f, absorption = 1.f;
+  float emission_power = 1.f;  // BlackbodyView::emission_power
   float log_decades = 0.f;  // > 0: density normalised on a log scale (BlackbodyView::log_decades)
 };
 
 struct BlockStats {
   double build_seconds = 0, render_seconds = 0;
+  double vertex_seconds = 0;  // trilinear: vertex values of the field(s), per frame (not in render_seconds)
   uint64_t samples = 0;
 };
 
@@ -32,6 +35,7 @@ class BlockRenderer {
   // tf: used by the TF optics (may be null for blackbody).
   Image render(const float* values, const float* temperature, const TfView* tf, const Camera& camera,
                const BlockFrame& frame, BlockStats* stats = nullptr) const;
+  // The kernel view with host pointers (vertex fields and outputs left null).
   BlockRenderView host_view(const float* values, const float* temperature, const TfView* tf, const Camera& camera,
                             const BlockFrame& frame) const;
   const KdBlocks& kd() const { return kd_; }

@@ -97,4 +97,19 @@ VS_HOST_DEVICE inline void kd_traverse(const KdView& kd, const vec3f& org, const
   }
 }
 
+// The block containing point p (grid units), or -1 outside every block. On a split plane the
+// upper side wins, like the half-open cells [lower, lower + width).
+VS_HOST_DEVICE inline int64_t kd_locate(const KdView& kd, const vec3f& p) {
+  if (!kd.nodes || !kd.bounds.contains(p)) return -1;
+  uint32_t node = 0;
+  while (kd.nodes[node].axis != 3) {
+    const KdNode& n = kd.nodes[node];
+    node = p[n.axis] < float(n.split) ? n.child : n.child + 1;
+  }
+  const Block& b = kd.blocks[kd.nodes[node].child];
+  const bool inside = p.x >= float(b.box.lower.x) && p.y >= float(b.box.lower.y) && p.z >= float(b.box.lower.z) &&
+                      p.x < float(b.box.upper.x) && p.y < float(b.box.upper.y) && p.z < float(b.box.upper.z);
+  return inside ? int64_t(kd.nodes[node].child) : -1;
+}
+
 }  // namespace vs

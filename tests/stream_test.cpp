@@ -73,7 +73,9 @@ class ChecksumStages : public FrameStages {
     uint64_t h = 1469598103934665603ull;
     const auto* bytes = reinterpret_cast<const uint8_t*>(f.values);
     for (uint64_t i = 0; i < count_ * 4; ++i) h = (h ^ bytes[i]) * 1099511628211ull;
-    hash_ = h ^ uint64_t(ranges_sum_ * 1e3);
+    uint64_t ranges_bits;
+    std::memcpy(&ranges_bits, &ranges_sum_, sizeof(ranges_bits));
+    hash_ = h ^ ranges_bits;
     if (await_ && f.step + 1 < kSteps) await_read(f.step + 1);
   }
   void output(const FrameData& f) override { frames.emplace_back(f.step, hash_); }

@@ -14,6 +14,7 @@
 #include "volstream/cuda/backend.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/image.h"
+#include "volstream/render/abr_ranges.h"
 #include "volstream/render/renderer.h"
 
 namespace vs::cli {
@@ -28,7 +29,7 @@ struct RenderArgs {
   uint32_t spp = 1;
   double fov = 35, rate = 2, iso_alpha = 1, ref_step = 0;
   bool log = false, ortho = false, no_skip = false, no_adaptive = false, shade = false, alpha = false;
-  bool no_jitter = false;
+  bool no_jitter = false, stored_ranges = false;
   BlockRenderArgs blocks;  // --integrator, --optics, ... (cmd_render_blocks.cpp)
 };
 
@@ -217,7 +218,11 @@ void run_render(const RenderArgs& a) {
   const Device device = resolve_device(a.device);
 
   const std::vector<float> values = ds.load_values(field, a.step);
-  const std::vector<Range> abr_ranges = ds.load_abr_ranges(field, a.step);
+  // Tight ranges (render/abr_ranges.h) cull far more than the stored per-brick ones.
+  const auto t_ranges = std::chrono::steady_clock::now();
+  const std::vector<Range> abr_ranges = a.stored_ranges ? ds.load_abr_ranges(field, a.step)
+                                                        : compute_tight_abr_ranges(ds.topology(), values.data());
+  const double ranges_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_ranges).count();
   std::vector<float> color_values;
   std::unique_ptr<TransferTable> color_tf;
   if (!a.color_field.empty()) {
@@ -253,7 +258,8 @@ void run_render(const RenderArgs& a) {
   std::printf("field %s step %d, range [%g, %g]%s, %llu of %zu ABRs visible%s\n", m.fields[size_t(field)].name.c_str(),
               a.step, spec.lo, spec.hi, spec.log_scale ? " (log)" : "", (unsigned long long)stats.visible_abrs,
               ds.topology().abrs.size(), fs.skip ? "" : " (no skipping)");
-  std::printf("load %.3fs, classify %.4fs, refit %.4fs%s\n", load_s, stats.classify_seconds, stats.refit_seconds,
+  std::printf("load %.3fs, ranges %.4fs%s, classify %.4fs, refit %.4fs%s\n", load_s - ranges_s, ranges_s,
+              a.stored_ranges ? " (stored)" : "", stats.classify_seconds, stats.refit_seconds,
               device == Device::cuda ? (", upload " + std::to_string(stats.upload_seconds) + "s").c_str() : "");
   std::printf("render %ux%u: %.3fs (%.3fs CPU time), %.1f M samples, %.1f M samples/s -> %s\n", fs.width, fs.height,
               stats.render_seconds, cpu_s, stats.samples * 1e-6, stats.samples * 1e-6 / std::max(stats.render_seconds, 1e-9),
@@ -297,6 +303,8 @@ void add_render_command(CLI::App& app) {
   cmd->add_flag("--no-adaptive", a->no_adaptive, "step at the dataset's finest cell width everywhere");
   cmd->add_flag("--no-jitter", a->no_jitter, "start every ray's samples at the same offset");
   cmd->add_flag("--shade", a->shade, "gradient shading of the volume (headlight)");
+  cmd->add_flag("--stored-ranges", a->stored_ranges,
+                "classify with the dataset's stored per-ABR ranges (per brick, looser) instead of tight ones");
   cmd->add_option("--background", a->background, "R,G,B background in [0,1] (sRGB)")->capture_default_str();
   cmd->add_flag("--alpha", a->alpha, "keep transparency (PNG RGBA; PFM: premultiplied RGB + OUT.alpha.pfm)");
   cmd->add_option("--device", a->device, "auto | cpu | cuda")->capture_default_str();

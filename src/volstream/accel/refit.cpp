@@ -1,6 +1,5 @@
 #include "volstream/accel/refit.h"
 
-#include <stdexcept>
 
 namespace vs {
 

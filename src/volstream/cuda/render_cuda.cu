@@ -42,6 +42,12 @@ RenderTimes render(const AmrTopology& topology, const RenderView& host_view) {
   d.rgba = rgba.data();
   d.sample_counts = h.sample_counts ? counts.data() : nullptr;
 
+  // The integrator keeps its traversal stacks and segment batch in local memory (~1 KiB per
+  // thread, as ptxas reports); make sure the per-thread stack allows it.
+  size_t stack = 0;
+  VS_CUDA_CHECK(cudaDeviceGetLimit(&stack, cudaLimitStackSize));
+  if (stack < 4096) VS_CUDA_CHECK(cudaDeviceSetLimit(cudaLimitStackSize, 4096));
+
   cudaEvent_t start, stop;
   VS_CUDA_CHECK(cudaEventCreate(&start));
   VS_CUDA_CHECK(cudaEventCreate(&stop));

@@ -255,7 +255,7 @@ VS_HOST_DEVICE inline void march_segment(const RenderView& v, const Ray& ray, co
   const float width = st.adaptive ? v.amr.abrs[hit.item].finest_width : 1.f;
   const float max_dt = width / (st.rate * ray.dir_len);
   const float steps = ceilf(len / max_dt);
-  const uint32_t n = steps < 1.f ? 1u : uint32_t(steps);
+  const uint32_t n = steps < 1.f ? 1u : (steps < 16777216.f ? uint32_t(steps) : 16777216u);  // no float->int overflow
   const float dt = len / float(n);
   const float exponent = dt / st.ref_step;
   if (st.iso_count > 0) {
@@ -290,7 +290,7 @@ VS_HOST_DEVICE inline RayState trace_ray(const RenderView& v, const vec3f& org_w
   const SlabRay slab(ray.org, ray.dir);
   RayState s;
   // Segments come K at a time from one traversal, front to back.
-  constexpr int kBatch = 8;
+  constexpr int kBatch = 16;
   LeafHit hits[kBatch];
   float t = 0.f;
   for (;;) {

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# render: the built-in demo and a dataset to PNG/PFM with the main options; bad options exit 2.
+source "$(dirname "$0")/common.bash"
+cd "$WORK"
+"$VS" demo jet --cells 100000 --steps 2 -o jet -q
+out=$("$VS" render jet --step 1 --size 96x64 -o a.png)
+echo "$out" | grep -q '^device: cpu' || fail "render does not report the device: $out"
+echo "$out" | grep -q 'M samples/s' || fail "render does not report samples/s: $out"
+[ "$(head -c 4 a.png | tail -c 3)" = PNG ] || fail "a.png is not a PNG"
+"$VS" render jet --field pressure --tf cool-warm --range -3000,1000 --opacity -3000:0.2,0:0,1000:0.2 \
+  --iso -500 --color-field velocity --shade --ortho --spp 2 --rate 1 --size 64x48 --alpha -o b.pfm >/dev/null
+[ -f b.pfm ] && [ -f b.alpha.pfm ] || fail "PFM with alpha not written"
+cat >cm.json <<'JSON'
+[{"Name": "test", "RGBPoints": [0, 0, 0, 1, 1, 1, 0, 0], "Points": [0, 0, 0.5, 0, 1, 0.5, 0.5, 0]}]
+JSON
+"$VS" render jet --field velocity --tf cm.json --camera-pos 0,30,40 --camera-at 5,0,0 --fov 30 --no-skip \
+  --no-adaptive --background 1,1,1 --size 48x48 -o c.png >/dev/null
+"$VS" render --demo cosmo --cells 20000 --log --size 48x48 -o d.png | grep -q 'field density' || fail "cosmo demo"
+expect_bad_input "no input" render -o x.png
+expect_bad_input "bad size" render jet --size 0x10 -o x.png
+expect_bad_input "bad extension" render jet -o x.jpg
+expect_bad_input "bad colour map" render jet --tf nosuchmap -o x.png
+expect_bad_input "bad opacity" render jet --opacity 3 -o x.png
+expect_bad_input "bad camera" render jet --camera-pos 1,2 -o x.png
+expect_bad_input "degenerate camera" render jet --camera-pos 1,1,1 --camera-at 1,1,1 -o x.png
+expect_bad_input "unknown field" render jet --field nope -o x.png
+expect_bad_input "bad step" render jet --step 9 -o x.png
+expect_bad_input "bad device" render jet --device gpu -o x.png
+expect_bad_input "broken colour map file" render jet --tf cm_missing.json -o x.png
+echo '[{"RGBPoints": [0, 1]}]' >bad.json
+expect_bad_input "malformed colour map" render jet --tf bad.json -o x.png
+echo "ok: render"

@@ -183,7 +183,8 @@ void DatasetWriter::write_values(int field, int step, const std::vector<float>& 
 }
 
 void DatasetWriter::finish() {
-  const std::string text = manifest_to_json(manifest_).dump(1);
+  // Field names come from input files and may not be valid UTF-8: replace bad bytes (U+FFFD).
+  const std::string text = manifest_to_json(manifest_).dump(1, ' ', false, json::error_handler_t::replace);
   write_file(dir_ / dataset_files::kManifest, text.data(), text.size());
 }
 

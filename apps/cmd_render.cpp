@@ -1,5 +1,6 @@
 // render: one image of a dataset (or a built-in demo): DVR and/or isosurfaces through the ABRs.
 #include <unistd.h>
+#include "parse_util.h"
 
 #include <chrono>
 #include <ctime>
@@ -32,30 +33,6 @@ struct RenderArgs {
   bool no_jitter = false, stored_ranges = false;
   BlockRenderArgs blocks;  // --integrator, --optics, ... (cmd_render_blocks.cpp)
 };
-
-std::vector<double> parse_numbers(const std::string& text, const std::string& what, char sep = ',') {
-  std::vector<double> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, sep)) {
-    size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !std::isfinite(v)) throw UsageError(what + ": '" + item + "' is not a number");
-    out.push_back(v);
-  }
-  return out;
-}
-
-vec3d parse_vec3(const std::string& text, const std::string& what) {
-  const auto v = parse_numbers(text, what);
-  if (v.size() != 3) throw UsageError(what + " expects X,Y,Z");
-  return {v[0], v[1], v[2]};
-}
 
 void parse_size(const std::string& text, uint32_t& w, uint32_t& h) {
   const auto v = parse_numbers(text, "--size", 'x');

@@ -1,4 +1,5 @@
 // A binary BVH over boxes (the ABRs), one box per leaf so that a leaf can be culled on its own.
+// Built by build_bvh_sah (bvh_sah.h).
 // Children of a node are stored next to each other: right child = left child + 1.
 #pragma once
 #include <cstdint>
@@ -17,9 +18,6 @@ struct BvhNode {
 struct Bvh {
   std::vector<BvhNode> nodes;  // nodes[0] is the root (when not empty)
 };
-
-// Builds over `boxes` by splitting at the median centroid of the longest axis.
-Bvh build_bvh(const std::vector<box3f>& boxes);
 
 // Index of an item whose box contains p (closed boxes), or -1. For disjoint items (ABRs) any
 // point on a shared face belongs to either, both give the same reconstruction.

@@ -23,7 +23,7 @@ int ceil_log2(uint32_t n) {
   return k;
 }
 
-// Like build_bvh's builder: a subtree over k items takes exactly 2k-1 nodes, so the node range
+// A subtree over k items takes exactly 2k-1 nodes, so the node range
 // of every subtree is known before it is built; subtrees build in parallel, deterministically.
 struct SahBuilder {
   const std::vector<box3f>& boxes;

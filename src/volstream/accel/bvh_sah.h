@@ -1,4 +1,4 @@
-// Binned SAH build of the binary BVH (same node layout as build_bvh: one item per leaf, the two
+// Binned SAH build of the binary BVH (one item per leaf, the two
 // children adjacent and after their parent, so refit_bvh applies unchanged).
 //
 // ABRs mix a few huge coarse regions with very many small ones near refinement boundaries; a

@@ -10,7 +10,7 @@ bool children_after_parents(const std::vector<BvhNode>& nodes) {
 }
 
 void refit_bvh(std::vector<BvhNode>& nodes, const std::vector<box3f>& item_boxes, const std::vector<uint8_t>& keep) {
-  // build_bvh appends children after their parent, so a reverse sweep sees children first.
+  // build_bvh_sah appends children after their parent, so a reverse sweep sees children first.
   // This is a serial pass over 2N nodes (a few ms for a million ABRs): cheap next to rendering.
   for (size_t i = nodes.size(); i-- > 0;) {
     BvhNode& n = nodes[i];

@@ -9,7 +9,7 @@
 
 namespace vs {
 
-// nodes: a tree from build_bvh (children stored after their parent). keep[i] != 0 keeps item i
+// nodes: a tree from build_bvh_sah (children stored after their parent). keep[i] != 0 keeps item i
 // with box item_boxes[i]; keep may be empty (keep all).
 void refit_bvh(std::vector<BvhNode>& nodes, const std::vector<box3f>& item_boxes, const std::vector<uint8_t>& keep);
 

@@ -1,5 +1,6 @@
 #include "volstream/amr/probe.h"
 
+#include "volstream/accel/bvh_sah.h"
 #include "volstream/core/parallel.h"
 
 namespace vs {
@@ -8,7 +9,7 @@ Bvh build_abr_bvh(const AmrTopology& topology) {
   std::vector<box3f> boxes;
   boxes.reserve(topology.abrs.size());
   for (const Abr& a : topology.abrs) boxes.push_back(a.box);
-  return build_bvh(boxes);
+  return build_bvh_sah(boxes);
 }
 
 std::vector<float> probe_points(const AmrTopology& topology, const Bvh& bvh, const float* values,

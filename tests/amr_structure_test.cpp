@@ -8,6 +8,7 @@
 
 #include "test_util.h"
 #include "volstream/amr/abrs.h"
+#include "volstream/amr/ranges.h"
 #include "volstream/amr/bricks.h"
 #include "volstream/amr/probe.h"
 #include "volstream/core/error.h"
@@ -119,7 +120,7 @@ TEST_P(AmrStructure, SamplerEqualsBruteForceAndRangesBoundSamples) {
   std::vector<float> values(cells.size());
   for (size_t i = 0; i < cells.size(); ++i) values[i] = test::test_value(cells[i]);
   const Bvh bvh = build_abr_bvh(t);
-  const auto ranges = compute_abr_ranges(t, compute_brick_ranges(t, values.data()));
+  const auto ranges = compute_abr_ranges(t, values.data());
 
   std::mt19937 rng(7);
   box3i bounds = box3i::make_empty();

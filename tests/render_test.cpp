@@ -19,7 +19,7 @@
 #include "volstream/core/error.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/io/image.h"
-#include "volstream/render/abr_ranges.h"
+#include "volstream/amr/ranges.h"
 #include "volstream/render/renderer.h"
 
 namespace vs {
@@ -48,7 +48,7 @@ Volume make_volume(std::vector<Cell> cells, const GridFunction& f, const WorldTr
     const Cell& c = r.device_cells[i];
     v.values[i] = float(f(vec3d(c.lower) + vec3d(0.5 * level_width(c.level))));
   }
-  v.abr_ranges = compute_abr_ranges(v.topology, compute_brick_ranges(v.topology, v.values.data()));
+  v.abr_ranges = compute_abr_ranges(v.topology, v.values.data());
   v.transform = xf;
   return v;
 }
@@ -395,6 +395,29 @@ TEST(Render, RefitAfterTransferFunctionChangeEqualsFreshBuild) {
   EXPECT_GT(mean_alpha(a), 0.01);
 }
 
+// The GPU refits group by group of the schedule; on the CPU that order must give the same boxes
+// as the reverse sweep, and every node must appear exactly once.
+TEST(Render, RefitScheduleEqualsReverseSweep) {
+  OctreeScene s;
+  AmrRenderer r(s.vol.topology, s.vol.transform);
+  r.classify(s.vol.abr_ranges, s.tf, IntegratorSettings{}, true);  // the reverse sweep, some ABRs culled
+  const std::vector<uint8_t> keep = classify_abrs(s.vol.abr_ranges, s.tf, IntegratorSettings{});
+  ASSERT_GT(std::count(keep.begin(), keep.end(), 0), 0);
+  std::vector<BvhNode> nodes = r.template_bvh().nodes;
+  const RefitSchedule schedule = refit_schedule(nodes);
+  std::vector<int> seen(nodes.size(), 0);
+  for (uint32_t i : schedule.nodes) ++seen[i];
+  ASSERT_EQ(std::count(seen.begin(), seen.end(), 1), std::ptrdiff_t(nodes.size()));
+  const auto item_box = [&](uint32_t i) { return s.vol.topology.abrs[i].box; };
+  for (size_t g = 0; g + 1 < schedule.group_begin.size(); ++g)
+    for (uint32_t k = schedule.group_begin[g]; k < schedule.group_begin[g + 1]; ++k)
+      refit_node(nodes.data(), schedule.nodes[k], item_box, keep.data());
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const box3f a = nodes[i].box, b = r.refit_nodes()[i].box;
+    ASSERT_TRUE(a.lower == b.lower && a.upper == b.upper) << i;
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // 4. BVH: front-to-back leaf order and refit
 
@@ -443,21 +466,58 @@ TEST(Bvh, NextLeavesVisitsAbrsInOrder) {
   }
 }
 
-TEST(Ranges, TightAbrRangesBoundEverySampleAndNarrowTheStoredOnes) {
+// Brute force over all cells: the range of the cells whose open support (centre +- width) meets
+// the ABR's box (the cells that must be included), and the union of the ABR's whole bricks (what
+// per-brick ranges give).
+struct ReferenceRanges {
+  Range needed{INFINITY, -INFINITY}, per_brick{INFINITY, -INFINITY};
+};
+ReferenceRanges reference_ranges(const Volume& vol, uint32_t abr) {
+  ReferenceRanges ref;
+  const Abr& a = vol.topology.abrs[abr];
+  for (uint32_t k = 0; k < a.brick_count; ++k) {
+    const Brick& b = vol.topology.bricks[vol.topology.abr_bricks[a.first_brick + k]];
+    for (int64_t c = 0; c < b.cell_count(); ++c) {
+      const vec3i i{int32_t(c % b.dims.x), int32_t(c / b.dims.x % b.dims.y), int32_t(c / (int64_t(b.dims.x) * b.dims.y))};
+      const float w = float(b.width());
+      const vec3f centre = vec3f(b.lower) + (vec3f(i) + vec3f(0.5f)) * w;
+      const float v = vol.values[b.value_offset + uint64_t(c)];
+      extend_range(ref.per_brick, v);
+      bool meets = true;
+      for (int ax = 0; ax < 3; ++ax) meets = meets && centre[ax] > a.box.lower[ax] - w && centre[ax] < a.box.upper[ax] + w;
+      if (meets) extend_range(ref.needed, v);
+    }
+  }
+  return ref;
+}
+
+TEST(Ranges, AbrRangesHoldTheNeededCellsAndNarrowPerBrickRanges) {
   const Volume vol = make_volume(test::random_octree_cells(9, {3, 3, 2}, 4, 0.5), [](const vec3d& p) {
     return std::sin(0.3 * p.x) * std::cos(0.2 * p.y) + 0.1 * p.z;
   });
-  const std::vector<Range> tight = compute_tight_abr_ranges(vol.topology, vol.values.data());
+  const std::vector<Range>& tight = vol.abr_ranges;
+  size_t narrower = 0;
+  for (uint32_t i = 0; i < vol.topology.abrs.size(); ++i) {
+    const ReferenceRanges ref = reference_ranges(vol, i);
+    ASSERT_LE(tight[i].lo, ref.needed.lo) << "ABR " << i;
+    ASSERT_GE(tight[i].hi, ref.needed.hi) << "ABR " << i;
+    const Range loose = widen_for_rounding(ref.per_brick);
+    EXPECT_GE(tight[i].lo, loose.lo);
+    EXPECT_LE(tight[i].hi, loose.hi);
+    narrower += tight[i].hi - tight[i].lo < 0.9f * (loose.hi - loose.lo);
+  }
+  EXPECT_GT(narrower, vol.topology.abrs.size() / 10);  // tighter than per brick (measured: 16%)
+}
+
+TEST(Ranges, AbrRangesBoundEverySample) {
+  const Volume vol = make_volume(test::random_octree_cells(9, {3, 3, 2}, 4, 0.5), [](const vec3d& p) {
+    return std::sin(0.3 * p.x) * std::cos(0.2 * p.y) + 0.1 * p.z;
+  });
   const AmrView view = make_view(vol.topology, vol.values.data());
   std::mt19937 rng(1);
   std::uniform_real_distribution<float> u(0.f, 1.f);
-  size_t narrower = 0;
   for (uint32_t i = 0; i < vol.topology.abrs.size(); ++i) {
-    const Range t = tight[i], s = vol.abr_ranges[i];
-    ASSERT_LE(t.lo, t.hi);
-    EXPECT_GE(t.lo, s.lo);
-    EXPECT_LE(t.hi, s.hi);
-    narrower += t.hi - t.lo < 0.9f * (s.hi - s.lo);
+    const Range t = vol.abr_ranges[i];
     const box3f& b = vol.topology.abrs[i].box;
     for (int k = 0; k < 40; ++k) {  // corners, faces and inside
       vec3f p;
@@ -471,7 +531,23 @@ TEST(Ranges, TightAbrRangesBoundEverySampleAndNarrowTheStoredOnes) {
       ASSERT_LE(f, t.hi) << "ABR " << i;
     }
   }
-  EXPECT_GT(narrower, vol.topology.abrs.size() / 10);  // and they are tighter (measured: 16%)
+}
+
+// The GPU's layout (a warp's 32 lanes striding over each brick's cells) gives the same range.
+TEST(Ranges, LanesTogetherEqualOneLane) {
+  const Volume vol = make_volume(test::random_octree_cells(5, {3, 2, 2}, 4, 0.5),
+                                 [](const vec3d& p) { return std::cos(0.4 * p.x + 0.1 * p.y * p.z); });
+  const AmrView view = make_view(vol.topology, vol.values.data());
+  for (uint32_t i = 0; i < vol.topology.abrs.size(); ++i) {
+    const Range one = abr_lane_range(view, i, 0, 1);
+    Range lanes{INFINITY, -INFINITY};
+    for (uint32_t lane = 0; lane < 32; ++lane) {
+      const Range r = abr_lane_range(view, i, lane, 32);
+      lanes = {std::min(lanes.lo, r.lo), std::max(lanes.hi, r.hi)};
+    }
+    ASSERT_EQ(one.lo, lanes.lo) << "ABR " << i;
+    ASSERT_EQ(one.hi, lanes.hi) << "ABR " << i;
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -16,7 +16,9 @@
 
 #include "test_util.h"
 #include "volstream/amr/demo.h"
+#include "volstream/amr/ranges.h"
 #include "volstream/core/error.h"
+#include "volstream/cuda/backend.h"
 #include "volstream/stream/gantt.h"
 #include "volstream/stream/pipeline.h"
 #include "volstream/stream/render_stages.h"
@@ -63,12 +65,10 @@ fs::path damaged_copy(const std::string& name, const std::function<void(const fs
 // gets there during the frame, so the test does not depend on how fast threads are scheduled.
 class ChecksumStages : public FrameStages {
  public:
-  explicit ChecksumStages(uint64_t count, const Timeline* await_reads_in = nullptr)
-      : count_(count), await_(await_reads_in) {}
-  void refit(const FrameData& f, bool rebuild) override {
-    rebuilds += rebuild ? 1 : 0;
-    ranges_sum_ = sum_ranges(f);
-  }
+  explicit ChecksumStages(const AmrTopology& topology, const Timeline* await_reads_in = nullptr)
+      : topology_(topology), count_(topology.cell_count), await_(await_reads_in) {}
+  void ranges(const FrameData& f) override { ranges_sum_ = sum_ranges(compute_abr_ranges(topology_, f.values)); }
+  void refit(const FrameData&, bool rebuild) override { rebuilds += rebuild ? 1 : 0; }
   void render(const FrameData& f) override {
     uint64_t h = 1469598103934665603ull;
     const auto* bytes = reinterpret_cast<const uint8_t*>(f.values);
@@ -83,9 +83,9 @@ class ChecksumStages : public FrameStages {
   int rebuilds = 0;
 
  private:
-  static double sum_ranges(const FrameData& f) {
+  static double sum_ranges(const std::vector<Range>& ranges) {
     double s = 0;
-    for (const Range& r : *f.abr_ranges) s += r.lo <= r.hi ? double(r.lo) + r.hi : 0.0;
+    for (const Range& r : ranges) s += r.lo <= r.hi ? double(r.lo) + r.hi : 0.0;
     return s;
   }
   void await_read(int step) const {
@@ -96,6 +96,7 @@ class ChecksumStages : public FrameStages {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
   }
+  const AmrTopology& topology_;
   uint64_t count_;
   const Timeline* await_;
   uint64_t hash_ = 0;
@@ -277,7 +278,7 @@ TEST(Pipeline, LevelsAreCumulativeAndBuffersFixed) {
     Level parsed;
     ASSERT_TRUE(parse_level(level_name(Level(l)), parsed));
     EXPECT_EQ(parsed, Level(l));
-    ChecksumStages stages(ds.manifest().cell_count);
+    ChecksumStages stages(ds.topology());
     Pipeline p(ds, 0, f, stages, nullptr);
     const uint64_t before = p.buffer_bytes();
     p.play(all_steps());
@@ -287,8 +288,7 @@ TEST(Pipeline, LevelsAreCumulativeAndBuffersFixed) {
   }
 }
 
-TEST(Pipeline, EveryLevelRendersIdenticalFrames) {
-  const Dataset ds(series_dir());
+RenderSetup small_render_setup(const Dataset& ds, Device device) {
   RenderSetup setup;
   setup.tf.colors = builtin_color_map("viridis");
   setup.tf.opacity = default_opacity_ramp();
@@ -300,22 +300,81 @@ TEST(Pipeline, EveryLevelRendersIdenticalFrames) {
   setup.settings.integrator.ref_step = 0;
   const AmrRenderer bounds(ds.topology(), ds.manifest().transform);
   setup.camera = default_camera(bounds.world_bounds(), 32.0 / 24.0);
+  setup.device = device;
+  return setup;
+}
 
-  std::map<int, std::vector<float>> reference;  // step -> baseline image
+// images[level][step]: every step played at every pipeline level.
+using LevelImages = std::vector<std::map<int, std::vector<float>>>;
+LevelImages play_every_level(const Dataset& ds, const RenderSetup& setup) {
+  LevelImages images(kLevelCount);
   for (int l = 0; l < kLevelCount; ++l) {
     RendererStages stages(ds, setup, nullptr);
-    int frames = 0;
-    stages.on_image = [&](const FrameData& f, const Image& img) {
-      ++frames;
-      if (l == 0) reference[f.step] = img.rgba;
-      else EXPECT_EQ(img.rgba, reference.at(f.step)) << level_name(Level(l)) << " step " << f.step;
-    };
+    stages.on_image = [&](const FrameData& f, const Image& img) { images[size_t(l)][f.step] = img.rgba; };
     Pipeline(ds, 0, PipelineFlags::at(Level(l)), stages, nullptr).play(all_steps());
-    EXPECT_EQ(frames, kSteps);
+    EXPECT_EQ(images[size_t(l)].size(), size_t(kSteps)) << level_name(Level(l));
   }
+  return images;
+}
+
+TEST(Pipeline, EveryLevelRendersIdenticalFrames) {
+  const Dataset ds(series_dir());
+  const LevelImages images = play_every_level(ds, small_render_setup(ds, Device::cpu));
+  for (int l = 1; l < kLevelCount; ++l)
+    for (int step = 0; step < kSteps; ++step)
+      EXPECT_EQ(images[size_t(l)].at(step), images[0].at(step)) << level_name(Level(l)) << " step " << step;
   // Something was drawn, and the steps differ (the data moves).
-  EXPECT_NE(reference.at(0), std::vector<float>(reference.at(0).size(), 0.f));
-  EXPECT_NE(reference.at(0), reference.at(kSteps - 1));
+  const auto& first = images[0].at(0);
+  EXPECT_NE(first, std::vector<float>(first.size(), 0.f));
+  EXPECT_NE(first, images[0].at(kSteps - 1));
+}
+
+// The GPU-resident frame: ranges, classification and refit on the device equal the host's
+// exactly (same functions, min/max only); images equal across levels exactly and equal the CPU
+// images within the tolerance of Render.CudaEqualsCpu.
+TEST(PipelineCuda, DeviceRangesAndRefitEqualTheHost) {
+  if (!cuda::cuda_available()) GTEST_SKIP() << "no CUDA device";
+  const Dataset ds(series_dir());
+  const std::vector<float> values = ds.load_values(0, 1);
+  const RenderSetup setup = small_render_setup(ds, Device::cuda);
+  const TransferTable tf(setup.tf);
+  AmrRenderer host(ds.topology(), ds.manifest().transform);
+  const std::vector<Range> ranges = compute_abr_ranges(ds.topology(), values.data());
+  const uint64_t host_visible = host.classify(ranges, tf, setup.settings.integrator, true);
+
+  cuda::DeviceScene scene(ds.topology());
+  scene.set_bvh(host.template_bvh().nodes);
+  cuda::DeviceValueBuffers device_values(1, values.size());
+  device_values.upload(0, values.data(), values.size());
+  scene.compute_ranges(device_values.data(0));
+  const std::vector<Range> device_ranges = scene.download_ranges();
+  ASSERT_EQ(device_ranges.size(), ranges.size());
+  for (size_t i = 0; i < ranges.size(); ++i) {
+    ASSERT_EQ(device_ranges[i].lo, ranges[i].lo) << "ABR " << i;
+    ASSERT_EQ(device_ranges[i].hi, ranges[i].hi) << "ABR " << i;
+  }
+  EXPECT_EQ(scene.classify_and_refit(tf, setup.settings.integrator, true), host_visible);
+  const std::vector<BvhNode> nodes = scene.download_refit_nodes();
+  ASSERT_EQ(nodes.size(), host.refit_nodes().size());
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const box3f a = nodes[i].box, b = host.refit_nodes()[i].box;
+    ASSERT_TRUE(a.lower == b.lower && a.upper == b.upper) << "node " << i;
+  }
+}
+
+TEST(PipelineCuda, EveryLevelOnTheGpuMatchesTheCpu) {
+  if (!cuda::cuda_available()) GTEST_SKIP() << "no CUDA device";
+  const Dataset ds(series_dir());
+  const LevelImages cpu = play_every_level(ds, small_render_setup(ds, Device::cpu));
+  const LevelImages gpu = play_every_level(ds, small_render_setup(ds, Device::cuda));
+  for (int step = 0; step < kSteps; ++step) {
+    for (int l = 1; l < kLevelCount; ++l)
+      EXPECT_EQ(gpu[size_t(l)].at(step), gpu[0].at(step)) << level_name(Level(l)) << " step " << step;
+    const std::vector<float>&a = cpu[0].at(step), &b = gpu[0].at(step);
+    double sum = 0;
+    for (size_t i = 0; i < a.size(); ++i) sum += std::abs(double(a[i]) - double(b[i]));
+    EXPECT_LT(sum / double(a.size()), 1e-3) << "step " << step;
+  }
 }
 
 TEST(Pipeline, ReadOfTheNextStepOverlapsProcessingOnlyWhenAsync) {
@@ -323,7 +382,7 @@ TEST(Pipeline, ReadOfTheNextStepOverlapsProcessingOnlyWhenAsync) {
   for (Level level : {Level::baseline, Level::async_io, Level::direct_io, Level::overlap}) {
     Timeline timeline(level_name(level));
     const bool async = level != Level::baseline;
-    ChecksumStages stages(ds.manifest().cell_count, async ? &timeline : nullptr);
+    ChecksumStages stages(ds.topology(), async ? &timeline : nullptr);
     Pipeline(ds, 0, PipelineFlags::at(level), stages, &timeline).play(all_steps());
     // The read of t+1 overlaps the processing of t when it starts before t's output has ended
     // (at the baseline it can only start after).
@@ -344,11 +403,11 @@ TEST(Pipeline, ReadOfTheNextStepOverlapsProcessingOnlyWhenAsync) {
 
 TEST(Pipeline, JumpsCostOneLoadAndMatchSequentialPlay) {
   const Dataset ds(series_dir());
-  ChecksumStages sequential(ds.manifest().cell_count);
+  ChecksumStages sequential(ds.topology());
   Pipeline(ds, 0, PipelineFlags::at(Level::overlap), sequential, nullptr).play(all_steps());
   const std::map<int, uint64_t> by_step(sequential.frames.begin(), sequential.frames.end());
   for (Level level : {Level::baseline, Level::overlap}) {
-    ChecksumStages jumps(ds.manifest().cell_count);
+    ChecksumStages jumps(ds.topology());
     Timeline timeline;
     const std::vector<int> order = {3, 0, 4, 4, 1};
     Pipeline(ds, 0, PipelineFlags::at(level), jumps, &timeline).play(order);
@@ -372,7 +431,7 @@ TEST(Pipeline, MidStreamErrorsNameTheStepAndStopBeforeItsFrame) {
     const fs::path dir = damaged_copy("pipeline_" + what.substr(0, 5), damage);
     const Dataset ds(dir);
     for (int l = 0; l < kLevelCount; ++l) {
-      ChecksumStages stages(ds.manifest().cell_count);
+      ChecksumStages stages(ds.topology());
       try {
         Pipeline(ds, 0, PipelineFlags::at(Level(l)), stages, nullptr).play(all_steps());
         ADD_FAILURE() << what << " step file accepted at " << level_name(Level(l));

@@ -9,11 +9,33 @@
 
 namespace vs {
 
+// Refits node i from its item (leaf; keep may be null: keep all) or from its two children,
+// which must be refit already. item_box(i) gives item i's box. Shared by the CPU and GPU refits.
+template <typename ItemBox>
+VS_HOST_DEVICE inline void refit_node(BvhNode* nodes, uint32_t i, ItemBox&& item_box, const uint8_t* keep) {
+  BvhNode& n = nodes[i];
+  if (n.is_leaf) {
+    n.box = (!keep || keep[n.index]) ? item_box(n.index) : box3f::make_empty();
+  } else {
+    box3f b = nodes[n.index].box;
+    b.extend(nodes[n.index + 1].box);  // empty boxes are neutral: min/max with +-inf
+    n.box = b;
+  }
+}
+
 // nodes: a tree from build_bvh_sah (children stored after their parent). keep[i] != 0 keeps item i
 // with box item_boxes[i]; keep may be empty (keep all).
 void refit_bvh(std::vector<BvhNode>& nodes, const std::vector<box3f>& item_boxes, const std::vector<uint8_t>& keep);
 
 // True when every inner node's children come after it (the order refit_bvh relies on).
 bool children_after_parents(const std::vector<BvhNode>& nodes);
+
+// The nodes grouped by depth, deepest first: the nodes of one group are independent and every
+// node's children lie in earlier groups, so a GPU refits one group per launch.
+struct RefitSchedule {
+  std::vector<uint32_t> nodes;        // node indices, group after group
+  std::vector<uint32_t> group_begin;  // group g is nodes[group_begin[g], group_begin[g + 1])
+};
+RefitSchedule refit_schedule(const std::vector<BvhNode>& nodes);
 
 }  // namespace vs

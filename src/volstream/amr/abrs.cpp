@@ -207,39 +207,4 @@ void build_abrs(AmrTopology& topology, const std::string& source_name) {
   }
 }
 
-std::vector<Range> compute_brick_ranges(const AmrTopology& topology, const float* values) {
-  std::vector<Range> ranges(topology.bricks.size());
-  parallel_for("brick_ranges", int64_t(ranges.size()), [&](int64_t i) {
-    const Brick& b = topology.bricks[size_t(i)];
-    Range r{INFINITY, -INFINITY};
-    const float* v = values + b.value_offset;
-    for (int64_t c = 0; c < b.cell_count(); ++c) {
-      if (std::isnan(v[c])) continue;
-      r.lo = std::min(r.lo, v[c]);
-      r.hi = std::max(r.hi, v[c]);
-    }
-    ranges[size_t(i)] = r;
-  });
-  return ranges;
-}
-
-std::vector<Range> compute_abr_ranges(const AmrTopology& topology, const std::vector<Range>& brick_ranges) {
-  std::vector<Range> ranges(topology.abrs.size());
-  parallel_for("abr_ranges", int64_t(ranges.size()), [&](int64_t i) {
-    const Abr& a = topology.abrs[size_t(i)];
-    Range r{INFINITY, -INFINITY};
-    for (uint32_t k = 0; k < a.brick_count; ++k) {
-      const Range& b = brick_ranges[topology.abr_bricks[a.first_brick + k]];
-      r.lo = std::min(r.lo, b.lo);
-      r.hi = std::max(r.hi, b.hi);
-    }
-    // The sampler's float weighted average can land a few ulps outside the exact convex hull of
-    // its inputs; widen so the range bounds every value it returns.
-    const float slack = 1e-5f * std::max(std::abs(r.lo), std::abs(r.hi));
-    if (r.lo <= r.hi) r = {r.lo - slack, r.hi + slack};
-    ranges[size_t(i)] = r;
-  });
-  return ranges;
-}
-
 }  // namespace vs

@@ -12,9 +12,4 @@ namespace vs {
 // when two bricks overlap (cells given twice at different levels).
 void build_abrs(AmrTopology& topology, const std::string& source_name);
 
-// Per-brick value range (min/max over its cells, NaN ignored), then per ABR over its bricks.
-// The ABR range bounds every value the tent-basis sampler can return inside the ABR.
-std::vector<Range> compute_brick_ranges(const AmrTopology& topology, const float* values);
-std::vector<Range> compute_abr_ranges(const AmrTopology& topology, const std::vector<Range>& brick_ranges);
-
 }  // namespace vs

@@ -1,6 +1,8 @@
 // What the host code may ask of the CUDA backend. Everything here also links without CUDA:
 // cuda_available() is then false and the other calls throw.
 #pragma once
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -9,7 +11,9 @@
 
 namespace vs {
 struct RenderView;
-}
+struct IntegratorSettings;
+class TransferTable;
+}  // namespace vs
 
 namespace vs::cuda {
 
@@ -20,12 +24,68 @@ std::string device_name();    // e.g. "NVIDIA H100 80GB HBM3"; empty without a d
 std::vector<float> probe_points(const AmrTopology& topology, const Bvh& bvh, const float* values,
                                 const std::vector<vec3f>& grid_points);
 
-// Renders `host_view` (host pointers, as from AmrRenderer::host_view) on the GPU: uploads the
-// topology, values, BVHs and tables, runs render_pixel per pixel, and copies the image (and the
-// per-pixel sample counts when host_view.sample_counts is set) back to host_view.rgba.
 struct RenderTimes {
   double upload_seconds = 0, kernel_seconds = 0;
 };
+
+// GPU-resident state for rendering frames of one topology (paper 000, section 5): the topology
+// and the BVH template are uploaded once; per frame only the values change (DeviceValueBuffers),
+// and the ranges, classification and refit run on the GPU, so nothing of the size of the ABR
+// list crosses the bus. Each call returns when its work is done, but the work runs on the
+// scene's own non-blocking stream: an upload issued meanwhile by another thread on its own
+// stream overlaps it (section 5.7). Scratch buffers only grow, so a steady frame loop allocates
+// and frees nothing (cudaFree would wait for that upload).
+class DeviceScene {
+ public:
+  explicit DeviceScene(const AmrTopology& topology);  // uploads the topology; keeps no reference
+  ~DeviceScene();
+  DeviceScene(const DeviceScene&) = delete;
+  DeviceScene& operator=(const DeviceScene&) = delete;
+
+  // The BVH template over all ABRs (from the renderer; again after every rebuild). The refit
+  // nodes start as a copy of it.
+  void set_bvh(const std::vector<BvhNode>& template_nodes);
+  // The "ranges" stage: per-ABR value ranges of `device_values` (amr/ranges.h), kept on the GPU.
+  void compute_ranges(const float* device_values);
+  std::vector<Range> download_ranges() const;
+  // The "refit" stage: classify every ABR from the last computed ranges (render/classify.h)
+  // and refit the BVH group by group (accel/refit.h); skip = false keeps every ABR. Returns
+  // the number of visible ABRs.
+  uint64_t classify_and_refit(const TransferTable& tf, const IntegratorSettings& iso, bool skip);
+  // For a host-side classification instead: the refit nodes as the host computed them.
+  void set_refit_nodes(const std::vector<BvhNode>& nodes);
+  std::vector<BvhNode> download_refit_nodes() const;
+
+  // Renders `host_view` (camera, settings and transfer tables from the host; its topology, BVH
+  // and value pointers are replaced by the scene's and the given device arrays) and copies the
+  // image (and the sample counts when host_view.sample_counts is set) back to host_view.rgba.
+  RenderTimes render(const RenderView& host_view, const float* device_values, const float* device_color_values);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Field values in GPU memory, filled from host memory on a stream of their own.
+class DeviceValueBuffers {
+ public:
+  DeviceValueBuffers(int count, uint64_t floats_each);  // allocates all of them up front
+  ~DeviceValueBuffers();
+  DeviceValueBuffers(const DeviceValueBuffers&) = delete;
+  DeviceValueBuffers& operator=(const DeviceValueBuffers&) = delete;
+  const float* data(int buffer) const;
+  // Copies `floats` values into `buffer`; returns when done. From page-locked memory the copy is
+  // DMA that overlaps kernels running on other streams; from pageable memory the driver stages it.
+  void upload(int buffer, const float* host, uint64_t floats);
+  uint64_t bytes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// One frame from host data: uploads the topology, the BVHs and the values (through a
+// DeviceScene), renders `host_view` as classified and refit on the host, copies the image back.
 RenderTimes render(const AmrTopology& topology, const RenderView& host_view);
 
 }  // namespace vs::cuda

@@ -38,6 +38,16 @@ class DeviceBuffer {
     if (n) VS_CUDA_CHECK(cudaMemcpy(ptr_, host, n * sizeof(T), cudaMemcpyHostToDevice));
   }
   void upload(const std::vector<T>& host) { upload(host.data(), host.size()); }
+  // Grows (never shrinks) to at least n elements, so that a frame loop stops allocating after
+  // its first frame (cudaFree synchronises the whole device).
+  void ensure(size_t n) {
+    if (n > n_) resize(n);
+  }
+  // Copies n elements in on `stream` (ensure() first); the caller synchronises the stream.
+  void upload_async(const T* host, size_t n, cudaStream_t stream) {
+    ensure(n);
+    if (n) VS_CUDA_CHECK(cudaMemcpyAsync(ptr_, host, n * sizeof(T), cudaMemcpyHostToDevice, stream));
+  }
   std::vector<T> download() const {
     std::vector<T> host(n_);
     if (n_) VS_CUDA_CHECK(cudaMemcpy(host.data(), ptr_, n_ * sizeof(T), cudaMemcpyDeviceToHost));

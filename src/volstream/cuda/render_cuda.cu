@@ -1,72 +1,247 @@
-// GPU rendering: the host-device render_pixel() from render/integrator.h launched one thread
-// per pixel. Only memory handling differs from the CPU path: the view's host pointers are
-// replaced by device copies.
+// The GPU side of rendering (backend.h): a DeviceScene holding the topology and BVHs, and the
+// per-frame ranges, classification, refit and render kernels. The kernels call the same
+// host-device functions as the CPU path (amr/ranges.h, render/classify.h, accel/refit.h,
+// render/integrator.h); only memory handling lives here.
 #include <chrono>
 
+#include "volstream/accel/refit.h"
+#include "volstream/amr/ranges.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/cuda/launch.cuh"
+#include "volstream/render/classify.h"
 #include "volstream/render/integrator.h"
 
 namespace vs::cuda {
+namespace {
 
-RenderTimes render(const AmrTopology& topology, const RenderView& host_view) {
-  RenderTimes times;
-  const auto t0 = std::chrono::steady_clock::now();
-  const RenderView& h = host_view;
-  DeviceBuffer<Brick> bricks(topology.bricks);
-  DeviceBuffer<Abr> abrs(topology.abrs);
-  DeviceBuffer<uint32_t> abr_bricks(topology.abr_bricks);
-  DeviceBuffer<float> values, color_values;
-  values.upload(h.amr.values, topology.cell_count);
-  if (h.color_values) color_values.upload(h.color_values, topology.cell_count);
-  DeviceBuffer<BvhNode> nodes, all_nodes;
-  nodes.upload(h.nodes, h.node_count);
-  all_nodes.upload(h.all_nodes, h.all_node_count);
+constexpr unsigned kFullWarp = 0xffffffffu;
+
+// A non-blocking stream: it never waits for the legacy default stream, nor it for it.
+struct Stream {
+  cudaStream_t s = nullptr;
+  Stream() { VS_CUDA_CHECK(cudaStreamCreateWithFlags(&s, cudaStreamNonBlocking)); }
+  ~Stream() { cudaStreamDestroy(s); }
+  Stream(const Stream&) = delete;
+  Stream& operator=(const Stream&) = delete;
+  void sync() const { VS_CUDA_CHECK(cudaStreamSynchronize(s)); }
+};
+
+struct Event {
+  cudaEvent_t e = nullptr;
+  Event() { VS_CUDA_CHECK(cudaEventCreate(&e)); }
+  ~Event() { cudaEventDestroy(e); }
+  Event(const Event&) = delete;
+  Event& operator=(const Event&) = delete;
+};
+
+// One warp per ABR: the lanes stride together over each brick's cells near the ABR
+// (amr/ranges.h) and combine their partial ranges with shuffles.
+__global__ void abr_ranges_kernel(AmrView v, Range* out) {
+  const uint32_t warp = (blockIdx.x * blockDim.x + threadIdx.x) / 32u, lane = threadIdx.x % 32u;
+  if (warp >= v.abr_count) return;  // uniform per warp: blockDim is a multiple of 32
+  Range r = abr_lane_range(v, warp, lane, 32u);
+  for (int offset = 16; offset > 0; offset /= 2) {
+    r.lo = fminf(r.lo, __shfl_xor_sync(kFullWarp, r.lo, offset));
+    r.hi = fmaxf(r.hi, __shfl_xor_sync(kFullWarp, r.hi, offset));
+  }
+  if (lane == 0) out[warp] = widen_for_rounding(r);
+}
+
+// Adds the number of threads of the calling warp with `flag` set to *count: one atomic per warp.
+__device__ void count_per_warp(bool flag, unsigned long long* count) {
+  const unsigned active = __activemask();
+  const unsigned votes = __ballot_sync(active, flag);
+  if ((threadIdx.x % 32u) == unsigned(__ffs(active) - 1)) atomicAdd(count, (unsigned long long)__popc(votes));
+}
+
+}  // namespace
+
+struct DeviceScene::Impl {
+  uint32_t brick_count = 0, abr_count = 0;
+  DeviceBuffer<Brick> bricks;
+  DeviceBuffer<Abr> abrs;
+  DeviceBuffer<uint32_t> abr_bricks;
+  DeviceBuffer<BvhNode> template_nodes, refit_nodes;
+  DeviceBuffer<uint32_t> schedule;         // RefitSchedule::nodes
+  std::vector<uint32_t> group_begin;       // RefitSchedule::group_begin (host: launch bounds)
+  DeviceBuffer<Range> ranges;
+  DeviceBuffer<uint8_t> keep;
+  DeviceBuffer<uint32_t> opaque_prefix;
+  DeviceBuffer<unsigned long long> counter;
   DeviceBuffer<Rgba> tf, color_tf;
-  tf.upload(h.tf.table, h.tf.size);
-  if (h.color_values) color_tf.upload(h.color_tf.table, h.color_tf.size);
-  const size_t pixels = size_t(h.width) * h.height;
-  DeviceBuffer<float> rgba(4 * pixels);
-  DeviceBuffer<uint32_t> counts(h.sample_counts ? pixels : 0);
-  VS_CUDA_CHECK(cudaDeviceSynchronize());
-  times.upload_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  DeviceBuffer<float> rgba;
+  DeviceBuffer<uint32_t> counts;
+  Stream stream;
 
-  RenderView d = h;
-  d.amr = {bricks.data(), abrs.data(), abr_bricks.data(), values.data(), uint32_t(topology.bricks.size()),
-           uint32_t(topology.abrs.size())};
-  d.color_values = h.color_values ? color_values.data() : nullptr;
-  d.nodes = nodes.data();
-  d.all_nodes = all_nodes.data();
-  d.tf.table = tf.data();
-  d.color_tf.table = h.color_values ? color_tf.data() : nullptr;
-  d.rgba = rgba.data();
-  d.sample_counts = h.sample_counts ? counts.data() : nullptr;
+  AmrView view(const float* values) const {
+    return {bricks.data(), abrs.data(), abr_bricks.data(), values, brick_count, abr_count};
+  }
+};
 
+DeviceScene::DeviceScene(const AmrTopology& topology) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.brick_count = uint32_t(topology.bricks.size());
+  m.abr_count = uint32_t(topology.abrs.size());
+  m.bricks.upload(topology.bricks);
+  m.abrs.upload(topology.abrs);
+  m.abr_bricks.upload(topology.abr_bricks);
+  m.ranges.resize(m.abr_count);
+  m.keep.resize(m.abr_count);
+  m.counter.resize(1);
   // The integrator keeps its traversal stacks and segment batch in local memory (~1 KiB per
-  // thread, as ptxas reports); make sure the per-thread stack allows it.
+  // thread, as ptxas reports); make sure the per-thread stack allows it. Set here, once: it
+  // synchronises the device.
   size_t stack = 0;
   VS_CUDA_CHECK(cudaDeviceGetLimit(&stack, cudaLimitStackSize));
   if (stack < 4096) VS_CUDA_CHECK(cudaDeviceSetLimit(cudaLimitStackSize, 4096));
+}
 
-  cudaEvent_t start, stop;
-  VS_CUDA_CHECK(cudaEventCreate(&start));
-  VS_CUDA_CHECK(cudaEventCreate(&stop));
-  VS_CUDA_CHECK(cudaEventRecord(start));
+DeviceScene::~DeviceScene() = default;
+
+void DeviceScene::set_bvh(const std::vector<BvhNode>& template_nodes) {
+  Impl& m = *impl_;
+  const RefitSchedule schedule = refit_schedule(template_nodes);
+  m.template_nodes.upload(template_nodes);
+  m.refit_nodes.upload(template_nodes);
+  m.schedule.upload(schedule.nodes);
+  m.group_begin = schedule.group_begin;
+}
+
+void DeviceScene::compute_ranges(const float* device_values) {
+  Impl& m = *impl_;
+  constexpr unsigned kBlock = 128;  // 4 warps, 4 ABRs per block
+  const uint64_t threads = uint64_t(m.abr_count) * 32u;
+  if (threads == 0) return;
+  abr_ranges_kernel<<<unsigned((threads + kBlock - 1) / kBlock), kBlock, 0, m.stream.s>>>(m.view(device_values), m.ranges.data());
+  check(cudaGetLastError(), "abr_ranges_kernel", __FILE__, __LINE__);
+  m.stream.sync();
+}
+
+std::vector<Range> DeviceScene::download_ranges() const { return impl_->ranges.download(); }
+
+uint64_t DeviceScene::classify_and_refit(const TransferTable& table, const IntegratorSettings& iso, bool skip) {
+  Impl& m = *impl_;
+  if (m.group_begin.empty() && m.abr_count > 0) throw std::logic_error("DeviceScene: set_bvh() before refit");
+  uint8_t* keep = nullptr;
+  uint64_t visible = m.abr_count;
+  if (skip) {
+    m.tf.upload_async(table.entries().data(), table.entries().size(), m.stream.s);
+    m.opaque_prefix.upload_async(table.opaque_prefix().data(), table.opaque_prefix().size(), m.stream.s);
+    OpacityIndex opacity = table.opacity_index();
+    opacity.tf.table = m.tf.data();
+    opacity.opaque_prefix = m.opaque_prefix.data();
+    VS_CUDA_CHECK(cudaMemsetAsync(m.counter.data(), 0, sizeof(unsigned long long), m.stream.s));
+    keep = m.keep.data();
+    const Range* ranges = m.ranges.data();
+    unsigned long long* counter = m.counter.data();
+    const IntegratorSettings settings = iso;
+    parallel_for("classify", int64_t(m.abr_count), [=] __device__(int64_t i) {
+      const bool v = abr_visible(ranges[i], opacity, settings);
+      keep[i] = v ? 1 : 0;
+      count_per_warp(v, counter);
+    }, m.stream.s);
+  }
+  BvhNode* nodes = m.refit_nodes.data();
+  const uint32_t* order = m.schedule.data();
+  const Abr* abrs = m.abrs.data();
+  const uint8_t* kept = keep;
+  for (size_t g = 0; g + 1 < m.group_begin.size(); ++g) {
+    const uint32_t begin = m.group_begin[g];
+    parallel_for("refit", int64_t(m.group_begin[g + 1] - begin), [=] __device__(int64_t k) {
+      refit_node(nodes, order[begin + k], [=](uint32_t i) { return abrs[i].box; }, kept);
+    }, m.stream.s);
+  }
+  if (skip) {
+    unsigned long long count = 0;
+    VS_CUDA_CHECK(cudaMemcpyAsync(&count, m.counter.data(), sizeof(count), cudaMemcpyDeviceToHost, m.stream.s));
+    visible = count;
+  }
+  m.stream.sync();
+  return visible;
+}
+
+void DeviceScene::set_refit_nodes(const std::vector<BvhNode>& nodes) { impl_->refit_nodes.upload(nodes); }
+
+std::vector<BvhNode> DeviceScene::download_refit_nodes() const { return impl_->refit_nodes.download(); }
+
+RenderTimes DeviceScene::render(const RenderView& h, const float* device_values, const float* device_color_values) {
+  Impl& m = *impl_;
+  RenderTimes times;
+  const auto t0 = std::chrono::steady_clock::now();
+  const size_t pixels = size_t(h.width) * h.height;
+  m.tf.upload_async(h.tf.table, h.tf.size, m.stream.s);
+  if (device_color_values) m.color_tf.upload_async(h.color_tf.table, h.color_tf.size, m.stream.s);
+  m.rgba.ensure(4 * pixels);
+  if (h.sample_counts) m.counts.ensure(pixels);
+  m.stream.sync();
+  times.upload_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  RenderView d = h;
+  d.amr = m.view(device_values);
+  d.color_values = device_color_values;
+  d.nodes = m.refit_nodes.data();
+  d.node_count = uint32_t(m.refit_nodes.size());
+  d.all_nodes = m.template_nodes.data();
+  d.all_node_count = uint32_t(m.template_nodes.size());
+  d.tf.table = m.tf.data();
+  d.color_tf.table = device_color_values ? m.color_tf.data() : nullptr;
+  d.rgba = m.rgba.data();
+  d.sample_counts = h.sample_counts ? m.counts.data() : nullptr;
+
+  const Event start, stop;
+  VS_CUDA_CHECK(cudaEventRecord(start.e, m.stream.s));
   const uint32_t width = h.width;
   parallel_for("render", int64_t(pixels), [=] __device__(int64_t i) {
     render_pixel(d, uint32_t(i % width), uint32_t(i / width));
-  });
-  VS_CUDA_CHECK(cudaEventRecord(stop));
-  VS_CUDA_CHECK(cudaEventSynchronize(stop));
-  float ms = 0.f;
-  VS_CUDA_CHECK(cudaEventElapsedTime(&ms, start, stop));
-  VS_CUDA_CHECK(cudaEventDestroy(start));
-  VS_CUDA_CHECK(cudaEventDestroy(stop));
-  times.kernel_seconds = ms * 1e-3;
-
-  VS_CUDA_CHECK(cudaMemcpy(h.rgba, rgba.data(), 4 * pixels * sizeof(float), cudaMemcpyDeviceToHost));
+  }, m.stream.s);
+  VS_CUDA_CHECK(cudaEventRecord(stop.e, m.stream.s));
+  VS_CUDA_CHECK(cudaMemcpyAsync(h.rgba, d.rgba, 4 * pixels * sizeof(float), cudaMemcpyDeviceToHost, m.stream.s));
   if (h.sample_counts)
-    VS_CUDA_CHECK(cudaMemcpy(h.sample_counts, counts.data(), pixels * sizeof(uint32_t), cudaMemcpyDeviceToHost));
+    VS_CUDA_CHECK(cudaMemcpyAsync(h.sample_counts, d.sample_counts, pixels * sizeof(uint32_t), cudaMemcpyDeviceToHost, m.stream.s));
+  m.stream.sync();
+  float ms = 0.f;
+  VS_CUDA_CHECK(cudaEventElapsedTime(&ms, start.e, stop.e));
+  times.kernel_seconds = ms * 1e-3;
+  return times;
+}
+
+// ---------------------------------------------------------------------------------------------
+struct DeviceValueBuffers::Impl {
+  std::vector<DeviceBuffer<float>> buffers;
+  uint64_t floats = 0;
+  Stream stream;
+};
+
+DeviceValueBuffers::DeviceValueBuffers(int count, uint64_t floats_each) : impl_(std::make_unique<Impl>()) {
+  impl_->floats = floats_each;
+  for (int i = 0; i < count; ++i) impl_->buffers.emplace_back(floats_each);
+}
+
+DeviceValueBuffers::~DeviceValueBuffers() = default;
+
+const float* DeviceValueBuffers::data(int buffer) const { return impl_->buffers.at(size_t(buffer)).data(); }
+
+void DeviceValueBuffers::upload(int buffer, const float* host, uint64_t floats) {
+  DeviceBuffer<float>& b = impl_->buffers.at(size_t(buffer));
+  if (floats > b.size()) throw std::logic_error("DeviceValueBuffers: upload larger than the buffer");
+  VS_CUDA_CHECK(cudaMemcpyAsync(b.data(), host, floats * sizeof(float), cudaMemcpyHostToDevice, impl_->stream.s));
+  impl_->stream.sync();
+}
+
+uint64_t DeviceValueBuffers::bytes() const { return impl_->buffers.size() * impl_->floats * sizeof(float); }
+
+// ---------------------------------------------------------------------------------------------
+RenderTimes render(const AmrTopology& topology, const RenderView& h) {
+  const auto t0 = std::chrono::steady_clock::now();
+  DeviceScene scene(topology);
+  scene.set_bvh(std::vector<BvhNode>(h.all_nodes, h.all_nodes + h.all_node_count));
+  scene.set_refit_nodes(std::vector<BvhNode>(h.nodes, h.nodes + h.node_count));
+  DeviceValueBuffers values(h.color_values ? 2 : 1, topology.cell_count);
+  values.upload(0, h.amr.values, topology.cell_count);
+  if (h.color_values) values.upload(1, h.color_values, topology.cell_count);
+  const double upload = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  RenderTimes times = scene.render(h, values.data(0), h.color_values ? values.data(1) : nullptr);
+  times.upload_seconds += upload;
   return times;
 }
 

@@ -9,6 +9,7 @@
 
 #include "volstream/amr/abrs.h"
 #include "volstream/amr/bricks.h"
+#include "volstream/amr/ranges.h"
 #include "volstream/core/error.h"
 #include "volstream/core/parallel.h"
 #include "volstream/core/progress.h"
@@ -174,12 +175,9 @@ void DatasetWriter::write_topology(const AmrTopology& t, const std::vector<Cell>
 void DatasetWriter::write_values(int field, int step, const std::vector<float>& values) {
   FieldInfo& f = manifest_.fields.at(size_t(field));
   write_file(dir_ / dataset_files::field_values(f, step), values.data(), values.size() * sizeof(float), kFileAlignment);
-  const auto brick_ranges = compute_brick_ranges(*topology_, values.data());
-  const auto abr_ranges = compute_abr_ranges(*topology_, brick_ranges);
+  const auto abr_ranges = compute_abr_ranges(*topology_, values.data());
   write_file(dir_ / dataset_files::field_ranges(f, step), abr_ranges.data(), abr_ranges.size() * sizeof(Range));
-  Range global{INFINITY, -INFINITY};
-  for (const Range& r : brick_ranges) global = {std::min(global.lo, r.lo), std::max(global.hi, r.hi)};
-  f.step_ranges.at(size_t(step)) = global;
+  f.step_ranges.at(size_t(step)) = value_range(values.data(), values.size());
 }
 
 void DatasetWriter::finish() {

@@ -8,6 +8,7 @@
 #include "volstream/accel/refit.h"
 #include "volstream/core/error.h"
 #include "volstream/core/parallel.h"
+#include "volstream/render/classify.h"
 #include "volstream/cuda/backend.h"
 
 namespace vs {
@@ -34,12 +35,9 @@ const char* to_string(Device d) { return d == Device::cuda ? "cuda" : "cpu"; }
 std::vector<uint8_t> classify_abrs(const std::vector<Range>& ranges, const TransferTable& tf,
                                    const IntegratorSettings& iso) {
   std::vector<uint8_t> visible(ranges.size());
-  parallel_for("classify", int64_t(ranges.size()), [&](int64_t i) {
-    const Range r = ranges[size_t(i)];
-    bool v = tf.any_opacity(r.lo, r.hi);
-    for (uint32_t k = 0; k < iso.iso_count && k < kMaxIso && !v; ++k) v = r.lo <= iso.iso[k] && iso.iso[k] <= r.hi;
-    visible[size_t(i)] = v ? 1 : 0;
-  });
+  const OpacityIndex opacity = tf.opacity_index();
+  parallel_for("classify", int64_t(ranges.size()),
+               [&](int64_t i) { visible[size_t(i)] = abr_visible(ranges[size_t(i)], opacity, iso) ? 1 : 0; });
   return visible;
 }
 

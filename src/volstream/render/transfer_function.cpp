@@ -126,15 +126,9 @@ TransferTable::TransferTable(const TransferFunctionSpec& spec, uint32_t size) : 
     e.b = srgb_to_linear(interpolate(spec_.colors, x, [](const ColorPoint& p) { return p.b; }));
     e.a = std::clamp(interpolate(spec_.opacity, x, [](const OpacityPoint& p) { return p.a; }), 0.f, 1.f);
   }
-  // Sparse table for O(1) range-max queries of alpha (classification runs once per ABR).
-  sparse_max_.push_back({});
-  for (const Rgba& e : entries_) sparse_max_[0].push_back(e.a);
-  for (uint32_t k = 1; (1u << k) <= size; ++k) {
-    const auto& prev = sparse_max_[k - 1];
-    std::vector<float> cur(size - (1u << k) + 1);
-    for (size_t i = 0; i < cur.size(); ++i) cur[i] = std::max(prev[i], prev[i + (1u << (k - 1))]);
-    sparse_max_.push_back(std::move(cur));
-  }
+  // Prefix counts of entries with non-zero alpha: O(1) range queries for classification.
+  opaque_prefix_.assign(size + 1, 0);
+  for (uint32_t i = 0; i < size; ++i) opaque_prefix_[i + 1] = opaque_prefix_[i] + (entries_[i].a > 0.f ? 1u : 0u);
 }
 
 TfView TransferTable::view() const {
@@ -148,22 +142,8 @@ TfView TransferTable::view() const {
   return v;
 }
 
-float TransferTable::max_alpha(uint32_t first, uint32_t last) const {
-  const uint32_t n = last - first + 1;
-  uint32_t k = 0;
-  while ((2u << k) <= n) ++k;
-  return std::max(sparse_max_[k][first], sparse_max_[k][last + 1 - (1u << k)]);
-}
+OpacityIndex TransferTable::opacity_index() const { return {view(), opaque_prefix_.data()}; }
 
-bool TransferTable::any_opacity(float lo, float hi) const {
-  if (!(lo <= hi)) return false;  // empty range or NaN
-  const TfView v = view();
-  // A lookup at position x reads entries floor(x) and floor(x)+1. One more entry on each side
-  // absorbs rounding differences between this host computation and a device's log10f.
-  const uint32_t last = uint32_t(entries_.size()) - 1;
-  const uint32_t first = uint32_t(std::max(0.f, std::floor(v.position(lo)) - 1.f));
-  const uint32_t end = std::min(last, uint32_t(std::floor(v.position(hi))) + 2);
-  return max_alpha(std::min(first, last), end) > 0.f;
-}
+bool TransferTable::any_opacity(float lo, float hi) const { return opacity_index().any(lo, hi); }
 
 }  // namespace vs

@@ -47,6 +47,24 @@ struct TfView {
   }
 };
 
+// "Can any value in [lo, hi] get non-zero opacity?" in O(1), for classifying ABRs on the host
+// or the GPU: the count of opaque table entries among those a lookup of such a value reads.
+struct OpacityIndex {
+  TfView tf;
+  const uint32_t* opaque_prefix = nullptr;  // tf.size + 1 prefix counts of entries with alpha > 0
+
+  // Never false where a lookup would give alpha > 0; false for an empty range (lo > hi or NaN).
+  VS_HOST_DEVICE bool any(float lo, float hi) const {
+    if (!(lo <= hi)) return false;
+    // A lookup at position x reads entries floor(x) and floor(x)+1. One more entry on each side
+    // absorbs rounding differences between host and device log10f.
+    const float first = floorf(tf.position(lo)) - 1.f, last = floorf(tf.position(hi)) + 2.f;
+    const uint32_t begin = first > 0.f ? uint32_t(first) : 0u;
+    const uint32_t end = last < float(tf.size - 1) ? uint32_t(last) + 1u : tf.size;  // exclusive
+    return opaque_prefix[end] > opaque_prefix[begin < end ? begin : end];
+  }
+};
+
 struct ColorPoint {
   float x, r, g, b;  // x in [0, 1] of the value range; sRGB-encoded colour
 };
@@ -98,12 +116,13 @@ class TransferTable {
   // every table entry that a lookup of such a value interpolates from. Never false where a
   // lookup would give alpha > 0; false for an empty range (lo > hi, e.g. no finite value).
   bool any_opacity(float lo, float hi) const;
+  OpacityIndex opacity_index() const;  // the same query for kernels (host pointers)
+  const std::vector<uint32_t>& opaque_prefix() const { return opaque_prefix_; }
 
  private:
-  float max_alpha(uint32_t first, uint32_t last) const;  // inclusive entry indices
   TransferFunctionSpec spec_;
   std::vector<Rgba> entries_;
-  std::vector<std::vector<float>> sparse_max_;  // sparse_max_[k][i] = max alpha of entries [i, i + 2^k)
+  std::vector<uint32_t> opaque_prefix_;  // [i]: entries before i with alpha > 0 (size + 1 counts)
 };
 
 // sRGB transfer functions (IEC 61966-2-1).

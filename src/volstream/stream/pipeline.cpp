@@ -7,7 +7,6 @@
 #include <future>
 #include <numeric>
 
-#include "volstream/amr/abrs.h"
 #include "volstream/core/error.h"
 #include "volstream/core/parallel.h"
 
@@ -56,7 +55,7 @@ PipelineFlags PipelineFlags::at(Level level) {
 struct Pipeline::Slot {
   float* file = nullptr;
   float* staging = nullptr;
-  float* device = nullptr;
+  int device = 0;  // buffer in device_values_
   int step = -1;
   Phase done = Phase::none;
 };
@@ -77,7 +76,7 @@ Pipeline::Pipeline(const Dataset& dataset, int field, PipelineFlags flags, Frame
   };
   if (!flags_.preordered) file_buffers_ = allocate(slots, false);
   staging_buffers_ = allocate(staging_copies, flags_.pinned);
-  device_buffers_ = allocate(device_copies, false);
+  device_values_ = stages_.make_value_store(device_copies, reader_.padded_bytes());
   if (!flags_.preordered) {
     flatten_index_.resize(dataset.manifest().cell_count);
     std::iota(flatten_index_.begin(), flatten_index_.end(), 0u);
@@ -86,7 +85,7 @@ Pipeline::Pipeline(const Dataset& dataset, int field, PipelineFlags flags, Frame
     auto slot = std::make_unique<Slot>();
     slot->staging = staging_buffers_[size_t(k % staging_copies)].floats();
     slot->file = flags_.preordered ? slot->staging : file_buffers_[size_t(k)].floats();
-    slot->device = device_buffers_[size_t(k % device_copies)].floats();
+    slot->device = k % device_copies;
     slots_.push_back(std::move(slot));
   }
 }
@@ -96,8 +95,8 @@ Pipeline::~Pipeline() = default;
 Pipeline::Slot& Pipeline::slot_for(int frame) { return *slots_[size_t(frame) % slots_.size()]; }
 
 uint64_t Pipeline::buffer_bytes() const {
-  uint64_t total = flatten_index_.size() * sizeof(uint32_t);
-  for (const auto* list : {&file_buffers_, &staging_buffers_, &device_buffers_})
+  uint64_t total = flatten_index_.size() * sizeof(uint32_t) + device_values_->bytes();
+  for (const auto* list : {&file_buffers_, &staging_buffers_})
     for (const HostBuffer& b : *list) total += b.bytes();
   return total;
 }
@@ -108,8 +107,9 @@ std::string Pipeline::describe_buffers() const {
   HostBuffer::Pinning weakest = staging_buffers_.front().pinning();
   for (const HostBuffer& b : staging_buffers_) weakest = std::min(weakest, b.pinning());
   const char* pinning = pinning_name(weakest);
-  std::snprintf(text, sizeof(text), "%zu file + %zu staging (%s) + %zu device buffers: %.1f MiB", file_buffers_.size(),
-                staging_buffers_.size(), pinning, device_buffers_.size(), double(buffer_bytes()) / (1 << 20));
+  std::snprintf(text, sizeof(text), "%zu file + %zu staging (%s) + %zu device (%s) buffers: %.1f MiB", file_buffers_.size(),
+                staging_buffers_.size(), pinning, size_t(flags_.overlap ? 2 : 1), device_values_->where(),
+                double(buffer_bytes()) / (1 << 20));
   return text;
 }
 
@@ -119,6 +119,29 @@ std::string Pipeline::pin_failure() const {
   for (const HostBuffer& b : staging_buffers_)
     if (!b.pin_failure().empty()) return b.pin_failure();
   return {};
+}
+
+// ---------------------------------------------------------------------------------------------
+namespace {
+class HostValueStore : public ValueStore {
+ public:
+  HostValueStore(int count, uint64_t bytes_each) {
+    for (int i = 0; i < count; ++i) buffers_.emplace_back(bytes_each, false);
+  }
+  const float* data(int buffer) const override { return buffers_.at(size_t(buffer)).floats(); }
+  void upload(int buffer, const float* staging, uint64_t floats) override {
+    std::memcpy(buffers_.at(size_t(buffer)).floats(), staging, floats * sizeof(float));
+  }
+  uint64_t bytes() const override { return buffers_.size() * buffers_.front().bytes(); }
+  const char* where() const override { return "host"; }
+
+ private:
+  std::vector<HostBuffer> buffers_;
+};
+}  // namespace
+
+std::unique_ptr<ValueStore> make_host_value_store(int count, uint64_t bytes_each) {
+  return std::make_unique<HostValueStore>(count, bytes_each);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -133,7 +156,7 @@ void Pipeline::load(Slot& slot, int step, Phase upto, int lane) {
   if (upto >= Phase::uploaded && slot.done < Phase::uploaded) {
     Timeline::Scope s(timeline_, Stage::upload, step, lane);
     if (!flags_.preordered) flatten(slot);
-    std::memcpy(slot.device, slot.staging, reader_.value_bytes());
+    device_values_->upload(slot.device, slot.staging, dataset_.manifest().cell_count);
     slot.done = Phase::uploaded;
   }
 }
@@ -150,10 +173,10 @@ void Pipeline::flatten(const Slot& slot) {
 
 void Pipeline::process(Slot& slot, int frame) {
   const int step = slot.step;
-  const FrameData f{frame, step, slot.device, &abr_ranges_};
+  const FrameData f{frame, step, device_values_->data(slot.device)};
   {
     Timeline::Scope s(timeline_, Stage::ranges, step, kFrameLane);
-    abr_ranges_ = compute_abr_ranges(dataset_.topology(), compute_brick_ranges(dataset_.topology(), slot.device));
+    stages_.ranges(f);
   }
   {
     Timeline::Scope s(timeline_, Stage::refit, step, kFrameLane);

@@ -17,7 +17,10 @@
 // which costs the extra buffer and the index + value + store traffic of a gather, but not the
 // cache misses of a truly scattered input order; so it under- rather than over-states that cost.
 //
-// On the CPU backend the "device" buffer is host memory and the upload a copy into it.
+// Where the values go is the renderer's choice (FrameStages::make_value_store): host memory for
+// the CPU renderer (the upload is a copy), GPU memory for the CUDA one (the upload is a DMA copy
+// on its own stream, from page-locked staging at the `pinned` level, and at `overlap` the
+// loader thread uploads step t+S into the second device buffer while step t renders).
 // Memory is a fixed number of buffers, whatever the number of steps.
 #pragma once
 #include <cstdint>
@@ -49,18 +52,38 @@ struct PipelineFlags {
   static PipelineFlags at(Level level);  // every optimisation up to and including `level`
 };
 
-// One frame as the stages after `ranges` see it.
+// One frame as the stages see it.
 struct FrameData {
-  int frame = 0;                               // position in the played sequence
-  int step = 0;                                // time step
-  const float* values = nullptr;               // device buffer: cell_count floats, device order
-  const std::vector<Range>* abr_ranges = nullptr;
+  int frame = 0;                  // position in the played sequence
+  int step = 0;                   // time step
+  const float* values = nullptr;  // in the value store (host or GPU memory): cell_count floats, device order
 };
+
+// The buffers the renderer reads a step's values from.
+class ValueStore {
+ public:
+  virtual ~ValueStore() = default;
+  virtual const float* data(int buffer) const = 0;
+  // Copies `floats` values from staging into `buffer`; returns when done. May run on another
+  // thread than the renderer's stages (the overlap level's loader).
+  virtual void upload(int buffer, const float* staging, uint64_t floats) = 0;
+  virtual uint64_t bytes() const = 0;
+  virtual const char* where() const = 0;  // "host" or "GPU", for reports
+};
+
+// `count` page-aligned buffers in host memory: the CPU renderer's "device".
+std::unique_ptr<ValueStore> make_host_value_store(int count, uint64_t bytes_each);
 
 // What the renderer provides: called on the frame thread, in this order, once per frame.
 class FrameStages {
  public:
   virtual ~FrameStages() = default;
+  // Where the pipeline keeps the values of `count` steps at once (called once, up front).
+  virtual std::unique_ptr<ValueStore> make_value_store(int count, uint64_t bytes_each) {
+    return make_host_value_store(count, bytes_each);
+  }
+  // "ranges": per-ABR value ranges of the frame's values, where the values are.
+  virtual void ranges(const FrameData& frame) = 0;
   // "refit": bring the acceleration structure up to date with the frame's ABR ranges; `rebuild`
   // asks for a BVH built from scratch (the levels before `refit`).
   virtual void refit(const FrameData& frame, bool rebuild) = 0;
@@ -90,7 +113,7 @@ class Pipeline {
 
   const PipelineFlags& flags() const { return flags_; }
   uint64_t buffer_bytes() const;       // all per-step buffers together
-  std::string describe_buffers() const;  // e.g. "2 staging (page-locked (mlock)), 2 device: 16.0 MiB"
+  std::string describe_buffers() const;  // e.g. "0 file + 2 staging (page-locked (cuda)) + 2 device (GPU) buffers: 16.0 MiB"
   bool direct_io_active() const;       // false if O_DIRECT fell back to buffered reads
   // Why page-locking failed (empty if it worked or was not asked for).
   std::string pin_failure() const;
@@ -109,10 +132,10 @@ class Pipeline {
   FrameStages& stages_;
   Timeline* timeline_;
   StepReader reader_;
-  std::vector<HostBuffer> file_buffers_, staging_buffers_, device_buffers_;
+  std::vector<HostBuffer> file_buffers_, staging_buffers_;
+  std::unique_ptr<ValueStore> device_values_;
   std::vector<uint32_t> flatten_index_;  // file position of each device position (identity, see above)
   std::vector<std::unique_ptr<Slot>> slots_;
-  std::vector<Range> abr_ranges_;
 };
 
 }  // namespace vs::stream

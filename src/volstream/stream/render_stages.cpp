@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "volstream/amr/ranges.h"
 #include "volstream/core/error.h"
 
 namespace vs::stream {
@@ -136,20 +137,67 @@ void VideoWriter::finish() {
 }
 
 // ---------------------------------------------------------------------------------------------
+namespace {
+// The CUDA renderer's value store: GPU buffers filled on their own stream.
+class GpuValueStore : public ValueStore {
+ public:
+  GpuValueStore(int count, uint64_t floats_each) : buffers_(count, floats_each) {}
+  const float* data(int buffer) const override { return buffers_.data(buffer); }
+  void upload(int buffer, const float* staging, uint64_t floats) override { buffers_.upload(buffer, staging, floats); }
+  uint64_t bytes() const override { return buffers_.bytes(); }
+  const char* where() const override { return "GPU"; }
+
+ private:
+  cuda::DeviceValueBuffers buffers_;
+};
+}  // namespace
+
 RendererStages::RendererStages(const Dataset& dataset, const RenderSetup& setup, FrameWriter* writer)
     : dataset_(dataset), setup_(setup), tf_(setup.tf), writer_(writer),
       // The BVH template is built once before the first frame (paper 000, section 5.6).
-      renderer_(std::make_unique<AmrRenderer>(dataset.topology(), dataset.manifest().transform)) {}
+      renderer_(std::make_unique<AmrRenderer>(dataset.topology(), dataset.manifest().transform)) {
+  if (setup_.device == Device::cuda) {
+    scene_ = std::make_unique<cuda::DeviceScene>(dataset.topology());
+    scene_->set_bvh(renderer_->template_bvh().nodes);
+  }
+}
 
-void RendererStages::refit(const FrameData& frame, bool rebuild) {
+RendererStages::~RendererStages() = default;
+
+std::unique_ptr<ValueStore> RendererStages::make_value_store(int count, uint64_t bytes_each) {
+  if (!scene_) return make_host_value_store(count, bytes_each);
+  return std::make_unique<GpuValueStore>(count, dataset_.manifest().cell_count);
+}
+
+void RendererStages::ranges(const FrameData& frame) {
+  if (scene_)
+    scene_->compute_ranges(frame.values);
+  else
+    abr_ranges_ = compute_abr_ranges(dataset_.topology(), frame.values);
+}
+
+void RendererStages::refit(const FrameData&, bool rebuild) {
   // The renderer builds its BVH over all ABRs on construction, so constructing it anew is the
   // from-scratch rebuild; the refit levels keep it and only refit (paper 000, section 5.6).
-  if (rebuild) renderer_ = std::make_unique<AmrRenderer>(dataset_.topology(), dataset_.manifest().transform);
-  visible_ = renderer_->classify(*frame.abr_ranges, tf_, setup_.settings.integrator, setup_.settings.skip);
+  if (rebuild) {
+    renderer_ = std::make_unique<AmrRenderer>(dataset_.topology(), dataset_.manifest().transform);
+    if (scene_) scene_->set_bvh(renderer_->template_bvh().nodes);
+  }
+  const FrameSettings& fs = setup_.settings;
+  visible_ = scene_ ? scene_->classify_and_refit(tf_, fs.integrator, fs.skip)
+                    : renderer_->classify(abr_ranges_, tf_, fs.integrator, fs.skip);
 }
 
 void RendererStages::render(const FrameData& frame) {
-  image_ = renderer_->render(setup_.device, frame.values, tf_, nullptr, nullptr, setup_.camera, setup_.settings);
+  const FrameSettings& fs = setup_.settings;
+  if (!scene_) {
+    image_ = renderer_->render(Device::cpu, frame.values, tf_, nullptr, nullptr, setup_.camera, fs);
+    return;
+  }
+  image_ = Image(fs.width, fs.height);
+  RenderView view = renderer_->host_view(frame.values, tf_, nullptr, nullptr, setup_.camera, fs);
+  view.rgba = image_.rgba.data();
+  scene_->render(view, frame.values, nullptr);
 }
 
 void RendererStages::output(const FrameData& frame) {

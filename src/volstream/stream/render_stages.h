@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "volstream/cuda/backend.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/image.h"
 #include "volstream/render/renderer.h"
@@ -66,12 +67,17 @@ struct RenderSetup {
   Device device = Device::cpu;
 };
 
-// refit: classify the ABRs from the frame's ranges and refit the BVH template; a rebuild builds
-// the renderer's BVH from scratch first (what the levels before `refit` pay every frame).
-// render: one image; output: hands it to the writer (if any).
+// ranges: per-ABR value ranges (amr/ranges.h); refit: classify the ABRs from them and refit the
+// BVH template; a rebuild builds the renderer's BVH from scratch first (what the levels before
+// `refit` pay every frame); render: one image; output: hands it to the writer (if any).
+// On CUDA the values live in GPU memory and ranges, classification, refit and render run there
+// (cuda::DeviceScene); only the BVH build and the image cross the bus.
 class RendererStages : public FrameStages {
  public:
   RendererStages(const Dataset& dataset, const RenderSetup& setup, FrameWriter* writer);
+  ~RendererStages() override;
+  std::unique_ptr<ValueStore> make_value_store(int count, uint64_t bytes_each) override;
+  void ranges(const FrameData& frame) override;
   void refit(const FrameData& frame, bool rebuild) override;
   void render(const FrameData& frame) override;
   void output(const FrameData& frame) override;
@@ -86,6 +92,8 @@ class RendererStages : public FrameStages {
   TransferTable tf_;
   FrameWriter* writer_;
   std::unique_ptr<AmrRenderer> renderer_;
+  std::unique_ptr<cuda::DeviceScene> scene_;  // CUDA only
+  std::vector<Range> abr_ranges_;             // CPU only
   Image image_;
   uint64_t visible_ = 0;
 };

@@ -506,7 +506,9 @@ TEST(Ranges, AbrRangesHoldTheNeededCellsAndNarrowPerBrickRanges) {
     EXPECT_LE(tight[i].hi, loose.hi);
     narrower += tight[i].hi - tight[i].lo < 0.9f * (loose.hi - loose.lo);
   }
-  EXPECT_GT(narrower, vol.topology.abrs.size() / 10);  // tighter than per brick (measured: 16%)
+  // Tighter than per brick for some ABRs: measured 2.9% here, where the 4^3 macrocells cover most
+  // of these small bricks (on the jet demo 1e6: see docs/streaming.md).
+  EXPECT_GT(narrower, vol.topology.abrs.size() / 50);
 }
 
 TEST(Ranges, AbrRangesBoundEverySample) {
@@ -533,20 +535,21 @@ TEST(Ranges, AbrRangesBoundEverySample) {
   }
 }
 
-// The GPU's layout (a warp's 32 lanes striding over each brick's cells) gives the same range.
-TEST(Ranges, LanesTogetherEqualOneLane) {
+// The GPU's layout (a thread per macrocell found by binary search; a warp's 32 lanes striding
+// over each brick's macrocells) gives the same ranges as the CPU's loops.
+TEST(Ranges, GpuLayoutEqualsCpuLoops) {
   const Volume vol = make_volume(test::random_octree_cells(5, {3, 2, 2}, 4, 0.5),
                                  [](const vec3d& p) { return std::cos(0.4 * p.x + 0.1 * p.y * p.z); });
-  const AmrView view = make_view(vol.topology, vol.values.data());
+  const std::vector<uint64_t> offsets = macrocell_offsets(vol.topology.bricks);
+  std::vector<Range> macro(offsets.back());
+  const RangeView view{make_view(vol.topology, vol.values.data()), offsets.data(), macro.data()};
+  for (uint64_t i = 0; i < macro.size(); ++i) compute_macrocell(view, i);
   for (uint32_t i = 0; i < vol.topology.abrs.size(); ++i) {
-    const Range one = abr_lane_range(view, i, 0, 1);
     Range lanes{INFINITY, -INFINITY};
-    for (uint32_t lane = 0; lane < 32; ++lane) {
-      const Range r = abr_lane_range(view, i, lane, 32);
-      lanes = {std::min(lanes.lo, r.lo), std::max(lanes.hi, r.hi)};
-    }
-    ASSERT_EQ(one.lo, lanes.lo) << "ABR " << i;
-    ASSERT_EQ(one.hi, lanes.hi) << "ABR " << i;
+    for (uint32_t lane = 0; lane < 32; ++lane) extend_range(lanes, abr_lane_range(view, i, lane, 32));
+    const Range cpu = vol.abr_ranges[i], gpu = widen_for_rounding(lanes);
+    ASSERT_EQ(cpu.lo, gpu.lo) << "ABR " << i;
+    ASSERT_EQ(cpu.hi, gpu.hi) << "ABR " << i;
   }
 }
 

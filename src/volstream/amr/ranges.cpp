@@ -7,9 +7,30 @@
 
 namespace vs {
 
-std::vector<Range> compute_abr_ranges(const AmrTopology& topology, const float* values) {
+std::vector<uint64_t> macrocell_offsets(const std::vector<Brick>& bricks) {
+  std::vector<uint64_t> offsets(bricks.size() + 1, 0);
+  for (size_t i = 0; i < bricks.size(); ++i) {
+    const vec3i n = macrocell_dims(bricks[i]);
+    offsets[i + 1] = offsets[i] + uint64_t(n.x) * uint32_t(n.y) * uint32_t(n.z);
+  }
+  return offsets;
+}
+
+std::vector<Range> compute_abr_ranges(const AmrTopology& topology, const float* values,
+                                      const std::vector<uint64_t>* macro_offset) {
+  const std::vector<uint64_t> own = macro_offset ? std::vector<uint64_t>{} : macrocell_offsets(topology.bricks);
+  const std::vector<uint64_t>& offsets = macro_offset ? *macro_offset : own;
+  std::vector<Range> macro(offsets.back());
+  const RangeView view{make_view(topology, values), offsets.data(), macro.data()};
+  parallel_for("macrocells", int64_t(topology.bricks.size()), [&](int64_t brick) {
+    const Brick& b = topology.bricks[size_t(brick)];
+    const vec3i n = macrocell_dims(b);
+    Range* out = macro.data() + offsets[size_t(brick)];
+    for (int32_t z = 0; z < n.z; ++z)
+      for (int32_t y = 0; y < n.y; ++y)
+        for (int32_t x = 0; x < n.x; ++x) *out++ = macrocell_range(b, values, {x, y, z});
+  });
   std::vector<Range> ranges(topology.abrs.size());
-  const AmrView view = make_view(topology, values);
   parallel_for("abr_ranges", int64_t(ranges.size()),
                [&](int64_t i) { ranges[size_t(i)] = widen_for_rounding(abr_lane_range(view, uint32_t(i), 0, 1)); });
   return ranges;

@@ -34,11 +34,11 @@ struct Event {
   Event& operator=(const Event&) = delete;
 };
 
-// One warp per ABR: the lanes stride together over each brick's cells near the ABR
-// (amr/ranges.h) and combine their partial ranges with shuffles.
-__global__ void abr_ranges_kernel(AmrView v, Range* out) {
+// Pass 2 of amr/ranges.h: one warp per ABR; the lanes stride together over each brick's
+// macrocells near the ABR and combine their partial ranges with shuffles.
+__global__ void abr_ranges_kernel(RangeView v, Range* out) {
   const uint32_t warp = (blockIdx.x * blockDim.x + threadIdx.x) / 32u, lane = threadIdx.x % 32u;
-  if (warp >= v.abr_count) return;  // uniform per warp: blockDim is a multiple of 32
+  if (warp >= v.amr.abr_count) return;  // uniform per warp: blockDim is a multiple of 32
   Range r = abr_lane_range(v, warp, lane, 32u);
   for (int offset = 16; offset > 0; offset /= 2) {
     r.lo = fminf(r.lo, __shfl_xor_sync(kFullWarp, r.lo, offset));
@@ -64,7 +64,8 @@ struct DeviceScene::Impl {
   DeviceBuffer<BvhNode> template_nodes, refit_nodes;
   DeviceBuffer<uint32_t> schedule;         // RefitSchedule::nodes
   std::vector<uint32_t> group_begin;       // RefitSchedule::group_begin (host: launch bounds)
-  DeviceBuffer<Range> ranges;
+  DeviceBuffer<uint64_t> macro_offset;    // macrocell_offsets(bricks)
+  DeviceBuffer<Range> macro, ranges;
   DeviceBuffer<uint8_t> keep;
   DeviceBuffer<uint32_t> opaque_prefix;
   DeviceBuffer<unsigned long long> counter;
@@ -85,6 +86,9 @@ DeviceScene::DeviceScene(const AmrTopology& topology) : impl_(std::make_unique<I
   m.bricks.upload(topology.bricks);
   m.abrs.upload(topology.abrs);
   m.abr_bricks.upload(topology.abr_bricks);
+  const std::vector<uint64_t> offsets = macrocell_offsets(topology.bricks);
+  m.macro_offset.upload(offsets);
+  m.macro.resize(offsets.back());
   m.ranges.resize(m.abr_count);
   m.keep.resize(m.abr_count);
   m.counter.resize(1);
@@ -109,11 +113,15 @@ void DeviceScene::set_bvh(const std::vector<BvhNode>& template_nodes) {
 
 void DeviceScene::compute_ranges(const float* device_values) {
   Impl& m = *impl_;
+  const RangeView view{m.view(device_values), m.macro_offset.data(), m.macro.data()};
+  parallel_for("macrocells", int64_t(m.macro.size()), [=] __device__(int64_t i) { compute_macrocell(view, uint64_t(i)); },
+               m.stream.s);
   constexpr unsigned kBlock = 128;  // 4 warps, 4 ABRs per block
   const uint64_t threads = uint64_t(m.abr_count) * 32u;
-  if (threads == 0) return;
-  abr_ranges_kernel<<<unsigned((threads + kBlock - 1) / kBlock), kBlock, 0, m.stream.s>>>(m.view(device_values), m.ranges.data());
-  check(cudaGetLastError(), "abr_ranges_kernel", __FILE__, __LINE__);
+  if (threads > 0) {
+    abr_ranges_kernel<<<unsigned((threads + kBlock - 1) / kBlock), kBlock, 0, m.stream.s>>>(view, m.ranges.data());
+    check(cudaGetLastError(), "abr_ranges_kernel", __FILE__, __LINE__);
+  }
   m.stream.sync();
 }
 

@@ -159,6 +159,8 @@ RendererStages::RendererStages(const Dataset& dataset, const RenderSetup& setup,
   if (setup_.device == Device::cuda) {
     scene_ = std::make_unique<cuda::DeviceScene>(dataset.topology());
     scene_->set_bvh(renderer_->template_bvh().nodes);
+  } else {
+    macro_offset_ = macrocell_offsets(dataset.topology().bricks);
   }
 }
 
@@ -173,7 +175,7 @@ void RendererStages::ranges(const FrameData& frame) {
   if (scene_)
     scene_->compute_ranges(frame.values);
   else
-    abr_ranges_ = compute_abr_ranges(dataset_.topology(), frame.values);
+    abr_ranges_ = compute_abr_ranges(dataset_.topology(), frame.values, &macro_offset_);
 }
 
 void RendererStages::refit(const FrameData&, bool rebuild) {

@@ -94,6 +94,7 @@ class RendererStages : public FrameStages {
   std::unique_ptr<AmrRenderer> renderer_;
   std::unique_ptr<cuda::DeviceScene> scene_;  // CUDA only
   std::vector<Range> abr_ranges_;             // CPU only
+  std::vector<uint64_t> macro_offset_;        // CPU only: amr/ranges.h
   Image image_;
   uint64_t visible_ = 0;
 };

@@ -7,7 +7,8 @@
 #include <sstream>
 
 #include "commands.h"
-#include "stream_options.h"
+#include "parse_util.h"
+#include "render_options.h"
 #include "volstream/core/error.h"
 #include "volstream/stream/pipeline.h"
 #include "volstream/stream/render_stages.h"
@@ -21,7 +22,7 @@ using namespace vs::stream;
 struct BenchStreamArgs {
   std::string dir, steps, levels, timeline;
   bool keep_cache = false;
-  StreamRenderArgs render;
+  RenderOptions render;  // shared with render and play (render_options.h)
 };
 
 // The output stage of a benchmark: the 8-bit conversion a video writer would do, no disk writes.
@@ -96,9 +97,10 @@ std::vector<Level> parse_levels(const std::string& text) {
   return levels;
 }
 
-LevelResult run_level(const Dataset& ds, const StreamRender& r, const std::vector<int>& steps, Level level,
+LevelResult run_level(const Dataset& ds, const RenderPlan& r, const std::vector<int>& steps, Level level,
                       Timeline& timeline, const std::vector<std::filesystem::path>& files, bool keep_cache) {
-  LevelResult res{level};
+  LevelResult res;
+  res.level = level;
   if (!keep_cache) res.cache = drop_cache(files);
   HashingSink sink(r.background);
   RendererStages stages(ds, r.setup, &sink);
@@ -131,7 +133,7 @@ void run_bench_stream(const BenchStreamArgs& a) {
   const Dataset ds(a.dir);
   const std::vector<int> steps = parse_steps(a.steps, ds.manifest().step_count());
   const std::vector<Level> levels = parse_levels(a.levels);
-  const StreamRender r = make_stream_render(ds, a.render);
+  const RenderPlan r = make_stream_render_plan(a.render, ds);
   std::vector<std::filesystem::path> files;
   for (int s : std::set<int>(steps.begin(), steps.end())) files.push_back(ds.values_path(r.field, s));
 
@@ -183,7 +185,8 @@ void add_bench_stream(CLI::App& bench) {
   cmd->add_option("--levels", a->levels, "comma-separated levels (default: all, in order)");
   cmd->add_option("--timeline", a->timeline, "write all levels' timelines (one process each) as Chrome-trace JSON");
   cmd->add_flag("--keep-cache", a->keep_cache, "do not drop the files from the page cache between levels");
-  add_stream_render_options(cmd, a->render);
+  a->render = stream_render_defaults();
+  add_render_options(cmd, a->render, RenderContext::stream);
   cmd->callback([a] { run_bench_stream(*a); });
 }
 

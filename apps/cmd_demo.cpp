@@ -13,6 +13,7 @@ void add_demo_command(CLI::App& app) {
     int steps = 4;
     std::string out;
     bool quiet = false;
+    bool file_order = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("demo", "Write a built-in procedural dataset (jet or cosmo)");
@@ -20,12 +21,16 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--cells", args->cells, "approximate number of leaf cells (1e5 .. 5e8 and more)")->capture_default_str();
   cmd->add_option("--steps", args->steps, "number of time steps")->capture_default_str()->check(CLI::Range(1, 100000));
   cmd->add_option("-o,--output", args->out, "output dataset directory")->required();
+  cmd->add_flag("--file-order", args->file_order,
+                "also write every step in the generator's cell order and the permutation to device order "
+                "(file_index.bin), for the streaming pipeline's flatten pass (doubles the values on disk)");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar");
   cmd->callback([args] {
     auto source = make_demo({args->name, uint64_t(args->cells), args->steps});
-    const ConvertStats stats = convert_to_dataset(*source, args->out, {args->quiet});
-    std::printf("wrote %s: %s, %llu cells, %d steps (cells %.2fs, bricks %.2fs, ABRs %.2fs, values %.2fs)\n",
+    const ConvertStats stats = convert_to_dataset(*source, args->out, {args->quiet, args->file_order});
+    std::printf("wrote %s: %s, %llu cells, %d steps%s (cells %.2fs, bricks %.2fs, ABRs %.2fs, values %.2fs)\n",
                 args->out.c_str(), source->description().c_str(), (unsigned long long)source->cell_count(), args->steps,
+                args->file_order ? " + file-order copies" : "",
                 stats.cells_seconds, stats.bricks_seconds, stats.abrs_seconds, stats.values_seconds);
   });
 }

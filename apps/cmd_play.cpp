@@ -4,7 +4,8 @@
 #include <cstdio>
 
 #include "commands.h"
-#include "stream_options.h"
+#include "parse_util.h"
+#include "render_options.h"
 #include "volstream/core/error.h"
 #include "volstream/core/progress.h"
 #include "volstream/stream/pipeline.h"
@@ -20,10 +21,10 @@ struct PlayArgs {
   int loop = 1;
   double fps = 24;
   bool quiet = false;
-  StreamRenderArgs render;
+  RenderOptions render;  // shared with render and bench stream (render_options.h)
 };
 
-std::unique_ptr<FrameWriter> make_writer(const PlayArgs& a, const StreamRender& r) {
+std::unique_ptr<FrameWriter> make_writer(const PlayArgs& a, const RenderPlan& r) {
   if (a.output.empty()) return nullptr;
   if (is_video_path(a.output))
     return std::make_unique<VideoWriter>(a.output, r.setup.settings.width, r.setup.settings.height, a.fps, r.background);
@@ -61,13 +62,13 @@ void run_play(const PlayArgs& a) {
   std::vector<int> steps;
   for (int i = 0; i < a.loop; ++i) steps.insert(steps.end(), once.begin(), once.end());
 
-  const StreamRender render = make_stream_render(ds, a.render);
+  const RenderPlan render = make_stream_render_plan(a.render, ds);
   std::unique_ptr<FrameWriter> writer = make_writer(a, render);
   RendererStages stages(ds, render.setup, writer.get());
   Timeline timeline(std::string("play ") + level_name(level));
   Pipeline pipeline(ds, render.field, PipelineFlags::at(level), stages, &timeline);
 
-  Progress progress("playing", steps.size(), !a.quiet);
+  Progress progress("playing", steps.size(), !a.quiet, "frame");
   const auto start = std::chrono::steady_clock::now();
   auto last_detail = start;
   auto on_frame = [&](int frame, int) {
@@ -83,6 +84,7 @@ void run_play(const PlayArgs& a) {
     stats = pipeline.play(steps, on_frame);
     if (writer) writer->finish();
   } catch (...) {
+    progress.fail();  // ends the bar at the frame that failed ("failed at frame 3/8"), never at 100%
     // The trace up to the failure is the most useful thing to look at then.
     if (!a.timeline.empty()) write_chrome_trace(a.timeline, {&timeline});
     throw;
@@ -105,7 +107,8 @@ void add_play_command(CLI::App& app) {
   cmd->add_option("--fps", a->fps, "video frame rate")->capture_default_str();
   cmd->add_option("--loop", a->loop, "play the steps N times")->capture_default_str();
   cmd->add_flag("-q,--quiet", a->quiet, "no progress bar");
-  add_stream_render_options(cmd, a->render);
+  a->render = stream_render_defaults();
+  add_render_options(cmd, a->render, RenderContext::stream);
   cmd->callback([a] { run_play(*a); });
 }
 

@@ -52,14 +52,18 @@ Image render_with_blocks(const Dataset& ds, int step, int field, const TransferT
   frame.emission_power = a.emission_power > 0 ? float(a.emission_power) : (frame.log_decades > 0.f ? 4.f : 1.f);
   frame.emission = float(a.emission);
   frame.absorption = float(a.absorption);
-  const BlockRenderer renderer(ds.topology(), ds.manifest().transform);
+  BlockRenderer renderer(ds.topology(), ds.manifest().transform);
+  renderer.set_fields(values.data(), bb ? temperature.data() : nullptr,
+                      frame.settings.reconstruction == Reconstruction::trilinear);
   const TfView view = tf.view();
   BlockStats bs;
-  Image img = renderer.render(values.data(), bb ? temperature.data() : nullptr, &view, camera, frame, &bs);
-  std::printf("blocks: %zu blocks from %zu bricks, kd-tree %zu nodes built in %.3fs; %s (vertex values %.3fs), %s optics\n",
+  Image img = renderer.render(&view, camera, frame, a.device, &bs);
+  std::printf("blocks: %zu blocks from %zu bricks, kd-tree %zu nodes built in %.3fs; %s (vertex values %.3fs), %s optics, %s\n",
               renderer.kd().blocks.size(), ds.topology().bricks.size(), renderer.kd().nodes.size(), bs.build_seconds,
-              a.reconstruction.c_str(), bs.vertex_seconds, a.optics.c_str());
+              a.reconstruction.c_str(), renderer.vertex_seconds(), a.optics.c_str(), to_string(a.device));
   if (stats) {
+    stats->device = a.device;
+    stats->upload_seconds = bs.upload_seconds;
     stats->render_seconds = bs.render_seconds;
     stats->samples = bs.samples;
   }

@@ -10,4 +10,7 @@ namespace vs::cli {
 std::vector<double> parse_numbers(const std::string& text, const std::string& what, char sep = ',');
 // Exactly three numbers X,Y,Z.
 vec3d parse_vec3(const std::string& text, const std::string& what);
+// --steps: "A:B" (half-open), "A:B:S" (stride S) or "17,3,250" (listed, in that order); empty = all.
+// UsageError for malformed text, an empty range or a step outside [0, step_count).
+std::vector<int> parse_steps(const std::string& text, int step_count);
 }  // namespace vs::cli

@@ -11,6 +11,7 @@ namespace vs::cli {
 struct BlockRenderArgs {
   std::string integrator = "abr", reconstruction = "trilinear", optics = "tf", temperature_field = "temperature";
   double absorption = 0.25, emission = 4, emission_power = 0;  // power 0: 1 linear, 4 log
+  Device device = Device::cpu;  // not an option of its own: the caller sets it from `render --device`
   bool enabled() const { return integrator == "blocks" || optics == "blackbody"; }
 };
 

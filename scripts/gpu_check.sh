@@ -1,18 +1,84 @@
 #!/usr/bin/env bash
 # On a GPU machine: builds with CUDA, runs the whole suite (the CUDA tests run instead of
-# skipping), and the GPU benchmarks; logs go to the folder given as the first argument.
+# skipping), and the GPU benchmarks (bench/run_gpu.sh); logs go to LOG_DIR.
+#
+# usage: scripts/gpu_check.sh LOG_DIR [PHASE...]      (the order of the arguments does not matter)
+#   build         configure and build build-gpu with CUDA              -> LOG_DIR/build.log
+#   test          ctest in build-gpu (needs the build phase)           -> LOG_DIR/tests.log
+#   bench         bench/run_gpu.sh: data, stream and render            -> LOG_DIR/bench.log + its files
+#   bench-data | bench-stream | bench-render   one part of bench each (bench.log appended)
+#   all           build, test, bench (the default)
+# Where one command may run only so long (e.g. 10 minutes), run one phase per command:
+#   scripts/gpu_check.sh L build; scripts/gpu_check.sh L test;
+#   scripts/gpu_check.sh L bench-data; scripts/gpu_check.sh L bench-stream; scripts/gpu_check.sh L bench-render
+# and, should the stream benchmark still not fit, spread its levels over commands with
+# LEVELS=baseline,async-io,... (bench/run_gpu.sh merges the runs). Environment: CUDA_ARCH (90),
+# CTEST_JOBS (4), and bench/run_gpu.sh's (CELLS, STEPS, DEVICE, ...).
 set -uo pipefail
-cd "$(dirname "$0")/.."
-LOG_DIR="${1:?usage: scripts/gpu_check.sh LOG_DIR}"
-mkdir -p "$LOG_DIR"
+usage() { echo "usage: scripts/gpu_check.sh LOG_DIR [build|test|bench|bench-data|bench-stream|bench-render|all ...]" >&2; exit 2; }
+
+LOG_DIR=""
+PHASES=()
+for arg in "$@"; do
+  case $arg in
+    build | test | bench | bench-data | bench-stream | bench-render | all) PHASES+=("$arg") ;;
+    *) [ -z "$LOG_DIR" ] || usage; LOG_DIR="$arg" ;;
+  esac
+done
+[ -n "$LOG_DIR" ] || usage
+[ ${#PHASES[@]} -gt 0 ] || PHASES=(all)
+EXPANDED=()
+for p in "${PHASES[@]}"; do
+  if [ "$p" = all ]; then EXPANDED+=(build test bench); else EXPANDED+=("$p"); fi
+done
+mkdir -p "$LOG_DIR" || exit 1
+LOG_DIR="$(realpath "$LOG_DIR")"  # relative to the caller's directory, before the cd
+cd "$(dirname "$0")/.." || exit 1
+BUILD_DIR="${GPU_BUILD_DIR:-build-gpu}"  # GPU_BUILD_DIR: e.g. a CPU build, to try the bench phases elsewhere
 {
+  date -u +%FT%TZ
   nvidia-smi || true
   git rev-parse HEAD 2>/dev/null || true
 } >"$LOG_DIR/machine.txt" 2>&1
-BUILD_DIR=build-gpu bash scripts/build.sh -DVOLSTREAM_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES="${CUDA_ARCH:-90}" \
-  >"$LOG_DIR/build.log" 2>&1 || { echo "build failed, see $LOG_DIR/build.log"; exit 1; }
-ctest --test-dir build-gpu --output-on-failure -j4 >"$LOG_DIR/tests.log" 2>&1
-status=$?
-if [ -x bench/run_gpu.sh ]; then bash bench/run_gpu.sh build-gpu/volstream "$LOG_DIR" >"$LOG_DIR/bench.log" 2>&1; fi
-tail -5 "$LOG_DIR/tests.log"
+
+phase_build() {
+  BUILD_DIR=$BUILD_DIR bash scripts/build.sh -DVOLSTREAM_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES="${CUDA_ARCH:-90}" \
+    >"$LOG_DIR/build.log" 2>&1 || { echo "build failed, see $LOG_DIR/build.log"; return 1; }
+}
+
+phase_test() {
+  [ -x "$BUILD_DIR/volstream" ] || { echo "no $BUILD_DIR/volstream: run the build phase first"; return 1; }
+  ctest --test-dir "$BUILD_DIR" --output-on-failure -j"${CTEST_JOBS:-4}" >"$LOG_DIR/tests.log" 2>&1
+  local status=$?
+  tail -5 "$LOG_DIR/tests.log"
+  return $status
+}
+
+# bench, bench-data, bench-stream, bench-render: bench/run_gpu.sh with the parts asked for.
+phase_bench() {
+  [ -x "$BUILD_DIR/volstream" ] || { echo "no $BUILD_DIR/volstream: run the build phase first"; return 1; }
+  local part="${1:-all}" before=0
+  [ -f "$LOG_DIR/bench.log" ] && before=$(wc -l <"$LOG_DIR/bench.log")
+  bash bench/run_gpu.sh "$BUILD_DIR/volstream" "$LOG_DIR" "$part" >>"$LOG_DIR/bench.log" 2>&1
+  local status=$?
+  tail -n +$((before + 1)) "$LOG_DIR/bench.log" | grep -E '^(## part|  -> (FAILED|TIMED OUT)|WARNING)' 
+  return $status
+}
+
+status=0
+for phase in "${EXPANDED[@]}"; do
+  start=$(date +%s)
+  case $phase in
+    build) phase_build ;;
+    test) phase_test ;;
+    bench) phase_bench all ;;
+    bench-*) phase_bench "${phase#bench-}" ;;
+  esac
+  rc=$?
+  echo "gpu_check: $phase $([ $rc = 0 ] && echo ok || echo "FAILED ($rc)") in $(($(date +%s) - start)) s"
+  if [ $rc != 0 ]; then
+    status=1
+    [ "$phase" = build ] && break  # nothing after it can run without the binary
+  fi
+done
 exit $status

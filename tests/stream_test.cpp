@@ -445,6 +445,185 @@ TEST(Pipeline, MidStreamErrorsNameTheStepAndStopBeforeItsFrame) {
   }
 }
 
+// ---------------------------------------------------------------------------------------------
+// File-order copies (convert/demo --file-order): the levels before `preordered` read each step in
+// the generator's cell order and gather it into device order through the real permutation.
+
+// The series of series_dir() converted with file-order copies (same demo, same device order).
+struct FileOrderSeries {
+  fs::path dir = fs::temp_directory_path() / "volstream_tests" / ("stream_file_order_" + std::to_string(::getpid()));
+  FileOrderSeries() {
+    fs::remove_all(dir);
+    auto source = make_demo({"jet", 10000, kSteps});
+    ConvertOptions options;
+    options.quiet = true;
+    options.file_order = true;
+    convert_to_dataset(*source, dir, options);
+  }
+  ~FileOrderSeries() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+};
+
+const fs::path& file_order_series_dir() {
+  static const FileOrderSeries series;
+  return series.dir;
+}
+
+// A copy of `from` in a scratch directory named `name`; `edit` then damages it.
+fs::path edited_copy(const fs::path& from, const std::string& name, const std::function<void(const fs::path&)>& edit) {
+  const fs::path dir = test::scratch_dir(name);
+  fs::copy(from, dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  edit(dir);
+  return dir;
+}
+
+TEST(FileOrder, IndexIsAPermutationAndNotTheIdentity) {
+  const Dataset plain(series_dir()), ds(file_order_series_dir());
+  EXPECT_FALSE(plain.has_file_order());
+  EXPECT_THROW(plain.load_file_index(), InputError);
+  ASSERT_TRUE(ds.has_file_order());
+  const std::vector<uint32_t> index = ds.load_file_index();
+  ASSERT_EQ(index.size(), ds.manifest().cell_count);
+  std::vector<uint32_t> sorted = index;
+  std::sort(sorted.begin(), sorted.end());
+  for (size_t i = 0; i < sorted.size(); ++i) ASSERT_EQ(sorted[i], i) << "not a permutation";
+  size_t moved = 0;
+  for (size_t i = 0; i < index.size(); ++i) moved += index[i] != i;
+  EXPECT_GT(moved, index.size() / 2) << "the demo's cell order is almost the device order: " << moved << " of "
+                                      << index.size() << " cells move";
+}
+
+TEST(FileOrder, FileOrderFilesAreTheDeviceOrderFilesPermuted) {
+  const Dataset plain(series_dir()), ds(file_order_series_dir());
+  const uint64_t n = ds.manifest().cell_count;
+  const std::vector<uint32_t> index = ds.load_file_index();
+  auto source = make_demo({"jet", 10000, kSteps});
+  ASSERT_EQ(source->cell_count(), n);
+  // The index maps every device cell to its position in the generator's cell list.
+  const std::vector<Cell> input_cells = source->take_cells(), device_cells = ds.load_cells();
+  for (uint64_t i = 0; i < n; ++i) {
+    const Cell &a = device_cells[i], &b = input_cells[index[i]];
+    ASSERT_TRUE(a.lower == b.lower && a.level == b.level) << "device cell " << i;
+  }
+  std::vector<float> input(n);
+  for (int field = 0; field < int(ds.manifest().fields.size()); ++field)
+    for (int step = 0; step < kSteps; ++step) {
+      const std::vector<float> device = ds.load_values(field, step), file = ds.load_file_order_values(field, step);
+      // The file-order copy is the generator's output as it came, padded like the device-order file.
+      source->read_values(field, step, input.data());
+      ASSERT_EQ(std::memcmp(file.data(), input.data(), n * 4), 0) << "field " << field << " step " << step;
+      EXPECT_EQ(fs::file_size(ds.file_order_values_path(field, step)), align_up(n * 4));
+      // device[i] == file[index[i]], bit for bit; and the device-order files are those of a
+      // dataset converted without file order.
+      for (uint64_t i = 0; i < n; ++i)
+        ASSERT_EQ(std::memcmp(&device[i], &file[index[i]], 4), 0) << "field " << field << " step " << step << " cell " << i;
+      const std::vector<float> without = plain.load_values(field, step);
+      ASSERT_EQ(std::memcmp(device.data(), without.data(), n * 4), 0) << "field " << field << " step " << step;
+    }
+}
+
+TEST(FileOrder, EveryLevelRendersTheFramesOfTheDeviceOrderSeries) {
+  const Dataset plain(series_dir()), ds(file_order_series_dir());
+  // Which flatten each level runs, visible to reports (bench stream).
+  for (int l = 0; l < kLevelCount; ++l) {
+    const bool flattens = l < int(Level::preordered);
+    ChecksumStages a(plain.topology()), b(ds.topology());
+    Pipeline p(plain, 0, PipelineFlags::at(Level(l)), a, nullptr), q(ds, 0, PipelineFlags::at(Level(l)), b, nullptr);
+    EXPECT_EQ(p.flatten_is_identity(), flattens) << level_name(Level(l));
+    EXPECT_FALSE(q.flatten_is_identity()) << level_name(Level(l));
+    EXPECT_STREQ(p.flatten_mode(), flattens ? "identity" : "none");
+    EXPECT_STREQ(q.flatten_mode(), flattens ? "file-order" : "none");
+    EXPECT_EQ(p.buffer_bytes(), q.buffer_bytes());
+  }
+  const LevelImages device_order = play_every_level(plain, small_render_setup(plain, Device::cpu));
+  const LevelImages file_order = play_every_level(ds, small_render_setup(ds, Device::cpu));
+  for (int l = 0; l < kLevelCount; ++l)
+    for (int step = 0; step < kSteps; ++step)
+      EXPECT_EQ(file_order[size_t(l)].at(step), device_order[0].at(step)) << level_name(Level(l)) << " step " << step;
+  EXPECT_NE(file_order[0].at(0), file_order[0].at(kSteps - 1));
+}
+
+TEST(FileOrder, DamagedFileOrderStepsNameTheStepBeforePreordered) {
+  const std::map<std::string, std::function<void(const fs::path&, uint64_t)>> damages = {
+      {"missing", [](const fs::path& f, uint64_t) { fs::remove(f); }},
+      {"truncated", [](const fs::path& f, uint64_t bytes) { fs::resize_file(f, bytes / 2); }},
+      {"wrong size", [](const fs::path& f, uint64_t) { fs::resize_file(f, fs::file_size(f) + 3 * kIoAlignment); }}};
+  for (const auto& [what, damage] : damages) {
+    const fs::path dir = edited_copy(file_order_series_dir(), "file_order_" + what.substr(0, 5), [&](const fs::path& d) {
+      const Dataset ds(d);
+      damage(ds.file_order_values_path(0, 2), ds.manifest().cell_count * 4);
+    });
+    const Dataset ds(dir);
+    for (int l = 0; l < kLevelCount; ++l) {
+      ChecksumStages stages(ds.topology());
+      if (l >= int(Level::preordered)) {  // reads the intact device-order files
+        Pipeline(ds, 0, PipelineFlags::at(Level(l)), stages, nullptr).play(all_steps());
+        EXPECT_EQ(stages.frames.size(), size_t(kSteps)) << what << " at " << level_name(Level(l));
+        continue;
+      }
+      try {
+        Pipeline(ds, 0, PipelineFlags::at(Level(l)), stages, nullptr).play(all_steps());
+        ADD_FAILURE() << what << " file-order step accepted at " << level_name(Level(l));
+      } catch (const InputError& e) {
+        EXPECT_EQ(e.file(), ds.file_order_values_path(0, 2).string());
+        EXPECT_NE(std::string(e.what()).find("step 2"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      }
+      ASSERT_EQ(stages.frames.size(), 2u) << what << " at " << level_name(Level(l));
+      EXPECT_EQ(stages.frames[1].first, 1);
+    }
+  }
+}
+
+TEST(FileOrder, OldManifestsAndBadIndexFiles) {
+  // A manifest written before the key existed reads as "no file-order copies".
+  const fs::path old = edited_copy(series_dir(), "file_order_old", [](const fs::path& d) {
+    std::ifstream in(d / "manifest.json");
+    auto manifest = nlohmann::json::parse(in);
+    ASSERT_TRUE(manifest.contains("file_order"));
+    manifest.erase("file_order");
+    std::ofstream(d / "manifest.json") << manifest.dump(1);
+  });
+  const Dataset ds(old);
+  EXPECT_FALSE(ds.has_file_order());
+  ChecksumStages stages(ds.topology());
+  EXPECT_TRUE(Pipeline(ds, 0, PipelineFlags::at(Level::baseline), stages, nullptr).flatten_is_identity());
+
+  // An index that is missing, of the wrong size or not a permutation is an InputError naming it.
+  const fs::path missing = edited_copy(file_order_series_dir(), "file_order_noindex", [](const fs::path& d) {
+    fs::remove(d / dataset_files::kFileIndex);
+  });
+  try {
+    const Dataset bad(missing);
+    ADD_FAILURE() << "dataset without its file index opened";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), (missing / dataset_files::kFileIndex).string());
+  }
+  const fs::path short_index = edited_copy(file_order_series_dir(), "file_order_short", [](const fs::path& d) {
+    fs::resize_file(d / dataset_files::kFileIndex, fs::file_size(d / dataset_files::kFileIndex) - 4);
+  });
+  EXPECT_THROW(Dataset{short_index}, InputError);
+  const fs::path repeated = edited_copy(file_order_series_dir(), "file_order_repeat", [](const fs::path& d) {
+    std::fstream f(d / dataset_files::kFileIndex, std::ios::in | std::ios::out | std::ios::binary);
+    uint32_t first = 0;
+    f.read(reinterpret_cast<char*>(&first), 4);
+    f.seekp(4);
+    f.write(reinterpret_cast<const char*>(&first), 4);  // entry 1 repeats entry 0
+  });
+  const Dataset bad(repeated);
+  ChecksumStages bad_stages(bad.topology());
+  try {
+    Pipeline(bad, 0, PipelineFlags::at(Level::baseline), bad_stages, nullptr);
+    ADD_FAILURE() << "a file index that is not a permutation was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), (repeated / dataset_files::kFileIndex).string());
+    EXPECT_NE(std::string(e.what()).find("not a permutation"), std::string::npos) << e.what();
+  }
+  Pipeline(bad, 0, PipelineFlags::at(Level::preordered), bad_stages, nullptr).play({0});  // does not need it
+}
+
 TEST(FrameWriters, PngPatternsAreValidated) {
   EXPECT_EQ(PngSequenceWriter::format("f_%04d.png", 7), "f_0007.png");
   EXPECT_EQ(PngSequenceWriter::format("100%%_%d.png", 12), "100%_12.png");

@@ -63,6 +63,21 @@ for damage in missing truncated oversized; do
   done
 done
 
+# The progress bar (forced on, stderr is no terminal here): complete at 100% after a good run; a
+# run that fails part way ends the bar where it stopped, never at 100%, then the one error line.
+VOLSTREAM_PROGRESS=always "$VS" play ds --steps 0:4 --size 48x32 >/dev/null 2>progress_ok.txt
+grep -q "100.0%" progress_ok.txt || fail "progress bar of a good run not at 100%: $(cat -v progress_ok.txt)"
+rm -rf bad && cp -r ds bad && rm "bad/${f2#ds/}"
+for level in baseline overlap; do
+  status=0
+  VOLSTREAM_PROGRESS=always "$VS" play bad --steps 0:4 --pipeline $level --size 48x32 >/dev/null 2>progress.txt || status=$?
+  [ "$status" = 2 ] || fail "progress test at $level: exit status $status, expected 2"
+  grep -q "100" progress.txt && fail "a failed run shows 100% at $level: $(cat -v progress.txt)"
+  grep -q "failed at frame 3/4" progress.txt || fail "no 'failed at frame 3/4' at $level: $(cat -v progress.txt)"
+  tail -1 progress.txt | grep -q "^volstream: .*step 2" || fail "last line is not the error: $(tail -1 progress.txt)"
+  echo "ok: progress at $level -> $(tr '\r' '\n' <progress.txt | grep 'failed at' | sed 's/\x1b\[K//')"
+done
+
 # Usage errors.
 expect_bad_input "empty step range" play ds --steps 3:3
 expect_bad_input "step out of range" play ds --steps 0,9

@@ -8,8 +8,9 @@ namespace {
 
 // Johnson-Cousins passbands (normalised response) from Bessell, M. S. 1990, PASP 102, 1181,
 // "UBVRI passbands", Table 2 (B and V every 10 nm; R every 10 nm to 750 nm, then 50 nm).
-// {wavelength nm, response}; the responses are zero outside the tabulated ranges.
-struct Sample { float nm, t; };
+// {wavelength nm, response}; the responses are zero outside the tabulated ranges. The same
+// numbers as the SVO Filter Profile Service's Generic/Bessell.B, .V, .R and sncosmo's bessell_r.
+using Sample = PassbandSample;
 constexpr Sample kB[] = {{360, 0.000f}, {370, 0.030f}, {380, 0.134f}, {390, 0.567f}, {400, 0.920f}, {410, 0.978f},
                          {420, 1.000f}, {430, 0.978f}, {440, 0.935f}, {450, 0.853f}, {460, 0.740f}, {470, 0.640f},
                          {480, 0.536f}, {490, 0.424f}, {500, 0.325f}, {510, 0.235f}, {520, 0.150f}, {530, 0.095f},
@@ -34,13 +35,12 @@ double log_planck(double nm, double t) {
 // log of the band mean: integral of B_lambda T(lambda) over integral of T(lambda), trapezoid rule
 // on a 1 nm grid (log-sum-exp so that cold temperatures do not underflow). Dividing by the
 // filter's area makes a flat spectrum white, so the broad R band does not redden every colour.
-template <size_t N>
-double log_band_mean(const Sample (&f)[N], double t) {
+double log_band_mean(std::span<const Sample> f, double t) {
   std::vector<double> logs, weights;
-  for (size_t i = 0; i + 1 < N; ++i)
+  for (size_t i = 0; i + 1 < f.size(); ++i)
     for (int k = 0; k < int(f[i + 1].nm - f[i].nm); ++k) {
       const double nm = f[i].nm + k + 0.5;
-      const double w = f[i].t + (f[i + 1].t - f[i].t) * (nm - f[i].nm) / (f[i + 1].nm - f[i].nm);
+      const double w = f[i].response + (f[i + 1].response - f[i].response) * (nm - f[i].nm) / (f[i + 1].nm - f[i].nm);
       if (w <= 0) continue;
       logs.push_back(log_planck(nm, t) + std::log(w));
       weights.push_back(w);
@@ -55,6 +55,15 @@ double log_band_mean(const Sample (&f)[N], double t) {
 }
 
 }  // namespace
+
+std::span<const PassbandSample> passband(Band band) {
+  switch (band) {
+    case Band::B: return kB;
+    case Band::V: return kV;
+    case Band::R: return kR;
+  }
+  return {};
+}
 
 vec3f blackbody_rgb(double temperature_k) {
   const double r = log_band_mean(kR, temperature_k), g = log_band_mean(kV, temperature_k),

@@ -1,8 +1,10 @@
 // The astrophysical optical model of paper 004 (Sect. 5.1): gas emits a blackbody spectrum at its
-// temperature seen through Johnson R, V, B filters (as R, G, B), scaled by density / max density,
-// and absorbs (Rayleigh scattering out of the line of sight) in proportion to density and lambda^-4.
+// temperature seen through Johnson-Cousins R, V, B filters (Bessell 1990; as R, G, B), scaled by
+// density / max density, and absorbs (Rayleigh scattering out of the line of sight) in proportion
+// to density and lambda^-4.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "volstream/core/math.h"
@@ -10,8 +12,20 @@
 namespace vs {
 
 inline constexpr float kBlackbodyLogTMin = 2.f, kBlackbodyLogTMax = 8.f;  // table over 1e2 .. 1e8 K
-// Effective wavelengths (nm) of Johnson R, V, B (Bessell 1990, Table 3: 641, 545, 438 nm).
+// Effective wavelengths (nm) of R, V, B for Vega's (A0) spectrum F: lambda_eff = int lambda T F /
+// int T F over the response T (the SVO Filter Profile Service gives 544.6 nm and 641.4 nm for
+// these V and R curves). Not the plain response-weighted mean int lambda T / int T (441, 551 and
+// 659 nm): the filters' red tails pull that up, most of all in R. For the Rayleigh weights these
+// are the apt ones: the band average of lambda^-4 over a flat spectrum corresponds to 434, 546
+// and 645 nm. blocks_test.cpp (Blackbody.FilterTablesMatchPublishedBands) checks all of this.
 inline constexpr float kLambdaR = 641.f, kLambdaG = 545.f, kLambdaB = 438.f;
+
+// The tabulated filter responses: {nm, response} samples, linear in between, zero outside.
+struct PassbandSample {
+  float nm, response;
+};
+enum class Band { B, V, R };
+std::span<const PassbandSample> passband(Band band);
 
 // Blackbody colour (R, G, B) at temperature T: the filter-weighted mean of B_lambda over each band,
 // normalised so that the strongest channel is 1. Computed in log space: no underflow at 100 K.

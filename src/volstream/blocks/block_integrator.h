@@ -33,14 +33,19 @@ struct BlockSettings {
   Optics optics = Optics::tf;
 };
 
+// Pointers and the element counts behind them (the counts are for copying the arrays to the GPU;
+// kernels do not read them). Tables: tf.size and bb.size entries.
 struct BlockRenderView {
-  KdView kd;
+  KdView kd;                           // kd.node_count nodes, kd.block_count blocks
   const Brick* bricks = nullptr;
+  uint32_t brick_count = 0;
   const float* values = nullptr;       // primary field (density for blackbody), device order
   const float* temperature = nullptr;  // blackbody only
+  uint64_t value_count = 0;            // cells in values (and temperature)
   const uint64_t* vertex_offsets = nullptr;   // trilinear: per block (vertex_field.h); null: per-brick fallback
   const float* vertex_values = nullptr;
   const float* vertex_temperature = nullptr;
+  uint64_t vertex_count = 0;           // entries of vertex_values (and vertex_temperature)
   TfView tf;
   BlackbodyView bb;
   CameraView camera;

@@ -1,5 +1,6 @@
-// Host side of the block raycaster: builds the kd-tree of blocks once per topology and runs
-// render_block_pixel over all pixels on the CPU.
+// Host side of the block raycaster: builds the kd-tree of blocks once per topology, the vertex
+// values once per set of field values (set_fields), and runs render_block_pixel over all pixels
+// on the CPU or the GPU.
 #pragma once
 #include <cstdint>
 
@@ -10,6 +11,7 @@
 #include "volstream/blocks/kd_blocks.h"
 #include "volstream/blocks/vertex_field.h"
 #include "volstream/io/image.h"
+#include "volstream/render/renderer.h"
 
 namespace vs {
 
@@ -23,21 +25,28 @@ struct BlockFrame {
 };
 
 struct BlockStats {
-  double build_seconds = 0, render_seconds = 0;
-  double vertex_seconds = 0;  // trilinear: vertex values of the field(s), per frame (not in render_seconds)
+  double build_seconds = 0;   // the kd-tree (once per renderer)
+  double upload_seconds = 0;  // CUDA only: copies to and from the device
+  double render_seconds = 0;  // the integrator (kernel time on CUDA)
   uint64_t samples = 0;
 };
 
 class BlockRenderer {
  public:
   BlockRenderer(const AmrTopology& topology, const WorldTransform& transform);  // builds the kd-tree
-  // values: the primary field (density for blackbody); temperature: blackbody only (else null);
+
+  // The fields that render() draws, in device order; the caller keeps them alive while rendering.
+  // values: the primary field (density for blackbody); temperature: blackbody only (else null).
+  // With vertex_values (needed by trilinear reconstruction) their vertex fields are computed
+  // here, once, and every render reuses them: call again only when the values change.
+  void set_fields(const float* values, const float* temperature = nullptr, bool vertex_values = true);
+  double vertex_seconds() const { return vertex_seconds_; }  // of the last set_fields
+
   // tf: used by the TF optics (may be null for blackbody).
-  Image render(const float* values, const float* temperature, const TfView* tf, const Camera& camera,
-               const BlockFrame& frame, BlockStats* stats = nullptr) const;
-  // The kernel view with host pointers (vertex fields and outputs left null).
-  BlockRenderView host_view(const float* values, const float* temperature, const TfView* tf, const Camera& camera,
-                            const BlockFrame& frame) const;
+  Image render(const TfView* tf, const Camera& camera, const BlockFrame& frame, Device device = Device::cpu,
+               BlockStats* stats = nullptr) const;
+  // The kernel view with host pointers to everything (outputs left null).
+  BlockRenderView host_view(const TfView* tf, const Camera& camera, const BlockFrame& frame) const;
   const KdBlocks& kd() const { return kd_; }
   Box3<double> world_bounds() const;
   double build_seconds() const { return build_seconds_; }
@@ -48,6 +57,10 @@ class BlockRenderer {
   KdBlocks kd_;
   BlackbodyTable bb_;
   double build_seconds_ = 0;
+  const float* values_ = nullptr;
+  const float* temperature_ = nullptr;
+  VertexField vertex_values_, vertex_temperature_;  // empty unless set_fields made them
+  double vertex_seconds_ = 0;
 };
 
 }  // namespace vs

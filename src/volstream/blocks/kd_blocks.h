@@ -39,11 +39,13 @@ struct KdView {
   const KdNode* nodes = nullptr;
   const Block* blocks = nullptr;
   box3f bounds;
+  uint32_t node_count = 0, block_count = 0;  // not read by kernels: for copies of the arrays
 };
 
 KdBlocks build_kd_blocks(const std::vector<Brick>& bricks);
 inline KdView make_kd_view(const KdBlocks& kd) {
-  return {kd.nodes.data(), kd.blocks.data(), {vec3f(kd.bounds.lower), vec3f(kd.bounds.upper)}};
+  return {kd.nodes.data(), kd.blocks.data(), {vec3f(kd.bounds.lower), vec3f(kd.bounds.upper)}, uint32_t(kd.nodes.size()),
+          uint32_t(kd.blocks.size())};
 }
 
 // Ray [t_lo, t_hi] against a box: returns false when it misses. dir components may be zero.

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
+#include <stdexcept>
 
 #include "volstream/amr/abrs.h"
 #include "volstream/amr/bricks.h"
@@ -33,6 +35,9 @@ static std::string step_name(int step) {
 }
 std::string field_values(const FieldInfo& f, int step) { return "fields/" + f.dir + "/" + step_name(step) + ".f32"; }
 std::string field_ranges(const FieldInfo& f, int step) { return "fields/" + f.dir + "/" + step_name(step) + ".abr_ranges"; }
+std::string field_file_order_values(const FieldInfo& f, int step) {
+  return "fields/" + f.dir + "/" + step_name(step) + ".file_order.f32";
+}
 }  // namespace dataset_files
 
 namespace {
@@ -59,6 +64,7 @@ json manifest_to_json(const DatasetManifest& m) {
   j["brick_count"] = m.brick_count;
   j["abr_count"] = m.abr_count;
   j["abr_brick_count"] = m.abr_brick_count;
+  j["file_order"] = m.file_order;
   for (const auto& l : m.levels) j["levels"].push_back({{"level", l.level}, {"cells", l.cell_count}});
   j["step_times"] = m.step_times;
   for (const auto& f : m.fields) {
@@ -90,6 +96,7 @@ DatasetManifest manifest_from_json(const json& j) {
   m.brick_count = j.at("brick_count").get<uint64_t>();
   m.abr_count = j.at("abr_count").get<uint64_t>();
   m.abr_brick_count = j.at("abr_brick_count").get<uint64_t>();
+  m.file_order = j.value("file_order", false);  // absent in datasets written before it existed
   for (const auto& l : j.at("levels")) m.levels.push_back({l.at("level").get<int32_t>(), l.at("cells").get<uint64_t>()});
   m.step_times = j.at("step_times").get<std::vector<double>>();
   for (const auto& f : j.at("fields")) {
@@ -180,6 +187,20 @@ void DatasetWriter::write_values(int field, int step, const std::vector<float>& 
   f.step_ranges.at(size_t(step)) = value_range(values.data(), values.size());
 }
 
+void DatasetWriter::write_file_index(const std::vector<uint32_t>& index) {
+  if (index.size() != manifest_.cell_count)
+    throw std::logic_error("write_file_index: " + std::to_string(index.size()) + " entries for " +
+                           std::to_string(manifest_.cell_count) + " cells");
+  write_file(dir_ / dataset_files::kFileIndex, index.data(), index.size() * sizeof(uint32_t));
+  manifest_.file_order = true;
+}
+
+void DatasetWriter::write_file_order_values(int field, int step, const float* values, uint64_t count) {
+  if (count != manifest_.cell_count) throw std::logic_error("write_file_order_values: wrong value count");
+  const FieldInfo& f = manifest_.fields.at(size_t(field));
+  write_file(dir_ / dataset_files::field_file_order_values(f, step), values, count * sizeof(float), kFileAlignment);
+}
+
 void DatasetWriter::finish() {
   // Field names come from input files and may not be valid UTF-8: replace bad bytes (U+FFFD).
   const std::string text = manifest_to_json(manifest_).dump(1, ' ', false, json::error_handler_t::replace);
@@ -202,12 +223,40 @@ Dataset::Dataset(const fs::path& dir) : dir_(dir) {
   topology_.abrs = read_records<Abr>(dir / dataset_files::kAbrs, manifest_.abr_count);
   topology_.abr_bricks = read_records<uint32_t>(dir / dataset_files::kAbrBricks, manifest_.abr_brick_count);
   validate_topology(topology_, (dir / dataset_files::kBricks).string());
+  if (manifest_.file_order) {  // the index itself is read (and checked) by whoever needs it
+    const fs::path index = dir / dataset_files::kFileIndex;
+    const uint64_t size = file_size_checked(index);
+    if (size != manifest_.cell_count * sizeof(uint32_t)) throw_size_mismatch(index, size, manifest_.cell_count * sizeof(uint32_t));
+  }
 }
 
 std::vector<Cell> Dataset::load_cells() const { return read_records<Cell>(dir_ / dataset_files::kCells, manifest_.cell_count); }
 
 fs::path Dataset::values_path(int field, int step) const {
   return dir_ / dataset_files::field_values(manifest_.fields.at(size_t(field)), step);
+}
+
+fs::path Dataset::file_order_values_path(int field, int step) const {
+  return dir_ / dataset_files::field_file_order_values(manifest_.fields.at(size_t(field)), step);
+}
+
+std::vector<uint32_t> Dataset::load_file_index() const {
+  const fs::path path = dir_ / dataset_files::kFileIndex;
+  if (!manifest_.file_order) input_error(path.string(), "the dataset has no file-order copies (convert with --file-order)");
+  std::vector<uint32_t> index = read_records<uint32_t>(path, manifest_.cell_count);
+  std::vector<bool> seen(index.size(), false);
+  for (size_t i = 0; i < index.size(); ++i) {
+    const uint32_t k = index[i];
+    if (k >= index.size() || seen[k])
+      input_error(path.string(), "not a permutation: entry " + std::to_string(i) + " is " + std::to_string(k) +
+                                     (k >= index.size() ? " (out of range)" : " (repeated)"));
+    seen[k] = true;
+  }
+  return index;
+}
+
+std::vector<float> Dataset::load_file_order_values(int field, int step) const {
+  return read_records<float>(file_order_values_path(field, step), manifest_.cell_count, kFileAlignment);
 }
 
 std::vector<float> Dataset::load_values(int field, int step) const {
@@ -242,6 +291,10 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& out_dir, cons
   ConvertStats stats;
   auto t0 = clock::now();
   const std::string origin = source.origin();
+  // file_index.bin holds uint32 positions (as does the brick builder's input index).
+  if (options.file_order && source.cell_count() > uint64_t(UINT32_MAX))
+    input_error(out_dir.string(), "--file-order: " + std::to_string(source.cell_count()) +
+                                      " cells; the file index holds 32-bit positions, so at most 2^32 - 1 cells");
   std::vector<Cell> cells = source.take_cells();
   if (cells.empty()) input_error(origin, "no cells");
   stats.cells_seconds = seconds_since(t0);
@@ -269,6 +322,9 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& out_dir, cons
   DatasetWriter writer(out_dir, manifest, field_names);
   writer.write_topology(topology, built.device_cells);
   std::vector<Cell>().swap(built.device_cells);
+  // Reading file order back into device order is out[i] = in[input_index[i]]: the input index is
+  // the file index.
+  if (options.file_order) writer.write_file_index(built.input_index);
 
   t0 = clock::now();
   const uint64_t n = topology.cell_count;
@@ -279,6 +335,7 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& out_dir, cons
     for (size_t field = 0; field < field_names.size(); ++field) {
       progress.set_detail(field_names[field] + " step " + std::to_string(step));
       source.read_values(int(field), step, input.data());
+      if (options.file_order) writer.write_file_order_values(int(field), step, input.data(), n);
       const uint32_t* index = built.input_index.data();
       parallel_for("reorder", int64_t(n), [&](int64_t i) { device[size_t(i)] = input[index[i]]; });
       writer.write_values(int(field), step, device);

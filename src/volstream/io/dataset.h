@@ -1,5 +1,8 @@
 // The native dataset directory (docs/formats.md): manifest.json, topology files, and one
 // float32 file per (field, step) in device order, padded to 4 KiB, plus per-ABR value ranges.
+// Optionally (`convert/demo --file-order`) a second copy of every step in file (source) order and
+// the permutation `file_index.bin` from device to file order, for the streaming pipeline's
+// per-frame flatten pass (docs/streaming.md).
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -37,6 +40,9 @@ struct DatasetManifest {
   std::vector<FieldInfo> fields;
   std::vector<double> step_times;
   uint64_t brick_count = 0, abr_count = 0, abr_brick_count = 0;
+  // The dataset also holds every step in file order and file_index.bin (manifest key
+  // "file_order"; absent in older datasets, which means false).
+  bool file_order = false;
   int step_count() const { return int(step_times.size()); }
   int field_index(const std::string& name) const;  // -1 if absent
 };
@@ -48,7 +54,9 @@ inline constexpr const char* kCells = "cells.bin";
 inline constexpr const char* kBricks = "bricks.bin";
 inline constexpr const char* kAbrs = "abrs.bin";
 inline constexpr const char* kAbrBricks = "abr_bricks.bin";
+inline constexpr const char* kFileIndex = "file_index.bin";  // only with file-order copies
 std::string field_values(const FieldInfo& f, int step);  // relative path
+std::string field_file_order_values(const FieldInfo& f, int step);  // relative path (file-order copy)
 std::string field_ranges(const FieldInfo& f, int step);  // relative path
 }  // namespace dataset_files
 
@@ -60,6 +68,11 @@ class DatasetWriter {
   void write_topology(const AmrTopology& topology, const std::vector<Cell>& device_cells);
   // values: cell_count floats in device order. Computes and stores the per-ABR ranges.
   void write_values(int field, int step, const std::vector<float>& values);
+  // The file-order copies: `index[device position]` = position in the file-order values (a
+  // permutation of 0 .. cell_count-1), written once; then per (field, step) the values in that
+  // order. Writing the index marks the dataset as having file-order copies.
+  void write_file_index(const std::vector<uint32_t>& index);
+  void write_file_order_values(int field, int step, const float* values, uint64_t count);
   void finish();  // writes manifest.json
   const DatasetManifest& manifest() const { return manifest_; }
 
@@ -82,6 +95,14 @@ class Dataset {
   // Path of a field file (for the streaming reader).
   std::filesystem::path values_path(int field, int step) const;
 
+  // File-order copies (manifest().file_order): the same values in file (source) order, and the
+  // permutation from device order to it: values[i] == file_order_values[file_index[i]].
+  bool has_file_order() const { return manifest_.file_order; }
+  std::filesystem::path file_order_values_path(int field, int step) const;
+  // Checked to be a permutation of 0 .. cell_count-1 (InputError naming the file otherwise).
+  std::vector<uint32_t> load_file_index() const;
+  std::vector<float> load_file_order_values(int field, int step) const;
+
  private:
   std::filesystem::path dir_;
   DatasetManifest manifest_;
@@ -90,7 +111,8 @@ class Dataset {
 
 // Converts any source into a dataset directory, reading one (field, step) at a time.
 struct ConvertOptions {
-  bool quiet = false;  // no progress bar
+  bool quiet = false;       // no progress bar
+  bool file_order = false;  // also write every step in file (source) order + file_index.bin
 };
 struct ConvertStats {
   double cells_seconds = 0, bricks_seconds = 0, abrs_seconds = 0, values_seconds = 0;

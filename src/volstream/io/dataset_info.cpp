@@ -52,6 +52,11 @@ json dataset_summary(const Dataset& ds) {
                 {"abr_ranges_per_field_step", t.abrs.size() * sizeof(Range)},
                 {"values_per_field_step", values},
                 {"values_total", values * m.fields.size() * uint64_t(m.step_count())}};
+  j["file_order"] = m.file_order;  // file-order copies of every step + file_index.bin (--file-order)
+  if (m.file_order) {
+    j["bytes"]["file_index"] = m.cell_count * sizeof(uint32_t);
+    j["bytes"]["file_order_values_total"] = values * m.fields.size() * uint64_t(m.step_count());
+  }
   return j;
 }
 
@@ -85,6 +90,7 @@ std::string format_summary(const json& j) {
          (unsigned long long)l["cells"].get<uint64_t>());
   line("steps     %d (t = %g .. %g)\n", j["steps"].get<int>(), j["step_times"].front().get<double>(),
        j["step_times"].back().get<double>());
+  if (j.value("file_order", false)) line("file order yes: every step also in file order, plus file_index.bin (--file-order)\n");
   line("fields    %zu\n", j["fields"].size());
   for (const auto& f : j["fields"])
     line("  %-20s [%g, %g]\n", f["name"].get<std::string>().c_str(), f["min"].get<double>(), f["max"].get<double>());

@@ -78,8 +78,13 @@ Pipeline::Pipeline(const Dataset& dataset, int field, PipelineFlags flags, Frame
   staging_buffers_ = allocate(staging_copies, flags_.pinned);
   device_values_ = stages_.make_value_store(device_copies, reader_.padded_bytes());
   if (!flags_.preordered) {
-    flatten_index_.resize(dataset.manifest().cell_count);
-    std::iota(flatten_index_.begin(), flatten_index_.end(), 0u);
+    file_order_ = dataset.has_file_order();
+    if (file_order_) {
+      flatten_index_ = dataset.load_file_index();  // checked to be a permutation
+    } else {
+      flatten_index_.resize(dataset.manifest().cell_count);
+      std::iota(flatten_index_.begin(), flatten_index_.end(), 0u);
+    }
   }
   for (int k = 0; k < slots; ++k) {
     auto slot = std::make_unique<Slot>();
@@ -114,6 +119,11 @@ std::string Pipeline::describe_buffers() const {
 }
 
 bool Pipeline::direct_io_active() const { return reader_.direct(); }
+
+const char* Pipeline::flatten_mode() const {
+  if (flags_.preordered) return "none";
+  return file_order_ ? "file-order" : "identity";
+}
 
 std::string Pipeline::pin_failure() const {
   for (const HostBuffer& b : staging_buffers_)
@@ -150,7 +160,10 @@ std::unique_ptr<ValueStore> make_host_value_store(int count, uint64_t bytes_each
 void Pipeline::load(Slot& slot, int step, Phase upto, int lane) {
   if (slot.done < Phase::read) {
     Timeline::Scope s(timeline_, Stage::read, step, lane);
-    reader_.read(dataset_.values_path(field_, step), step, slot.file);
+    // The file-order copy (when there is one) is what a flattening level reads; the reader's
+    // missing / truncated / wrong-size errors name that file and the step.
+    reader_.read(file_order_ ? dataset_.file_order_values_path(field_, step) : dataset_.values_path(field_, step), step,
+                 slot.file);
     slot.done = Phase::read;
   }
   if (upto >= Phase::uploaded && slot.done < Phase::uploaded) {
@@ -161,7 +174,8 @@ void Pipeline::load(Slot& slot, int step, Phase upto, int lane) {
   }
 }
 
-// The baseline's per-frame reorder from file order to device order (see pipeline.h).
+// The baseline's per-frame reorder from file order to device order (see pipeline.h): a gather
+// through the dataset's file index, or through the identity without file-order copies.
 void Pipeline::flatten(const Slot& slot) {
   const uint32_t* index = flatten_index_.data();
   const float* in = slot.file;

@@ -11,11 +11,16 @@
 //   overlap     the upload of the next step runs on the loader, into the second device buffer,
 //               while this step renders (5.7)
 //
-// The flattening of the baseline: our files already hold values in device order (the converter
-// permutes once). To model ExaBricks' per-frame flattening honestly, levels before `preordered`
-// read into a separate file buffer and gather it into staging through an index array (identity),
-// which costs the extra buffer and the index + value + store traffic of a gather, but not the
-// cache misses of a truly scattered input order; so it under- rather than over-states that cost.
+// The flattening of the baseline (ExaBricks reorders every frame from file order to device
+// order): levels before `preordered` read into a separate file buffer and gather it into staging,
+// staging[i] = file[file_index[i]]. A dataset converted with `--file-order` holds every step in
+// file (source) order too, plus the permutation file_index.bin; those levels read that copy and
+// gather through the real, scattered index, so the frames are the same as from the device-order
+// files. A dataset without it (the default: it doubles the values on disk) has only device-order
+// files; then the index is the identity, which costs the extra buffer and the index + value +
+// store traffic of a gather but not the cache misses of a scattered one, i.e. it under-states the
+// flattening (flatten_is_identity() says so). From `preordered` on, the device-order files are
+// read straight into staging.
 //
 // Where the values go is the renderer's choice (FrameStages::make_value_store): host memory for
 // the CPU renderer (the upload is a copy), GPU memory for the CUDA one (the upload is a DMA copy
@@ -115,6 +120,13 @@ class Pipeline {
   uint64_t buffer_bytes() const;       // all per-step buffers together
   std::string describe_buffers() const;  // e.g. "0 file + 2 staging (page-locked (cuda)) + 2 device (GPU) buffers: 16.0 MiB"
   bool direct_io_active() const;       // false if O_DIRECT fell back to buffered reads
+  // The flatten pass of the levels before `preordered` (see above): "file-order" (the dataset's
+  // file-order copies through the real index), "identity" (no such copies: device-order files
+  // through the identity index), or "none" (from `preordered` on).
+  const char* flatten_mode() const;
+  // True when this level flattens but the dataset has no file-order copies, so the gather runs
+  // through the identity and under-states the cost of a real reorder.
+  bool flatten_is_identity() const { return !flags_.preordered && !file_order_; }
   // Why page-locking failed (empty if it worked or was not asked for).
   std::string pin_failure() const;
 
@@ -134,7 +146,8 @@ class Pipeline {
   StepReader reader_;
   std::vector<HostBuffer> file_buffers_, staging_buffers_;
   std::unique_ptr<ValueStore> device_values_;
-  std::vector<uint32_t> flatten_index_;  // file position of each device position (identity, see above)
+  std::vector<uint32_t> flatten_index_;  // file position of each device position (see above)
+  bool file_order_ = false;              // reading the file-order copies (flatten_index_ is real)
   std::vector<std::unique_ptr<Slot>> slots_;
 };
 

@@ -1,0 +1,69 @@
+// The render options shared by `render`, `play` and `bench stream`: one struct, one registration,
+// one translation into what the renderer takes (transfer function, frame settings, camera,
+// device). What differs between the commands is passed in: the defaults (the struct's values
+// when the options are registered) and the steps whose value ranges make the transfer
+// function's default range (one step for `render`, all steps for a stream, so that a frame
+// looks the same however it is reached).
+#pragma once
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "volstream/io/dataset.h"
+#include "volstream/render/renderer.h"
+#include "volstream/stream/render_stages.h"
+
+namespace vs::cli {
+
+struct RenderOptions {
+  std::string field, tf = "auto", range, opacity, iso, color_field;
+  std::string camera_pos, camera_at, camera_up, size = "512x512", background = "0.06,0.06,0.08", device = "auto";
+  uint32_t spp = 1;
+  double fov = 35, rate = 2, iso_alpha = 1, unit_distance = 0;
+  bool log = false, ortho = false, no_skip = false, no_adaptive = false, no_jitter = false, shade = false;
+  bool stored_ranges = false, alpha = false;
+  // Not an option: with no --field, render the built-in demo's look field (vorticity, density:
+  // render) or the dataset's first field (play, bench: their frames stay what they were).
+  bool field_from_look = true;
+};
+
+// `play`'s and `bench stream`'s defaults: 256x256 frames (there are many), the render stage on
+// the CPU unless --device says otherwise, the first field in viridis (what they rendered before
+// the options were shared; `--tf auto --field vorticity` gives render's demo look).
+RenderOptions stream_render_defaults();
+
+enum class RenderContext { image, stream };
+
+// Registers every render option on `cmd`; the values in `o` are the defaults --help shows.
+// `context` only changes help texts (e.g. what the default range is).
+void add_render_options(CLI::App* cmd, RenderOptions& o, RenderContext context);
+
+// Everything a frame needs, fixed for a whole animation.
+struct RenderPlan {
+  int field = 0;
+  stream::RenderSetup setup;          // transfer function, frame settings, camera, device
+  vec3f background;                   // --background (sRGB, as the image writers take it)
+  int color_field = -1;               // --color-field (-1: none)
+  TransferFunctionSpec color_tf;      // its colours over its own range
+};
+
+// Checks every option and builds the plan. The transfer function's default range (and the
+// colour field's) is the union of the field's ranges over `range_steps`.
+RenderPlan make_render_plan(const RenderOptions& o, const Dataset& dataset, const std::vector<int>& range_steps);
+
+// `play` and `bench stream`: UsageError for the options the frame pipeline cannot honour
+// (--color-field, --stored-ranges, --alpha), then the plan with the range over all steps.
+RenderPlan make_stream_render_plan(const RenderOptions& o, const Dataset& dataset);
+
+// The parts, for callers that need only one.
+void parse_size(const std::string& text, uint32_t& width, uint32_t& height);  // WxH, 1..16384
+int render_field(const RenderOptions& o, const Dataset& dataset);  // --field, else see field_from_look
+TransferFunctionSpec make_transfer_function(const RenderOptions& o, const Dataset& dataset, int field,
+                                            const std::vector<int>& range_steps);
+IntegratorSettings make_integrator_settings(const RenderOptions& o);
+FrameSettings make_frame_settings(const RenderOptions& o);
+Camera make_camera(const RenderOptions& o, const Dataset& dataset, uint32_t width, uint32_t height);
+
+}  // namespace vs::cli

@@ -135,7 +135,10 @@ void run_bench_stream(const BenchStreamArgs& a) {
   const std::vector<Level> levels = parse_levels(a.levels);
   const RenderPlan r = make_stream_render_plan(a.render, ds);
   std::vector<std::filesystem::path> files;
-  for (int s : std::set<int>(steps.begin(), steps.end())) files.push_back(ds.values_path(r.field, s));
+  for (int s : std::set<int>(steps.begin(), steps.end())) {
+    files.push_back(ds.values_path(r.field, s));
+    if (ds.has_file_order()) files.push_back(ds.file_order_values_path(r.field, s));  // the baseline levels read these
+  }
 
   const auto& fs = r.setup.settings;
   std::printf("bench stream: %s, field %s, %zu frames, %ux%u on %s, %.1f MiB per step\n", a.dir.c_str(),
@@ -152,6 +155,9 @@ void run_bench_stream(const BenchStreamArgs& a) {
                 before.evicted ? "" : " (refused for some files)",
                 before.resident < 0 ? "unknown" : (std::to_string(int(before.resident * 100 + 0.5)) + "%").c_str());
 
+  std::printf("flatten before preordered: %s\n",
+              ds.has_file_order() ? "gather from the file-order copy through file_index.bin"
+                                  : "identity gather (no file-order copy: demo/convert --file-order writes one)");
   {  // warm-up: thread pool, page tables and caches of the topology, off the record
     HashingSink sink(r.background);
     RendererStages stages(ds, r.setup, &sink);

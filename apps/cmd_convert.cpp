@@ -19,6 +19,7 @@ struct ConvertArgs {
   std::vector<int> dims;
   std::string raw_type = "float32";
   bool big_endian = false, series = false, quiet = false, file_order = false;
+  std::vector<std::string> fields;
   std::string field_name = "scalar";
   std::vector<double> origin{0, 0, 0}, spacing{1, 1, 1};
 };
@@ -81,10 +82,11 @@ void add_convert_command(CLI::App& app) {
   cmd->add_flag("--file-order", a->file_order,
                 "also write every step in the input's cell order and the permutation to device order (file_index.bin), "
                 "for the streaming pipeline's flatten pass (doubles the values on disk)");
+  cmd->add_option("--fields", a->fields, "keep only these fields (comma-separated; default: all)")->delimiter(',');
   cmd->add_flag("-q,--quiet", a->quiet, "no progress bar");
   cmd->callback([a] {
     auto source = open_source(*a);
-    const ConvertStats stats = convert_to_dataset(*source, a->out, {a->quiet, a->file_order});
+    const ConvertStats stats = convert_to_dataset(*source, a->out, {a->quiet, a->file_order, a->fields});
     std::printf("wrote %s from %s: %llu cells%s (bricks %.2fs, ABRs %.2fs, values %.2fs)\n", a->out.c_str(),
                 source->description().c_str(), (unsigned long long)source->cell_count(),
                 a->file_order ? " + file-order copies" : "", stats.bricks_seconds, stats.abrs_seconds, stats.values_seconds);

@@ -14,6 +14,7 @@ void add_demo_command(CLI::App& app) {
     std::string out;
     bool quiet = false;
     bool file_order = false;
+    std::vector<std::string> fields;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("demo", "Write a built-in procedural dataset (jet or cosmo)");
@@ -24,10 +25,11 @@ void add_demo_command(CLI::App& app) {
   cmd->add_flag("--file-order", args->file_order,
                 "also write every step in the generator's cell order and the permutation to device order "
                 "(file_index.bin), for the streaming pipeline's flatten pass (doubles the values on disk)");
+  cmd->add_option("--fields", args->fields, "write only these fields (comma-separated; default: all)")->delimiter(',');
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar");
   cmd->callback([args] {
     auto source = make_demo({args->name, uint64_t(args->cells), args->steps});
-    const ConvertStats stats = convert_to_dataset(*source, args->out, {args->quiet, args->file_order});
+    const ConvertStats stats = convert_to_dataset(*source, args->out, {args->quiet, args->file_order, args->fields});
     std::printf("wrote %s: %s, %llu cells, %d steps%s (cells %.2fs, bricks %.2fs, ABRs %.2fs, values %.2fs)\n",
                 args->out.c_str(), source->description().c_str(), (unsigned long long)source->cell_count(), args->steps,
                 args->file_order ? " + file-order copies" : "",

@@ -14,7 +14,7 @@
 #include "volstream/cuda/backend.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/image.h"
-#include "volstream/render/abr_ranges.h"
+#include "volstream/amr/ranges.h"
 #include "volstream/render/renderer.h"
 
 namespace vs::cli {
@@ -62,10 +62,10 @@ void run_render(RenderArgs a) {
   const Device device = plan.setup.device;
 
   const std::vector<float> values = ds.load_values(field, a.step);
-  // Tight ranges (render/abr_ranges.h) cull far more than the stored per-brick ones.
+  // Computed here by default: datasets converted before the ranges became tight store per-brick ones.
   const auto t_ranges = std::chrono::steady_clock::now();
   const std::vector<Range> abr_ranges = o.stored_ranges ? ds.load_abr_ranges(field, a.step)
-                                                        : compute_tight_abr_ranges(ds.topology(), values.data());
+                                                        : compute_abr_ranges(ds.topology(), values.data());
   const double ranges_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_ranges).count();
   std::vector<float> color_values;
   std::unique_ptr<TransferTable> color_tf;

@@ -55,7 +55,7 @@ void add_render_options(CLI::App* cmd, RenderOptions& o, RenderContext context) 
   cmd->add_flag("--no-jitter", o.no_jitter, "start every ray's samples at the same offset");
   cmd->add_flag("--shade", o.shade, "gradient shading of the volume (headlight)");
   cmd->add_flag("--stored-ranges", o.stored_ranges,
-                "classify with the dataset's stored per-ABR ranges (per brick, looser) instead of tight ones" + not_streamed);
+                "classify with the dataset's stored per-ABR ranges instead of computing them (the same for datasets converted since 2026-11-22, per brick and looser before)" + not_streamed);
   cmd->add_option("--background", o.background, "R,G,B background in [0,1] (sRGB)")->capture_default_str();
   cmd->add_flag("--alpha", o.alpha, "keep transparency (PNG RGBA; PFM: premultiplied RGB + OUT.alpha.pfm)" + not_streamed);
   cmd->add_option("--device", o.device, stream ? "auto | cpu | cuda (cuda: each step is uploaded; ranges, refit and render run on the GPU)"

@@ -27,11 +27,12 @@
 #   DATA_DIR=${TMPDIR:-/tmp}/volstream_bench   datasets are kept there for the next part/run
 #                       (REGEN=1 regenerates them, CLEAN_DATA=1 removes them at the end)
 #   CMD_TIMEOUT=SECONDS kill (and log as timed out) any single command running longer
-#   DEMO_ARGS="..."     more `volstream demo` options (e.g. --file-order: real flattening in the
-#                       levels before preordered, twice the values on disk); DEMO_FIELDS=3 is the
-#                       number of fields the demo writes, for the disk-space check
-# Disk: the jet demo writes 3 fields and per-ABR ranges, about 60 GB at 3e8 cells x 8 steps; the
-# space is checked before each demo is generated (a part fails at once when it cannot fit).
+#   DEMO_ARGS="..."     `volstream demo` options (default --fields vorticity; add --file-order for
+#                       real flattening in the levels before preordered, twice the values on
+#                       disk); DEMO_FIELDS=1 is the number of fields written, for the space check
+# Disk: one field with per-ABR ranges is about 32 GB at 3.1e8 cells x 8 steps (all 3 fields of the
+# jet demo would need about 69 GB, more than the GPU machine's 64 GiB disk); the space is checked
+# before each demo is generated (a part fails at once when it cannot fit).
 set -euo pipefail
 
 usage() { echo "usage: bench/run_gpu.sh VOLSTREAM_BINARY LOG_DIR [data|stream|render|all ...]" >&2; exit 2; }
@@ -61,8 +62,8 @@ LEVELS="${LEVELS:-}"
 STREAM_ARGS="${STREAM_ARGS:-}"
 DATA_DIR="$(realpath -m "${DATA_DIR:-${TMPDIR:-/tmp}/volstream_bench}")"
 CMD_TIMEOUT="${CMD_TIMEOUT:-}"
-DEMO_ARGS="${DEMO_ARGS:-}"
-DEMO_FIELDS="${DEMO_FIELDS:-3}"
+DEMO_ARGS="${DEMO_ARGS:---fields vorticity}"
+DEMO_FIELDS="${DEMO_FIELDS:-1}"
 case "$DATA_DIR/" in "$REPO"/*) echo "run_gpu.sh: DATA_DIR $DATA_DIR is inside the repository; use local disk (/tmp)" >&2; exit 2 ;; esac
 
 mkdir -p "$LOG_DIR" "$DATA_DIR"
@@ -101,7 +102,7 @@ run() {
 
 # Disk bytes of a jet demo (measured at 1e6 and 1e7 cells, bench/RESULTS.md): topology about
 # 40 B per cell; per field and step 4 B per cell of values and 8 B per ABR of ranges (0.4 ABRs
-# per cell); DEMO_FIELDS (3) fields; --file-order in DEMO_ARGS adds a copy of the values and a
+# per cell); DEMO_FIELDS (1) fields; --file-order in DEMO_ARGS adds a copy of the values and a
 # 4 B index per cell; 5% slack.
 demo_bytes() {
   local order=0

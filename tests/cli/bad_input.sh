@@ -34,6 +34,11 @@ expect_bad_input "misaligned cell" convert misaligned.cells misaligned.scalars -
 expect_bad_input "garbage cells" convert garbage.cells garbage.scalars -o x -q
 expect_bad_input "empty cells" convert empty.cells ok.scalars -o x -q
 expect_bad_input "missing input" convert nothere.cells ok.scalars -o x -q
+expect_bad_input "unknown field to keep" convert ok.cells ok.scalars --fields nope -o x -q
+expect_bad_input "unknown demo field" demo jet --cells 2e4 --steps 1 --fields nope -o x -q
+"$VS" demo jet --cells 2e4 --steps 1 --fields vorticity -q -o one_field >/dev/null || fail "demo --fields rejected"
+"$VS" info one_field --json | python3 -c 'import json,sys; f=json.load(sys.stdin)["fields"]; assert [x["name"] for x in f]==["vorticity"], f' \
+  || fail "demo --fields vorticity did not keep exactly that field"
 
 # Raw grids.
 head -c 100 /dev/urandom >r.raw

@@ -285,6 +285,22 @@ box3i grid_bounds(const std::vector<Brick>& bricks) {
 }
 }  // namespace
 
+namespace {
+// Source field indices for the names asked for (all fields when none are).
+std::vector<int> selected_fields(const AmrSource& source, const std::vector<std::string>& wanted) {
+  const std::vector<std::string> names = source.field_names();
+  std::vector<int> fields;
+  if (wanted.empty())
+    for (size_t f = 0; f < names.size(); ++f) fields.push_back(int(f));
+  for (const std::string& w : wanted) {
+    const auto it = std::find(names.begin(), names.end(), w);
+    if (it == names.end()) input_error(source.origin(), "no field '" + w + "' (--fields)");
+    fields.push_back(int(it - names.begin()));
+  }
+  return fields;
+}
+}  // namespace
+
 ConvertStats convert_to_dataset(AmrSource& source, const fs::path& out_dir, const ConvertOptions& options) {
   using clock = std::chrono::steady_clock;
   auto seconds_since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
@@ -318,7 +334,9 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& out_dir, cons
   manifest.grid_bounds = grid_bounds(topology.bricks);
   manifest.levels = count_levels(topology.bricks);
   for (int s = 0; s < source.step_count(); ++s) manifest.step_times.push_back(source.step_time(s));
-  const auto field_names = source.field_names();
+  const std::vector<int> fields = selected_fields(source, options.fields);
+  std::vector<std::string> field_names;
+  for (int f : fields) field_names.push_back(source.field_names()[size_t(f)]);
   DatasetWriter writer(out_dir, manifest, field_names);
   writer.write_topology(topology, built.device_cells);
   std::vector<Cell>().swap(built.device_cells);
@@ -334,7 +352,7 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& out_dir, cons
   for (int step = 0; step < steps; ++step) {
     for (size_t field = 0; field < field_names.size(); ++field) {
       progress.set_detail(field_names[field] + " step " + std::to_string(step));
-      source.read_values(int(field), step, input.data());
+      source.read_values(fields[field], step, input.data());
       if (options.file_order) writer.write_file_order_values(int(field), step, input.data(), n);
       const uint32_t* index = built.input_index.data();
       parallel_for("reorder", int64_t(n), [&](int64_t i) { device[size_t(i)] = input[index[i]]; });

@@ -33,12 +33,18 @@ constexpr int kSteps = 5;
 
 // One small time series (the demo jet, about 10^4 cells) per test process: ctest runs tests in
 // parallel processes, so the directory is private to this one and removed at exit.
+// With file_order, the same series also gets file-order copies (same demo, same device order).
 struct Series {
-  fs::path dir = fs::temp_directory_path() / "volstream_tests" / ("stream_series_" + std::to_string(::getpid()));
-  Series() {
+  fs::path dir;
+  explicit Series(bool file_order)
+      : dir(fs::temp_directory_path() / "volstream_tests" /
+            ((file_order ? "stream_file_order_" : "stream_series_") + std::to_string(::getpid()))) {
     fs::remove_all(dir);
     auto source = make_demo({"jet", 10000, kSteps});
-    convert_to_dataset(*source, dir, {true});
+    ConvertOptions options;
+    options.quiet = true;
+    options.file_order = file_order;
+    convert_to_dataset(*source, dir, options);
   }
   ~Series() {
     std::error_code ec;
@@ -47,7 +53,7 @@ struct Series {
 };
 
 const fs::path& series_dir() {
-  static const Series series;
+  static const Series series(false);
   return series.dir;
 }
 
@@ -449,25 +455,8 @@ TEST(Pipeline, MidStreamErrorsNameTheStepAndStopBeforeItsFrame) {
 // File-order copies (convert/demo --file-order): the levels before `preordered` read each step in
 // the generator's cell order and gather it into device order through the real permutation.
 
-// The series of series_dir() converted with file-order copies (same demo, same device order).
-struct FileOrderSeries {
-  fs::path dir = fs::temp_directory_path() / "volstream_tests" / ("stream_file_order_" + std::to_string(::getpid()));
-  FileOrderSeries() {
-    fs::remove_all(dir);
-    auto source = make_demo({"jet", 10000, kSteps});
-    ConvertOptions options;
-    options.quiet = true;
-    options.file_order = true;
-    convert_to_dataset(*source, dir, options);
-  }
-  ~FileOrderSeries() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-};
-
 const fs::path& file_order_series_dir() {
-  static const FileOrderSeries series;
+  static const Series series(true);
   return series.dir;
 }
 

@@ -61,4 +61,13 @@ class DeviceBuffer {
   size_t n_ = 0;
 };
 
+// A CUDA event (RAII), for kernel timings.
+struct Event {
+  cudaEvent_t e = nullptr;
+  Event() { VS_CUDA_CHECK(cudaEventCreate(&e)); }
+  ~Event() { cudaEventDestroy(e); }
+  Event(const Event&) = delete;
+  Event& operator=(const Event&) = delete;
+};
+
 }  // namespace vs::cuda

@@ -21,14 +21,6 @@ T* copy_in(DeviceBuffer<T>& buffer, const T* host, size_t n) {
   return buffer.data();
 }
 
-struct Event {
-  cudaEvent_t e = nullptr;
-  Event() { VS_CUDA_CHECK(cudaEventCreate(&e)); }
-  ~Event() { cudaEventDestroy(e); }
-  Event(const Event&) = delete;
-  Event& operator=(const Event&) = delete;
-};
-
 }  // namespace
 
 BlockRenderTimes render_blocks(const BlockRenderView& h) {

@@ -26,14 +26,6 @@ struct Stream {
   void sync() const { VS_CUDA_CHECK(cudaStreamSynchronize(s)); }
 };
 
-struct Event {
-  cudaEvent_t e = nullptr;
-  Event() { VS_CUDA_CHECK(cudaEventCreate(&e)); }
-  ~Event() { cudaEventDestroy(e); }
-  Event(const Event&) = delete;
-  Event& operator=(const Event&) = delete;
-};
-
 // Pass 2 of amr/ranges.h: one warp per ABR; the lanes stride together over each brick's
 // macrocells near the ABR and combine their partial ranges with shuffles.
 __global__ void abr_ranges_kernel(RangeView v, Range* out) {

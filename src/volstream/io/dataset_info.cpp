@@ -90,13 +90,13 @@ std::string format_summary(const json& j) {
          (unsigned long long)l["cells"].get<uint64_t>());
   line("steps     %d (t = %g .. %g)\n", j["steps"].get<int>(), j["step_times"].front().get<double>(),
        j["step_times"].back().get<double>());
-  if (j.value("file_order", false)) line("file order yes: every step also in file order, plus file_index.bin (--file-order)\n");
+  if (j.value("file_order", false)) s += "file order yes: every step also in file order, plus file_index.bin (--file-order)\n";
   line("fields    %zu\n", j["fields"].size());
   for (const auto& f : j["fields"])
     line("  %-20s [%g, %g]\n", f["name"].get<std::string>().c_str(), f["min"].get<double>(), f["max"].get<double>());
   line("bricks    %llu\nABRs      %llu (%.2f bricks per ABR)\n", (unsigned long long)j["bricks"].get<uint64_t>(),
        (unsigned long long)j["abrs"].get<uint64_t>(), j["bricks_per_abr"].get<double>());
-  line("cells per brick (histogram)\n");
+  s += "cells per brick (histogram)\n";
   uint64_t most = 1;
   for (const auto& b : j["cells_per_brick_histogram"]) most = std::max(most, b["bricks"].get<uint64_t>());
   for (const auto& b : j["cells_per_brick_histogram"]) {
@@ -105,7 +105,7 @@ std::string format_summary(const json& j) {
     line("  %8llu-%-8llu %10llu %s\n", (unsigned long long)b["min"].get<uint64_t>(), (unsigned long long)b["max"].get<uint64_t>(),
          (unsigned long long)n, bar.c_str());
   }
-  line("bytes\n");
+  s += "bytes\n";
   for (const auto& [k, v] : j["bytes"].items())
     line("  %-27s %s\n", k.c_str(), human_bytes(double(v.get<uint64_t>())).c_str());
   return s;

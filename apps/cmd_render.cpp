@@ -35,7 +35,7 @@ struct TempDemo {
     dir = std::filesystem::temp_directory_path() / ("volstream_render_" + name + "_" + std::to_string(getpid()));
     std::filesystem::remove_all(dir);
     auto source = make_demo({name, uint64_t(cells), 1});
-    convert_to_dataset(*source, dir, {true});
+    convert_to_dataset(*source, dir, ConvertOptions::silent());
   }
   ~TempDemo() {
     std::error_code ec;

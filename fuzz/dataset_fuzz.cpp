@@ -17,7 +17,7 @@ std::filesystem::path make_base(const std::filesystem::path& dir) {
   in.files = {dir / "g.raw"};
   in.dims = {4, 3, 2};
   auto source = open_raw_grid(in);
-  convert_to_dataset(*source, dir / "base", {true});
+  convert_to_dataset(*source, dir / "base", ConvertOptions::silent());
   return dir / "base";
 }
 }  // namespace

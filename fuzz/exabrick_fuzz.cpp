@@ -15,7 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::ofstream(dir / "a.scalars", std::ios::binary | std::ios::trunc).write((const char*)data + split, std::streamsize(size - split));
   fuzz::expect_clean([&] {
     auto source = open_exabrick({dir / "a.cells", {dir / "a.scalars"}});
-    convert_to_dataset(*source, dir / "out", {true});
+    convert_to_dataset(*source, dir / "out", ConvertOptions::silent());
     Dataset ds(dir / "out");
     (void)ds.load_values(0, 0);
   });

@@ -31,7 +31,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (!fuzz::apply_patch(files, data, size)) return 0;
   fuzz::expect_clean([&] {
     auto source = open_plotfile_series({work});
-    convert_to_dataset(*source, dir / "out", {true});
+    convert_to_dataset(*source, dir / "out", ConvertOptions::silent());
   });
   return 0;
 }

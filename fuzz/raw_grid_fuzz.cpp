@@ -18,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fuzz::expect_clean([&] {
     in.type = parse_raw_type(kTypes[(data[3] & 0x7f) % 7]);
     auto source = open_raw_grid(in);
-    convert_to_dataset(*source, dir / "out", {true});
+    convert_to_dataset(*source, dir / "out", ConvertOptions::silent());
   });
   return 0;
 }

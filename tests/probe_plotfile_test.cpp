@@ -45,7 +45,7 @@ TEST_P(PlotfileProbe, AbrProbeEqualsBruteForce) {
   const auto dir = test::scratch_dir("plt");
   write_plotfile(dir / "plt00000", spec_for_ratio(GetParam()), field);
   auto source = open_plotfile_series({dir / "plt00000"});
-  convert_to_dataset(*source, dir / "ds", {true});
+  convert_to_dataset(*source, dir / "ds", ConvertOptions::silent());
   const Dataset ds(dir / "ds");
   const auto& m = ds.manifest();
   ASSERT_EQ(m.fields.size(), 2u);

@@ -539,7 +539,9 @@ TEST(FileOrder, DamagedFileOrderStepsNameTheStepBeforePreordered) {
       {"missing", [](const fs::path& f, uint64_t) { fs::remove(f); }},
       {"truncated", [](const fs::path& f, uint64_t bytes) { fs::resize_file(f, bytes / 2); }},
       {"wrong size", [](const fs::path& f, uint64_t) { fs::resize_file(f, fs::file_size(f) + 3 * kIoAlignment); }}};
-  for (const auto& [what, damage] : damages) {
+  for (const auto& entry : damages) {
+    const std::string& what = entry.first;  // not a structured binding: clang's lambdas cannot capture those
+    const auto& damage = entry.second;
     const fs::path dir = edited_copy(file_order_series_dir(), "file_order_" + what.substr(0, 5), [&](const fs::path& d) {
       const Dataset ds(d);
       damage(ds.file_order_values_path(0, 2), ds.manifest().cell_count * 4);

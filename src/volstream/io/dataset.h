@@ -114,6 +114,11 @@ struct ConvertOptions {
   bool quiet = false;       // no progress bar
   bool file_order = false;  // also write every step in file (source) order + file_index.bin
   std::vector<std::string> fields;  // the source's fields to keep (empty: all); InputError for an unknown name
+  static ConvertOptions silent() {     // everything, no progress bar
+    ConvertOptions o;
+    o.quiet = true;
+    return o;
+  }
 };
 struct ConvertStats {
   double cells_seconds = 0, bricks_seconds = 0, abrs_seconds = 0, values_seconds = 0;

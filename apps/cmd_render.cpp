@@ -65,7 +65,8 @@ void run_render(RenderArgs a) {
   // Computed here by default: datasets converted before the ranges became tight store per-brick ones.
   const auto t_ranges = std::chrono::steady_clock::now();
   const std::vector<Range> abr_ranges = o.stored_ranges ? ds.load_abr_ranges(field, a.step)
-                                                        : compute_abr_ranges(ds.topology(), values.data());
+                                                        : compute_abr_ranges(ds.topology(), values.data(), nullptr,
+                                                                             fs.brick_ranges ? RangeMode::per_brick : RangeMode::tight);
   const double ranges_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_ranges).count();
   std::vector<float> color_values;
   std::unique_ptr<TransferTable> color_tf;

@@ -51,6 +51,8 @@ void add_render_options(CLI::App* cmd, RenderOptions& o, RenderContext context) 
   cmd->add_option("--spp", o.spp, "rays per pixel")->capture_default_str();
   cmd->add_option("--rate", o.rate, "samples per cell width (of each ABR's finest level)")->capture_default_str();
   cmd->add_flag("--no-skip", o.no_skip, "no empty-space skipping (march every ABR)");
+  cmd->add_flag("--brick-ranges", o.brick_ranges,
+                "CPU: cull by per-brick value ranges (cheaper to compute per frame, culls less; the GPU always uses tight ones)");
   cmd->add_flag("--no-adaptive", o.no_adaptive, "step at the dataset's finest cell width everywhere");
   cmd->add_flag("--no-jitter", o.no_jitter, "start every ray's samples at the same offset");
   cmd->add_flag("--shade", o.shade, "gradient shading of the volume (headlight)");
@@ -219,6 +221,7 @@ FrameSettings make_frame_settings(const RenderOptions& o) {
   parse_size(o.size, fs.width, fs.height);
   fs.integrator = make_integrator_settings(o);
   fs.skip = !o.no_skip;
+  fs.brick_ranges = o.brick_ranges;
   return fs;
 }
 

@@ -23,7 +23,7 @@ struct RenderOptions {
   uint32_t spp = 1;
   double fov = 35, rate = 2, iso_alpha = 1, unit_distance = 0;
   bool log = false, ortho = false, no_skip = false, no_adaptive = false, no_jitter = false, shade = false;
-  bool stored_ranges = false, alpha = false;
+  bool stored_ranges = false, alpha = false, brick_ranges = false;
   // Not an option: with no --field, render the built-in demo's look field (vorticity, density:
   // render) or the dataset's first field (play, bench: their frames stay what they were).
   bool field_from_look = true;

@@ -496,12 +496,15 @@ TEST(Ranges, AbrRangesHoldTheNeededCellsAndNarrowPerBrickRanges) {
     return std::sin(0.3 * p.x) * std::cos(0.2 * p.y) + 0.1 * p.z;
   });
   const std::vector<Range>& tight = vol.abr_ranges;
+  const std::vector<Range> per_brick = compute_abr_ranges(vol.topology, vol.values.data(), nullptr, RangeMode::per_brick);
   size_t narrower = 0;
   for (uint32_t i = 0; i < vol.topology.abrs.size(); ++i) {
     const ReferenceRanges ref = reference_ranges(vol, i);
     ASSERT_LE(tight[i].lo, ref.needed.lo) << "ABR " << i;
     ASSERT_GE(tight[i].hi, ref.needed.hi) << "ABR " << i;
     const Range loose = widen_for_rounding(ref.per_brick);
+    ASSERT_EQ(per_brick[i].lo, loose.lo) << "ABR " << i;
+    ASSERT_EQ(per_brick[i].hi, loose.hi) << "ABR " << i;
     EXPECT_GE(tight[i].lo, loose.lo);
     EXPECT_LE(tight[i].hi, loose.hi);
     narrower += tight[i].hi - tight[i].lo < 0.9f * (loose.hi - loose.lo);

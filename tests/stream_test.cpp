@@ -335,6 +335,26 @@ TEST(Pipeline, EveryLevelRendersIdenticalFrames) {
   EXPECT_NE(first, images[0].at(kSteps - 1));
 }
 
+// Per-brick ranges cull fewer ABRs but, being conservative too, draw the same frames.
+TEST(Pipeline, BrickRangesDrawTheSameFrames) {
+  const Dataset ds(series_dir());
+  RenderSetup setup = small_render_setup(ds, Device::cpu);
+  setup.tf.lo = setup.tf.hi - 0.2f * (setup.tf.hi - setup.tf.lo);  // selective: only the highest values opaque
+  std::map<int, std::vector<float>> tight, per_brick;
+  uint64_t visible_tight = 0, visible_brick = 0;
+  for (bool brick : {false, true}) {
+    setup.settings.brick_ranges = brick;
+    RendererStages stages(ds, setup, nullptr);
+    stages.on_image = [&](const FrameData& f, const Image& img) {
+      (brick ? per_brick : tight)[f.step] = img.rgba;
+      (brick ? visible_brick : visible_tight) += stages.visible_abrs();
+    };
+    Pipeline(ds, 0, PipelineFlags::at(Level::overlap), stages, nullptr).play(all_steps());
+  }
+  EXPECT_EQ(tight, per_brick);
+  EXPECT_LT(visible_tight, visible_brick);
+}
+
 // The GPU-resident frame: ranges, classification and refit on the device equal the host's
 // exactly (same functions, min/max only); images equal across levels exactly and equal the CPU
 // images within the tolerance of Render.CudaEqualsCpu.

@@ -17,7 +17,7 @@ std::vector<uint64_t> macrocell_offsets(const std::vector<Brick>& bricks) {
 }
 
 std::vector<Range> compute_abr_ranges(const AmrTopology& topology, const float* values,
-                                      const std::vector<uint64_t>* macro_offset) {
+                                      const std::vector<uint64_t>* macro_offset, RangeMode mode) {
   const std::vector<uint64_t> own = macro_offset ? std::vector<uint64_t>{} : macrocell_offsets(topology.bricks);
   const std::vector<uint64_t>& offsets = macro_offset ? *macro_offset : own;
   std::vector<Range> macro(offsets.back());
@@ -31,8 +31,21 @@ std::vector<Range> compute_abr_ranges(const AmrTopology& topology, const float* 
         for (int32_t x = 0; x < n.x; ++x) *out++ = macrocell_range(b, values, {x, y, z});
   });
   std::vector<Range> ranges(topology.abrs.size());
-  parallel_for("abr_ranges", int64_t(ranges.size()),
-               [&](int64_t i) { ranges[size_t(i)] = widen_for_rounding(abr_lane_range(view, uint32_t(i), 0, 1)); });
+  if (mode == RangeMode::tight) {
+    parallel_for("abr_ranges", int64_t(ranges.size()),
+                 [&](int64_t i) { ranges[size_t(i)] = widen_for_rounding(abr_lane_range(view, uint32_t(i), 0, 1)); });
+    return ranges;
+  }
+  std::vector<Range> brick_ranges(topology.bricks.size(), Range{INFINITY, -INFINITY});
+  parallel_for("brick_ranges", int64_t(brick_ranges.size()), [&](int64_t b) {
+    for (uint64_t m = offsets[size_t(b)]; m < offsets[size_t(b) + 1]; ++m) extend_range(brick_ranges[size_t(b)], macro[m]);
+  });
+  parallel_for("abr_ranges", int64_t(ranges.size()), [&](int64_t i) {
+    const Abr& a = topology.abrs[size_t(i)];
+    Range r{INFINITY, -INFINITY};
+    for (uint32_t k = 0; k < a.brick_count; ++k) extend_range(r, brick_ranges[topology.abr_bricks[a.first_brick + k]]);
+    ranges[size_t(i)] = widen_for_rounding(r);
+  });
   return ranges;
 }
 

@@ -145,8 +145,13 @@ VS_HOST_DEVICE inline Range widen_for_rounding(Range r) {
 
 // Both passes for all ABRs on the CPU (parallel). An ABR with no finite value near it gets lo > hi.
 // `macro_offset` may be given (macrocell_offsets(topology.bricks)) to skip recomputing it.
+// per_brick: the cheaper, looser ranges instead: each ABR gets the union of its bricks' whole
+// ranges (pass 1, then per brick, then through the brick-to-ABR lists; no per-ABR cell boxes).
+// On the CPU this is several times faster than the tight pass 2, but culls less.
+enum class RangeMode { tight, per_brick };
 std::vector<Range> compute_abr_ranges(const AmrTopology& topology, const float* values,
-                                      const std::vector<uint64_t>* macro_offset = nullptr);
+                                      const std::vector<uint64_t>* macro_offset = nullptr,
+                                      RangeMode mode = RangeMode::tight);
 
 // Min/max over all cells (NaN ignored; lo > hi when none is finite).
 Range value_range(const float* values, uint64_t count);

@@ -24,6 +24,7 @@ struct FrameSettings {
   uint32_t width = 512, height = 512;
   IntegratorSettings integrator;  // ref_step <= 0: AmrRenderer::default_reference_step()
   bool skip = true;               // empty-space skipping: cull ABRs that cannot contribute
+  bool brick_ranges = false;      // CPU: cull by per-brick ranges (cheaper, looser; amr/ranges.h)
 };
 
 struct FrameStats {

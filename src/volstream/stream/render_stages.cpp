@@ -175,7 +175,8 @@ void RendererStages::ranges(const FrameData& frame) {
   if (scene_)
     scene_->compute_ranges(frame.values);
   else
-    abr_ranges_ = compute_abr_ranges(dataset_.topology(), frame.values, &macro_offset_);
+    abr_ranges_ = compute_abr_ranges(dataset_.topology(), frame.values, &macro_offset_,
+                                     setup_.settings.brick_ranges ? RangeMode::per_brick : RangeMode::tight);
 }
 
 void RendererStages::refit(const FrameData&, bool rebuild) {

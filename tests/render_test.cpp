@@ -426,7 +426,7 @@ TEST(Bvh, NextLeavesVisitsAbrsInOrder) {
   std::vector<box3f> boxes;
   for (const Abr& a : vol.topology.abrs) boxes.push_back(a.box);
   Bvh bvh = build_bvh_sah(boxes);
-  ASSERT_TRUE(children_after_parents(bvh.nodes));
+  ASSERT_TRUE(subtrees_are_runs(bvh.nodes));
   // Cull every third ABR to exercise empty boxes.
   std::vector<uint8_t> keep(boxes.size());
   for (size_t i = 0; i < keep.size(); ++i) keep[i] = i % 3 != 0;
@@ -464,6 +464,43 @@ TEST(Bvh, NextLeavesVisitsAbrsInOrder) {
       if (i > 0) EXPECT_GE(got[i].t0, got[i - 1].t1);  // disjoint, front to back
     }
   }
+}
+
+// Large trees refit their big subtrees in parallel: the boxes must equal a serial reverse sweep
+// over the nodes (independent of the parallel split), for boxes that overlap and ones culled.
+TEST(Bvh, ParallelRefitEqualsSerialSweep) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.f, 100.f);
+  std::vector<box3f> boxes(60000);
+  for (box3f& b : boxes) {
+    const vec3f c(u(rng), u(rng), u(rng));
+    b = {c, c + vec3f(1.f + u(rng) * 0.02f)};
+  }
+  Bvh bvh = build_bvh_sah(boxes);
+  ASSERT_TRUE(subtrees_are_runs(bvh.nodes));
+  std::vector<uint8_t> keep(boxes.size());
+  for (size_t i = 0; i < keep.size(); ++i) keep[i] = (i * 7919) % 5 != 0;
+  std::vector<BvhNode> serial = bvh.nodes;
+  const auto item_box = [&](uint32_t i) { return boxes[i]; };
+  for (size_t i = serial.size(); i-- > 0;) refit_node(serial.data(), uint32_t(i), item_box, keep.data());
+  refit_bvh(bvh.nodes, boxes, keep);
+  for (size_t i = 0; i < serial.size(); ++i)
+    ASSERT_TRUE(serial[i].box.lower == bvh.nodes[i].box.lower && serial[i].box.upper == bvh.nodes[i].box.upper) << i;
+}
+
+// The layout check rejects trees whose subtrees are not runs (here: two sibling subtrees swapped).
+TEST(Bvh, LayoutCheckRejectsOtherOrders) {
+  std::vector<box3f> boxes;
+  for (int i = 0; i < 8; ++i) boxes.push_back({vec3f(float(i)), vec3f(float(i) + 1.f)});
+  const Bvh bvh = build_bvh_sah(boxes);
+  ASSERT_TRUE(subtrees_are_runs(bvh.nodes));
+  // Root children at 1, 2; their subtrees follow as runs. Pointing the root at a grandchild pair
+  // (or cutting the array) breaks the layout.
+  std::vector<BvhNode> moved = bvh.nodes;
+  moved[0].index = moved[1].index;
+  EXPECT_FALSE(subtrees_are_runs(moved));
+  std::vector<BvhNode> cut(bvh.nodes.begin(), bvh.nodes.end() - 1);
+  EXPECT_FALSE(subtrees_are_runs(cut));
 }
 
 // Brute force over all cells: the range of the cells whose open support (centre +- width) meets
@@ -648,6 +685,43 @@ TEST(TransferFunction, ClassificationIsConservative) {
   EXPECT_FALSE(tf.any_opacity(1.f, 0.f));  // empty range
   EXPECT_FALSE(tf.any_opacity(NAN, NAN));
   EXPECT_TRUE(tf.any_opacity(0.9f, 5.f));
+}
+
+// The value thresholds that decide most ranges without a log10f answer as the table count does:
+// the same query with the shortcuts off, over spikes, ramps, plateaus, log and linear scales, and
+// ranges narrow (a few entries) and wide.
+TEST(TransferFunction, ValueShortcutsAnswerAsTheTableCount) {
+  std::mt19937 rng(12);
+  const std::vector<std::vector<OpacityPoint>> opacities = {
+      {{0.f, 0.f}, {0.3f, 0.f}, {0.301f, 0.7f}, {0.302f, 0.f}, {0.8f, 0.f}, {0.81f, 0.2f}, {0.82f, 0.f}},
+      default_opacity_ramp(),
+      {{0.f, 0.f}, {0.4f, 0.f}, {0.41f, 0.5f}, {0.6f, 0.5f}, {0.61f, 0.f}, {1.f, 0.f}},
+      {{0.f, 0.3f}, {1.f, 0.3f}},
+      {{0.f, 0.f}, {1.f, 0.f}}};
+  int decided = 0;
+  for (size_t o = 0; o < opacities.size(); ++o)
+    for (int log = 0; log < 2; ++log) {
+      TransferFunctionSpec spec;
+      spec.lo = log ? 1e-3f : -2.f;
+      spec.hi = log ? 1e4f : 7.f;
+      spec.log_scale = log == 1;
+      spec.opacity = opacities[o];
+      const TransferTable tf(spec, 1024);
+      const OpacityIndex fast = tf.opacity_index();
+      const OpacityIndex plain{tf.view(), tf.opaque_prefix().data()};
+      std::uniform_real_distribution<float> position(-0.1f, 1.1f), width(0.f, 0.02f);
+      for (int k = 0; k < 20000; ++k) {
+        const float x = position(rng), w = k % 2 ? width(rng) : 10.f * width(rng);
+        const auto value = [&](float t) {
+          return log ? std::pow(10.f, -3.f + 7.f * t) : spec.lo + (spec.hi - spec.lo) * t;
+        };
+        const float lo = value(x), hi = value(x + w);
+        ASSERT_EQ(fast.any(lo, hi), plain.any(lo, hi)) << "opacity " << o << " log " << log << " [" << lo << ", " << hi << "]";
+        decided += (hi < fast.transparent_below || lo > fast.transparent_above ||
+                    (lo <= fast.opaque_hi && hi >= fast.opaque_lo));
+      }
+    }
+  EXPECT_GT(decided, 100000);  // most queries never reach the log10f
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -1,21 +1,61 @@
 #include "volstream/accel/refit.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 
 namespace vs {
 
-bool children_after_parents(const std::vector<BvhNode>& nodes) {
-  for (size_t i = 0; i < nodes.size(); ++i)
-    if (!nodes[i].is_leaf && (nodes[i].index <= i || size_t(nodes[i].index) + 1 >= nodes.size())) return false;
-  return true;
+namespace {
+
+// The end of the run of node n's descendants if the subtree at n is laid out as
+// subtrees_are_runs() requires (descendants from `first` on), else 0.
+size_t run_end(const std::vector<BvhNode>& nodes, uint32_t n, size_t first, int depth) {
+  if (nodes[n].is_leaf) return first;
+  if (depth > 128 || nodes[n].index != first || first + 2 > nodes.size()) return 0;
+  const size_t left_end = run_end(nodes, uint32_t(first), first + 2, depth + 1);
+  return left_end ? run_end(nodes, uint32_t(first + 1), left_end, depth + 1) : 0;
+}
+
+// Where the descendants of inner node n end: build_bvh_sah stores a subtree's nodes in one run
+// [n.index, end), the left child's subtree before the right child's, so the end is that of the
+// rightmost chain's last node.
+size_t descendants_end(const std::vector<BvhNode>& nodes, uint32_t n) {
+  uint32_t right = nodes[n].index + 1;
+  while (!nodes[right].is_leaf) right = nodes[right].index + 1;
+  return size_t(right) + 1;
+}
+
+// Below this many descendants a subtree is refit by one thread, sweeping its run backwards.
+constexpr size_t kSerialSubtree = size_t(1) << 15;
+
+template <typename ItemBox>
+void refit_subtree(std::vector<BvhNode>& nodes, uint32_t n, const ItemBox& item_box, const uint8_t* keep) {
+  if (!nodes[n].is_leaf) {
+    const uint32_t first = nodes[n].index;
+    const size_t end = descendants_end(nodes, n);
+    if (end - first <= kSerialSubtree) {
+      for (size_t i = end; i-- > first;) refit_node(nodes.data(), uint32_t(i), item_box, keep);
+    } else {
+      tbb::parallel_invoke([&] { refit_subtree(nodes, first, item_box, keep); },
+                           [&] { refit_subtree(nodes, first + 1, item_box, keep); });
+    }
+  }
+  refit_node(nodes.data(), n, item_box, keep);
+}
+
+}  // namespace
+
+bool subtrees_are_runs(const std::vector<BvhNode>& nodes) {
+  return nodes.empty() || run_end(nodes, 0, 1, 0) == nodes.size();
 }
 
 void refit_bvh(std::vector<BvhNode>& nodes, const std::vector<box3f>& item_boxes, const std::vector<uint8_t>& keep) {
-  // build_bvh_sah appends children after their parent, so a reverse sweep sees children first.
-  // This is a serial pass over 2N nodes (a few ms for a million ABRs): cheap next to rendering.
+  // Children come after their parent and each subtree is one run of nodes, so the two subtrees
+  // of a large node refit in parallel and a small one in a single backward sweep.
+  if (nodes.empty()) return;
   const auto item_box = [&](uint32_t i) { return item_boxes[i]; };
-  const uint8_t* kept = keep.empty() ? nullptr : keep.data();
-  for (size_t i = nodes.size(); i-- > 0;) refit_node(nodes.data(), uint32_t(i), item_box, kept);
+  refit_subtree(nodes, 0, item_box, keep.empty() ? nullptr : keep.data());
 }
 
 RefitSchedule refit_schedule(const std::vector<BvhNode>& nodes) {

@@ -23,12 +23,15 @@ VS_HOST_DEVICE inline void refit_node(BvhNode* nodes, uint32_t i, ItemBox&& item
   }
 }
 
-// nodes: a tree from build_bvh_sah (children stored after their parent). keep[i] != 0 keeps item i
+// nodes: a tree from build_bvh_sah (subtrees_are_runs). keep[i] != 0 keeps item i
 // with box item_boxes[i]; keep may be empty (keep all).
 void refit_bvh(std::vector<BvhNode>& nodes, const std::vector<box3f>& item_boxes, const std::vector<uint8_t>& keep);
 
-// True when every inner node's children come after it (the order refit_bvh relies on).
-bool children_after_parents(const std::vector<BvhNode>& nodes);
+// True when the tree has the layout build_bvh_sah gives it and refit_bvh relies on: the root
+// first, then for every inner node its two children side by side, followed by the nodes of the
+// left child's subtree, then those of the right child's, so every subtree's descendants are one
+// run of nodes that starts at its first child.
+bool subtrees_are_runs(const std::vector<BvhNode>& nodes);
 
 // The nodes grouped by depth, deepest first: the nodes of one group are independent and every
 // node's children lie in earlier groups, so a GPU refits one group per launch.

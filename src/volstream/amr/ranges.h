@@ -25,7 +25,10 @@
 
 namespace vs {
 
-VS_HOST_DEVICE constexpr int32_t floor_div(int32_t a, int32_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }  // b > 0
+// floor(a / 2^k) for any sign of a: C++20 (and CUDA) define >> on negative int32 as arithmetic.
+// A shift, not a division: this runs for every (ABR, brick) pair of every frame, and six integer
+// divisions per pair were most of the ranges stage on the CPU.
+VS_HOST_DEVICE constexpr int32_t floor_div_pow2(int32_t a, int32_t k) { return a >> k; }
 
 // The cells of brick b whose centres lie within `box` grown by one cell width, as an index box
 // [lower, upper] per axis (upper < lower on some axis if none). Integer arithmetic in half-grid
@@ -37,7 +40,7 @@ VS_HOST_DEVICE inline box3i cells_near(const Brick& b, const box3f& box) {
   for (int a = 0; a < 3; ++a) {
     const int32_t lo = int32_t(box.lower[a] * 2.f) - 2 * b.lower[a], hi = int32_t(box.upper[a] * 2.f) - 2 * b.lower[a];
     // (2i + 1) w >= lo - 2w  <=>  i >= (lo - 3w) / 2w;  (2i + 1) w <= hi + 2w  <=>  i <= (hi + w) / 2w.
-    const int32_t first = floor_div(lo - 3 * w, 2 * w), last = floor_div(hi + w, 2 * w) + 1;
+    const int32_t first = floor_div_pow2(lo - 3 * w, b.level + 1), last = floor_div_pow2(hi + w, b.level + 1) + 1;
     r.lower[a] = first < 0 ? 0 : (first > b.dims[a] ? b.dims[a] : first);
     r.upper[a] = last >= b.dims[a] ? b.dims[a] - 1 : (last < 0 ? -1 : last);
   }
@@ -55,7 +58,7 @@ VS_HOST_DEVICE inline void extend_range(Range& r, const Range& o) {
   r.hi = o.hi > r.hi ? o.hi : r.hi;
 }
 
-inline constexpr int32_t kMacrocell = 4;  // cells per macrocell edge
+inline constexpr int32_t kMacrocellLog2 = 2, kMacrocell = 1 << kMacrocellLog2;  // cells per macrocell edge
 
 VS_HOST_DEVICE inline vec3i macrocell_dims(const Brick& b) {
   return {(b.dims.x + kMacrocell - 1) / kMacrocell, (b.dims.y + kMacrocell - 1) / kMacrocell,
@@ -111,9 +114,11 @@ VS_HOST_DEVICE inline void brick_range_near(const RangeView& v, uint32_t brick, 
   const Brick& b = v.amr.bricks[brick];
   const box3i near = cells_near(b, box);
   if (near.upper.x < near.lower.x || near.upper.y < near.lower.y || near.upper.z < near.lower.z) return;
-  const vec3i lo = near.lower / kMacrocell, n = macrocell_dims(b);
-  const int32_t nx = near.upper.x / kMacrocell - lo.x + 1, ny = near.upper.y / kMacrocell - lo.y + 1,
-                nz = near.upper.z / kMacrocell - lo.z + 1;
+  // near.lower >= 0 here, so these divisions by 4 are shifts.
+  const vec3i lo{near.lower.x >> kMacrocellLog2, near.lower.y >> kMacrocellLog2, near.lower.z >> kMacrocellLog2};
+  const vec3i n = macrocell_dims(b);
+  const int32_t nx = (near.upper.x >> kMacrocellLog2) - lo.x + 1, ny = (near.upper.y >> kMacrocellLog2) - lo.y + 1,
+                nz = (near.upper.z >> kMacrocellLog2) - lo.z + 1;
   const Range* macro = v.macro + v.macro_offset[brick];
   // Walk the sub-box in flattened order, carrying (x, y, z) along instead of dividing per step.
   int32_t x = int32_t(lane), y = 0, z = 0;
@@ -137,10 +142,19 @@ VS_HOST_DEVICE inline Range abr_lane_range(const RangeView& v, uint32_t abr, uin
 
 // The sampler's float weighted average can land a few ulps outside the exact convex hull of its
 // inputs: widen so that the range bounds every value it returns. Empty ranges stay empty.
+// On the GPU the product and sum are written with the _rn intrinsics, which the compiler never
+// contracts into one FMA (nvcc does by default): rounded twice, as on the host, the device
+// ranges equal the host's bit for bit (tests/stream_test.cpp PipelineCuda.*).
 VS_HOST_DEVICE inline Range widen_for_rounding(Range r) {
   if (!(r.lo <= r.hi)) return r;
   const float m = fabsf(r.lo) > fabsf(r.hi) ? fabsf(r.lo) : fabsf(r.hi);
-  return {r.lo - 1e-5f * m, r.hi + 1e-5f * m};
+#ifdef __CUDA_ARCH__
+  const float d = __fmul_rn(1e-5f, m);
+  return {__fsub_rn(r.lo, d), __fadd_rn(r.hi, d)};
+#else
+  const float d = 1e-5f * m;
+  return {r.lo - d, r.hi + d};
+#endif
 }
 
 // Both passes for all ABRs on the CPU (parallel). An ABR with no finite value near it gets lo > hi.

@@ -33,9 +33,14 @@ class DeviceBuffer {
     n_ = n;
     if (n) VS_CUDA_CHECK(cudaMalloc(&ptr_, n * sizeof(T)));
   }
+  // Returns when the data is on the device. cudaMemcpy from pageable memory returns once the
+  // data is staged, before its DMA has landed, and it runs on the default stream, which kernels
+  // on a non-blocking stream (DeviceScene's) do not wait for: hence the explicit synchronise.
   void upload(const T* host, size_t n) {
     resize(n);
-    if (n) VS_CUDA_CHECK(cudaMemcpy(ptr_, host, n * sizeof(T), cudaMemcpyHostToDevice));
+    if (!n) return;
+    VS_CUDA_CHECK(cudaMemcpy(ptr_, host, n * sizeof(T), cudaMemcpyHostToDevice));
+    VS_CUDA_CHECK(cudaStreamSynchronize(0));
   }
   void upload(const std::vector<T>& host) { upload(host.data(), host.size()); }
   // Grows (never shrinks) to at least n elements, so that a frame loop stops allocating after

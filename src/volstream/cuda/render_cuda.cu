@@ -29,9 +29,11 @@ struct Stream {
 // Pass 2 of amr/ranges.h: one warp per ABR; the lanes stride together over each brick's
 // macrocells near the ABR and combine their partial ranges with shuffles.
 __global__ void abr_ranges_kernel(RangeView v, Range* out) {
-  const uint32_t warp = (blockIdx.x * blockDim.x + threadIdx.x) / 32u, lane = threadIdx.x % 32u;
+  // 64-bit thread index: 32 threads per ABR overflow 32 bits from 2^27 ABRs on.
+  const uint64_t warp = (uint64_t(blockIdx.x) * blockDim.x + threadIdx.x) / 32u;
+  const uint32_t lane = threadIdx.x % 32u;
   if (warp >= v.amr.abr_count) return;  // uniform per warp: blockDim is a multiple of 32
-  Range r = abr_lane_range(v, warp, lane, 32u);
+  Range r = abr_lane_range(v, uint32_t(warp), lane, 32u);
   for (int offset = 16; offset > 0; offset /= 2) {
     r.lo = fminf(r.lo, __shfl_xor_sync(kFullWarp, r.lo, offset));
     r.hi = fmaxf(r.hi, __shfl_xor_sync(kFullWarp, r.hi, offset));
@@ -151,12 +153,11 @@ uint64_t DeviceScene::classify_and_refit(const TransferTable& table, const Integ
       refit_node(nodes, order[begin + k], [=](uint32_t i) { return abrs[i].box; }, kept);
     }, m.stream.s);
   }
-  if (skip) {
-    unsigned long long count = 0;
+  unsigned long long count = 0;
+  if (skip)
     VS_CUDA_CHECK(cudaMemcpyAsync(&count, m.counter.data(), sizeof(count), cudaMemcpyDeviceToHost, m.stream.s));
-    visible = count;
-  }
   m.stream.sync();
+  if (skip) visible = count;  // read after the stream is done, not when cudaMemcpyAsync returns
   return visible;
 }
 

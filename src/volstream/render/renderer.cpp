@@ -46,7 +46,7 @@ AmrRenderer::AmrRenderer(const AmrTopology& topology, const WorldTransform& tran
   abr_boxes_.reserve(topology.abrs.size());
   for (const Abr& a : topology.abrs) abr_boxes_.push_back(a.box);
   template_ = build_bvh_sah(abr_boxes_);
-  if (!children_after_parents(template_.nodes)) throw std::logic_error("BVH node order does not allow a bottom-up refit");
+  if (!subtrees_are_runs(template_.nodes)) throw std::logic_error("BVH node order does not allow a bottom-up refit");
   nodes_ = template_.nodes;
 }
 

@@ -142,7 +142,45 @@ TfView TransferTable::view() const {
   return v;
 }
 
-OpacityIndex TransferTable::opacity_index() const { return {view(), opaque_prefix_.data()}; }
+namespace {
+// The data value at table position x (the inverse of TfView::position), in double.
+double value_at(const TfView& v, double x) {
+  const double scaled = v.lo + x / double(v.size - 1) / double(v.inv_span);
+  return v.log_scale ? std::pow(10.0, scaled) : scaled;
+}
+}  // namespace
+
+OpacityIndex TransferTable::opacity_index() const {
+  OpacityIndex index{view(), opaque_prefix_.data()};
+  const TfView& v = index.tf;
+  const int64_t size = v.size;
+  if (!(v.inv_span > 0.f) || opaque_prefix_.back() == 0) return index;  // no shortcuts
+  // The hull [a, b] of the opaque entries and the longest run [c, d] of opaque entries.
+  int64_t a = -1, b = -1, c = 0, d = -1;
+  for (int64_t i = 0, run = 0; i < size; ++i) {
+    if (!(entries_[size_t(i)].a > 0.f)) {
+      run = 0;
+      continue;
+    }
+    if (a < 0) a = i;
+    b = i;
+    if (++run > d - c + 1) c = i - run + 1, d = i;
+  }
+  // The table count is false when floor(x_hi) + 2 < a or floor(x_lo) - 1 > b. Four entries of
+  // margin (not two) keep float rounding of the kernel's position on the safe side.
+  // It is true when [floor(x_lo) - 1, floor(x_hi) + 2] meets [c, d]: x_lo <= d and x_hi >= c
+  // are enough, with an entry to spare for rounding.
+  const double below = a - 4 >= 0 ? value_at(v, double(a - 4)) : -INFINITY;
+  const double above = b + 4 <= size - 1 ? value_at(v, double(b + 4)) : INFINITY;
+  const double lo = value_at(v, double(c)), hi = value_at(v, double(d));
+  const auto fits = [](double x) { return std::isinf(x) || std::abs(x) < 1e38; };  // float range
+  if (!(fits(below) && fits(above) && fits(lo) && fits(hi))) return index;  // no shortcuts
+  index.transparent_below = float(below);
+  index.transparent_above = float(above);
+  index.opaque_lo = float(lo);
+  index.opaque_hi = float(hi);
+  return index;
+}
 
 bool TransferTable::any_opacity(float lo, float hi) const { return opacity_index().any(lo, hi); }
 

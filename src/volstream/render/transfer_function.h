@@ -49,13 +49,21 @@ struct TfView {
 
 // "Can any value in [lo, hi] get non-zero opacity?" in O(1), for classifying ABRs on the host
 // or the GPU: the count of opaque table entries among those a lookup of such a value reads.
+// Most ranges are decided before that by comparing values with thresholds computed once per
+// table (no log10f per range on a log scale): ranges wholly below or above every opaque entry
+// are transparent, ranges that meet the longest run of opaque entries are visible. Both keep
+// entries of margin, so they answer as the table count would; the defaults decide nothing.
 struct OpacityIndex {
   TfView tf;
   const uint32_t* opaque_prefix = nullptr;  // tf.size + 1 prefix counts of entries with alpha > 0
+  float transparent_below = -INFINITY, transparent_above = INFINITY;  // data values
+  float opaque_lo = INFINITY, opaque_hi = -INFINITY;                  // data values; empty
 
   // Never false where a lookup would give alpha > 0; false for an empty range (lo > hi or NaN).
   VS_HOST_DEVICE bool any(float lo, float hi) const {
     if (!(lo <= hi)) return false;
+    if (hi < transparent_below || lo > transparent_above) return false;
+    if (lo <= opaque_hi && hi >= opaque_lo) return true;
     // A lookup at position x reads entries floor(x) and floor(x)+1. One more entry on each side
     // absorbs rounding differences between host and device log10f.
     const float first = floorf(tf.position(lo)) - 1.f, last = floorf(tf.position(hi)) + 2.f;

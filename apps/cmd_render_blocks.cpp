@@ -24,9 +24,26 @@ void add_block_render_options(CLI::App* cmd, BlockRenderArgs& a) {
   cmd->add_option("--absorption", a.absorption, "blackbody: Rayleigh extinction (V band) per unit distance at max density")
       ->capture_default_str();
   cmd->add_option("--emission", a.emission, "blackbody: emission per unit distance at max density")->capture_default_str();
+  cmd->add_option("--density-scale", a.density_scale,
+                  "blackbody: how density is normalised: linear (rho / max rho, paper 004), log (its log10 position "
+                  "over the value range, 7 decades below the max unless --range/--log give one) or auto (the transfer "
+                  "function's scale: log for the cosmo demo's look and --log, else linear)")
+      ->check(CLI::IsMember({"auto", "linear", "log"}))
+      ->capture_default_str();
   cmd->add_option("--emission-power", a.emission_power,
                   "blackbody: emission ~ normalised density^P (default: 1 for a linear density scale, 4 for a log one)");
 }
+
+namespace {
+// Decades of density below rho_max that the blackbody emission spans on a log scale; 0: linear.
+float density_decades(const TransferFunctionSpec& spec, const std::string& scale) {
+  const bool tf_log = spec.log_scale && spec.lo > 0.f && spec.hi > spec.lo;
+  if (scale == "linear" || (scale == "auto" && !tf_log)) return 0.f;
+  if (tf_log) return std::log10(spec.hi / spec.lo);
+  if (!(spec.hi > 0.f)) throw UsageError("--density-scale log: the density range must reach above 0");
+  return 7.f;
+}
+}  // namespace
 
 Image render_with_blocks(const Dataset& ds, int step, int field, const TransferTable& tf,
                          const Camera& camera, const FrameSettings& fs, const BlockRenderArgs& a, FrameStats* stats) {
@@ -48,7 +65,7 @@ Image render_with_blocks(const Dataset& ds, int step, int field, const TransferT
   frame.settings.optics = bb ? Optics::blackbody : Optics::tf;
   const TransferFunctionSpec& spec = tf.spec();
   frame.rho_max = spec.hi;
-  if (spec.log_scale && spec.lo > 0.f && spec.hi > spec.lo) frame.log_decades = std::log10(spec.hi / spec.lo);
+  frame.log_decades = density_decades(spec, a.density_scale);
   frame.emission_power = a.emission_power > 0 ? float(a.emission_power) : (frame.log_decades > 0.f ? 4.f : 1.f);
   frame.emission = float(a.emission);
   frame.absorption = float(a.absorption);

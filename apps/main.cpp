@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
 
 #include "commands.h"
 #include "volstream/core/error.h"
@@ -20,8 +21,13 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help: the help text
+    // One line like every other bad input (CLI11's own message adds a second line).
+    std::string message = e.what();
+    for (char& c : message)
+      if (c == '\n') c = ' ';
+    std::fprintf(stderr, "volstream: %s (--help lists the options)\n", message.c_str());
+    return 2;
   } catch (const vs::InputError& e) {
     std::fprintf(stderr, "volstream: %s: %s\n", e.file().c_str(), e.what());
     return 2;

@@ -1,5 +1,7 @@
 // play: stream a time series through the per-frame pipeline (read, upload, ranges, refit,
 // render, output) at a chosen optimisation level, writing PNG frames or a video.
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cstdio>
 
@@ -43,10 +45,18 @@ std::string progress_detail(const Timeline& timeline, int frames, double seconds
   return text;
 }
 
+// The process's peak resident set: what a user compares with host memory for long series.
+double peak_rss_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;  // KiB on Linux
+}
+
 void print_report(const Pipeline& p, const Timeline& timeline, const PlayStats& stats, const std::string& level) {
   std::printf("played %d frames at level %s in %.3f s: %.2f frames/s\n", stats.frames, level.c_str(), stats.seconds,
               stats.frames / std::max(stats.seconds, 1e-9));
   std::printf("buffers: %s\n", p.describe_buffers().c_str());
+  std::printf("peak memory: %.1f MiB resident\n", peak_rss_mib());
   if (!p.pin_failure().empty()) std::printf("staging not page-locked: %s\n", p.pin_failure().c_str());
   std::printf("reads: %.1f MiB%s\n", double(stats.bytes_read) / (1 << 20),
               p.flags().direct_io ? (p.direct_io_active() ? ", O_DIRECT" : ", buffered (O_DIRECT refused)") : ", buffered");

@@ -101,4 +101,14 @@ grep -q "frames identical at every level: yes" bench.txt || fail "bench: $(cat b
 for level in baseline async-io pinned direct-io preordered refit overlap; do grep -q "^$level " bench.txt || fail "bench: no row $level"; done
 "$VS" timeline b.json -o b.svg --rows stage >/dev/null
 cat bench.txt
+# Memory does not grow with the number of steps: 16 steps peak within 2 MiB of 2 steps, at the
+# default level and at the baseline (one step of this series is 0.8 MiB; keeping each would add 11).
+"$VS" demo jet --cells 2e5 --steps 16 --fields vorticity -o long -q >/dev/null
+for level in baseline overlap; do
+  few=$("$VS" play long --steps 0:2 --pipeline $level --size 32x32 -q | awk '/^peak memory/ {print $3}')
+  many=$("$VS" play long --steps 0:16 --pipeline $level --size 32x32 -q | awk '/^peak memory/ {print $3}')
+  awk -v a="$few" -v b="$many" 'BEGIN { exit !(a > 0 && b - a < 2) }' || fail "$level: peak memory $few MiB for 2 steps, $many MiB for 16"
+  echo "ok: $level peak memory $few MiB (2 steps), $many MiB (16 steps)"
+done
+
 echo "all stream CLI tests passed"

@@ -42,9 +42,13 @@ assert (w, h) == (256, 256), (w, h)
 PY
 "$VS" bench stream ds --steps 0 --levels baseline 2>/dev/null | grep -q "field pressure, 1 frames, 256x256 on cpu" \
   || fail "bench stream's defaults changed"
-"$VS" play --help | grep -q -- "--size TEXT=256x256" || fail "play --help: size default"
-"$VS" render --help | grep -q -- "--size TEXT=512x512" || fail "render --help: size default"
-"$VS" render --help | grep -q -- "--device TEXT=auto" || fail "render --help: device default"
+# The help is captured first: grep -q stops reading at its match, and under pipefail the
+# writer's SIGPIPE would fail the pipeline when the help is long.
+play_help=$("$VS" play --help)
+render_help=$("$VS" render --help)
+grep -q -- "--size TEXT=256x256" <<<"$play_help" || fail "play --help: size default"
+grep -q -- "--size TEXT=512x512" <<<"$render_help" || fail "render --help: size default"
+grep -q -- "--device TEXT=auto" <<<"$render_help" || fail "render --help: device default"
 echo "ok: defaults"
 
 # What cannot stream is refused with one line, never silently ignored; bad values as in render.

@@ -467,25 +467,32 @@ TEST(Bvh, NextLeavesVisitsAbrsInOrder) {
 }
 
 // Large trees refit their big subtrees in parallel: the boxes must equal a serial reverse sweep
-// over the nodes (independent of the parallel split), for boxes that overlap and ones culled.
+// over the nodes, wherever the tree is split between tasks. Small trees of many shapes with
+// every split point (serial_subtree 1 .. 64), and one large tree with the default.
 TEST(Bvh, ParallelRefitEqualsSerialSweep) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(0.f, 100.f);
-  std::vector<box3f> boxes(60000);
-  for (box3f& b : boxes) {
-    const vec3f c(u(rng), u(rng), u(rng));
-    b = {c, c + vec3f(1.f + u(rng) * 0.02f)};
-  }
-  Bvh bvh = build_bvh_sah(boxes);
-  ASSERT_TRUE(subtrees_are_runs(bvh.nodes));
-  std::vector<uint8_t> keep(boxes.size());
-  for (size_t i = 0; i < keep.size(); ++i) keep[i] = (i * 7919) % 5 != 0;
-  std::vector<BvhNode> serial = bvh.nodes;
-  const auto item_box = [&](uint32_t i) { return boxes[i]; };
-  for (size_t i = serial.size(); i-- > 0;) refit_node(serial.data(), uint32_t(i), item_box, keep.data());
-  refit_bvh(bvh.nodes, boxes, keep);
-  for (size_t i = 0; i < serial.size(); ++i)
-    ASSERT_TRUE(serial[i].box.lower == bvh.nodes[i].box.lower && serial[i].box.upper == bvh.nodes[i].box.upper) << i;
+  const auto check = [&](size_t count, size_t serial_subtree) {
+    std::vector<box3f> boxes(count);
+    for (box3f& b : boxes) {
+      const vec3f c(u(rng), u(rng), u(rng));
+      b = {c, c + vec3f(1.f + u(rng) * 0.02f)};
+    }
+    Bvh bvh = build_bvh_sah(boxes);
+    ASSERT_TRUE(subtrees_are_runs(bvh.nodes));
+    std::vector<uint8_t> keep(boxes.size());
+    for (size_t i = 0; i < keep.size(); ++i) keep[i] = (i * 7919) % 5 != 0;
+    std::vector<BvhNode> serial = bvh.nodes;
+    const auto item_box = [&](uint32_t i) { return boxes[i]; };
+    for (size_t i = serial.size(); i-- > 0;) refit_node(serial.data(), uint32_t(i), item_box, keep.data());
+    refit_bvh(bvh.nodes, boxes, keep, serial_subtree);
+    for (size_t i = 0; i < serial.size(); ++i)
+      ASSERT_TRUE(serial[i].box.lower == bvh.nodes[i].box.lower && serial[i].box.upper == bvh.nodes[i].box.upper)
+          << count << " boxes, split above " << serial_subtree << ": node " << i;
+  };
+  for (size_t count : {1, 2, 3, 7, 40, 333, 2000})
+    for (size_t serial_subtree : {1, 2, 5, 64}) check(count, serial_subtree);
+  check(60000, kRefitSerialSubtree);
 }
 
 // The layout check rejects trees whose subtrees are not runs (here: two sibling subtrees swapped).

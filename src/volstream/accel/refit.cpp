@@ -17,28 +17,30 @@ size_t run_end(const std::vector<BvhNode>& nodes, uint32_t n, size_t first, int 
   return left_end ? run_end(nodes, uint32_t(first + 1), left_end, depth + 1) : 0;
 }
 
-// Where the descendants of inner node n end: build_bvh_sah stores a subtree's nodes in one run
-// [n.index, end), the left child's subtree before the right child's, so the end is that of the
-// rightmost chain's last node.
+// Where the descendants of inner node n end: build_bvh_sah stores them as one run [n.index, end):
+// the two children, the left child's descendants, then the right child's. So the run ends with
+// the right child's run if that child is inner, else with the left child's, else after the pair.
 size_t descendants_end(const std::vector<BvhNode>& nodes, uint32_t n) {
-  uint32_t right = nodes[n].index + 1;
-  while (!nodes[right].is_leaf) right = nodes[right].index + 1;
-  return size_t(right) + 1;
+  for (;;) {
+    const uint32_t left = nodes[n].index;
+    if (!nodes[left + 1].is_leaf) n = left + 1;
+    else if (!nodes[left].is_leaf) n = left;
+    else return size_t(left) + 2;
+  }
 }
 
-// Below this many descendants a subtree is refit by one thread, sweeping its run backwards.
-constexpr size_t kSerialSubtree = size_t(1) << 15;
-
+// A subtree with at most `serial` descendants is refit by one thread, sweeping its run backwards.
 template <typename ItemBox>
-void refit_subtree(std::vector<BvhNode>& nodes, uint32_t n, const ItemBox& item_box, const uint8_t* keep) {
+void refit_subtree(std::vector<BvhNode>& nodes, uint32_t n, const ItemBox& item_box, const uint8_t* keep,
+                   size_t serial) {
   if (!nodes[n].is_leaf) {
     const uint32_t first = nodes[n].index;
     const size_t end = descendants_end(nodes, n);
-    if (end - first <= kSerialSubtree) {
+    if (end - first <= serial) {
       for (size_t i = end; i-- > first;) refit_node(nodes.data(), uint32_t(i), item_box, keep);
     } else {
-      tbb::parallel_invoke([&] { refit_subtree(nodes, first, item_box, keep); },
-                           [&] { refit_subtree(nodes, first + 1, item_box, keep); });
+      tbb::parallel_invoke([&] { refit_subtree(nodes, first, item_box, keep, serial); },
+                           [&] { refit_subtree(nodes, first + 1, item_box, keep, serial); });
     }
   }
   refit_node(nodes.data(), n, item_box, keep);
@@ -50,12 +52,13 @@ bool subtrees_are_runs(const std::vector<BvhNode>& nodes) {
   return nodes.empty() || run_end(nodes, 0, 1, 0) == nodes.size();
 }
 
-void refit_bvh(std::vector<BvhNode>& nodes, const std::vector<box3f>& item_boxes, const std::vector<uint8_t>& keep) {
+void refit_bvh(std::vector<BvhNode>& nodes, const std::vector<box3f>& item_boxes, const std::vector<uint8_t>& keep,
+               size_t serial_subtree) {
   // Children come after their parent and each subtree is one run of nodes, so the two subtrees
   // of a large node refit in parallel and a small one in a single backward sweep.
   if (nodes.empty()) return;
   const auto item_box = [&](uint32_t i) { return item_boxes[i]; };
-  refit_subtree(nodes, 0, item_box, keep.empty() ? nullptr : keep.data());
+  refit_subtree(nodes, 0, item_box, keep.empty() ? nullptr : keep.data(), serial_subtree);
 }
 
 RefitSchedule refit_schedule(const std::vector<BvhNode>& nodes) {

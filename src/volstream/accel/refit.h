@@ -2,6 +2,7 @@
 // built once over all ABRs). Items that are not kept get an inverted (empty) box, so rays never
 // enter them and subtrees with no kept item become empty too ("refit cuts").
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -25,7 +26,11 @@ VS_HOST_DEVICE inline void refit_node(BvhNode* nodes, uint32_t i, ItemBox&& item
 
 // nodes: a tree from build_bvh_sah (subtrees_are_runs). keep[i] != 0 keeps item i
 // with box item_boxes[i]; keep may be empty (keep all).
-void refit_bvh(std::vector<BvhNode>& nodes, const std::vector<box3f>& item_boxes, const std::vector<uint8_t>& keep);
+// Subtrees with more than serial_subtree descendants refit their two halves in parallel (tests
+// lower it to split small trees everywhere).
+inline constexpr size_t kRefitSerialSubtree = size_t(1) << 15;
+void refit_bvh(std::vector<BvhNode>& nodes, const std::vector<box3f>& item_boxes, const std::vector<uint8_t>& keep,
+               size_t serial_subtree = kRefitSerialSubtree);
 
 // True when the tree has the layout build_bvh_sah gives it and refit_bvh relies on: the root
 // first, then for every inner node its two children side by side, followed by the nodes of the

@@ -705,13 +705,21 @@ TEST(TransferFunction, ValueShortcutsAnswerAsTheTableCount) {
       {{0.f, 0.f}, {0.4f, 0.f}, {0.41f, 0.5f}, {0.6f, 0.5f}, {0.61f, 0.f}, {1.f, 0.f}},
       {{0.f, 0.3f}, {1.f, 0.3f}},
       {{0.f, 0.f}, {1.f, 0.f}}};
+  // {lo, hi, log}: the last two are narrow ranges of large values, where a float position is
+  // coarse (an ulp of 1e6 is 0.06, 64 table entries of [1e6, 1e6 + 1]).
+  struct Scale {
+    float lo, hi;
+    bool log;
+  };
+  const Scale scales[] = {{-2.f, 7.f, false}, {1e-3f, 1e4f, true}, {1e6f, 1e6f + 1.f, false}, {1e6f, 1.00001e6f, true}};
   int decided = 0;
   for (size_t o = 0; o < opacities.size(); ++o)
-    for (int log = 0; log < 2; ++log) {
+    for (const Scale& scale : scales) {
+      const bool log = scale.log;
       TransferFunctionSpec spec;
-      spec.lo = log ? 1e-3f : -2.f;
-      spec.hi = log ? 1e4f : 7.f;
-      spec.log_scale = log == 1;
+      spec.lo = scale.lo;
+      spec.hi = scale.hi;
+      spec.log_scale = log;
       spec.opacity = opacities[o];
       const TransferTable tf(spec, 1024);
       const OpacityIndex fast = tf.opacity_index();
@@ -720,15 +728,18 @@ TEST(TransferFunction, ValueShortcutsAnswerAsTheTableCount) {
       for (int k = 0; k < 20000; ++k) {
         const float x = position(rng), w = k % 2 ? width(rng) : 10.f * width(rng);
         const auto value = [&](float t) {
-          return log ? std::pow(10.f, -3.f + 7.f * t) : spec.lo + (spec.hi - spec.lo) * t;
+          if (!log) return spec.lo + (spec.hi - spec.lo) * t;
+          const float l0 = std::log10(spec.lo), l1 = std::log10(spec.hi);
+          return std::pow(10.f, l0 + (l1 - l0) * t);
         };
         const float lo = value(x), hi = value(x + w);
-        ASSERT_EQ(fast.any(lo, hi), plain.any(lo, hi)) << "opacity " << o << " log " << log << " [" << lo << ", " << hi << "]";
+        ASSERT_EQ(fast.any(lo, hi), plain.any(lo, hi))
+            << "opacity " << o << " scale [" << spec.lo << ", " << spec.hi << "] log " << log << " range [" << lo << ", " << hi << "]";
         decided += (hi < fast.transparent_below || lo > fast.transparent_above ||
                     (lo <= fast.opaque_hi && hi >= fast.opaque_lo));
       }
     }
-  EXPECT_GT(decided, 100000);  // most queries never reach the log10f
+  EXPECT_GT(decided, 200000);  // most queries never reach the log10f
 }
 
 // ---------------------------------------------------------------------------------------------

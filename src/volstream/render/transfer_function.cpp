@@ -166,19 +166,24 @@ OpacityIndex TransferTable::opacity_index() const {
     b = i;
     if (++run > d - c + 1) c = i - run + 1, d = i;
   }
-  // The table count is false when floor(x_hi) + 2 < a or floor(x_lo) - 1 > b. Four entries of
-  // margin (not two) keep float rounding of the kernel's position on the safe side.
-  // It is true when [floor(x_lo) - 1, floor(x_hi) + 2] meets [c, d]: x_lo <= d and x_hi >= c
-  // are enough, with an entry to spare for rounding.
-  const double below = a - 4 >= 0 ? value_at(v, double(a - 4)) : -INFINITY;
-  const double above = b + 4 <= size - 1 ? value_at(v, double(b + 4)) : INFINITY;
-  const double lo = value_at(v, double(c)), hi = value_at(v, double(d));
-  const auto fits = [](double x) { return std::isinf(x) || std::abs(x) < 1e38; };  // float range
-  if (!(fits(below) && fits(above) && fits(lo) && fits(hi))) return index;  // no shortcuts
-  index.transparent_below = float(below);
-  index.transparent_above = float(above);
-  index.opaque_lo = float(lo);
-  index.opaque_hi = float(hi);
+  // The table count is false when floor(x_hi) + 2 < a or floor(x_lo) - 1 > b, and true when
+  // [floor(x_lo) - 1, floor(x_hi) + 2] meets [c, d], which x_lo < d + 2 and x_hi >= c - 2 ensure.
+  // Thresholds from the exact inverse, with entries of margin, are then checked against the
+  // kernel's own float position, which is monotone in the value: a range beyond a threshold has
+  // its position beyond the threshold's. Where float rounding is coarse (a narrow range of large
+  // values) a check fails and that shortcut stays off.
+  const auto to_float = [](double x) {
+    return std::isinf(x) ? float(x) : (std::abs(x) < 1e38 ? float(x) : NAN);  // NaN: not representable
+  };
+  const float below = to_float(a - 4 >= 0 ? value_at(v, double(a - 4)) : -INFINITY);
+  const float above = to_float(b + 4 <= size - 1 ? value_at(v, double(b + 4)) : INFINITY);
+  const float lo = to_float(value_at(v, double(c))), hi = to_float(value_at(v, double(d)));
+  if (std::isinf(below) || (!std::isnan(below) && v.position(below) < float(a - 3))) index.transparent_below = below;
+  if (std::isinf(above) || (!std::isnan(above) && v.position(above) >= float(b + 3))) index.transparent_above = above;
+  if (!std::isnan(lo) && !std::isnan(hi) && v.position(lo) >= float(c - 1) && v.position(hi) < float(d + 1)) {
+    index.opaque_lo = lo;
+    index.opaque_hi = hi;
+  }
   return index;
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <random>
@@ -744,6 +745,32 @@ TEST(TransferFunction, ValueShortcutsAnswerAsTheTableCount) {
 
 // ---------------------------------------------------------------------------------------------
 // 6. Images, camera, device
+
+// The table encoder equals round(255 * linear_to_srgb(x)) (x clamped to [0, 1]) on every 61st
+// float of [0, 1] (17 M values), on the 256 floats around each code boundary, and at the edges.
+TEST(Image, Srgb8TableEqualsTheDefinition) {
+  const auto definition = [](float x) -> int {
+    if (!(x > 0.f)) return 0;
+    return int(std::lround(std::clamp(linear_to_srgb(x), 0.f, 1.f) * 255.f));
+  };
+  const auto from_bits = [](uint32_t b) {
+    float f;
+    std::memcpy(&f, &b, sizeof f);
+    return f;
+  };
+  int boundaries = 0;
+  for (uint32_t bits = 0; bits <= 0x3f800000u; bits += 61) {
+    const float x = from_bits(bits);
+    ASSERT_EQ(int(linear_to_srgb8(x)), definition(x)) << x;
+    if (bits > 0 && definition(from_bits(bits - 61)) != definition(x)) {  // a code changes in here
+      ++boundaries;
+      for (uint32_t b = bits - 61; b <= bits + 64; ++b) ASSERT_EQ(int(linear_to_srgb8(from_bits(b))), definition(from_bits(b)));
+    }
+  }
+  EXPECT_EQ(boundaries, 255);
+  for (float x : {-1.f, -0.f, 0.f, 1.f, 1.0001f, 7.f, INFINITY, -INFINITY, NAN})
+    EXPECT_EQ(int(linear_to_srgb8(x)), definition(x)) << x;
+}
 
 TEST(Image, PfmRoundTripAndPng) {
   Image img(5, 3);

@@ -11,12 +11,60 @@
 #include <sstream>
 
 #include "volstream/core/error.h"
+#include "volstream/core/parallel.h"
 #include "volstream/render/transfer_function.h"
 
 namespace vs {
 namespace {
 
 uint8_t to_byte(float srgb) { return uint8_t(std::lround(std::clamp(srgb, 0.f, 1.f) * 255.f)); }
+
+// linear_to_srgb8 by its definition: a powf per call.
+uint8_t srgb8_by_definition(float linear) { return linear > 0.f ? to_byte(linear_to_srgb(linear)) : 0; }
+
+float float_from_bits(uint32_t bits) {
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
+
+// first[k]: the smallest float whose code is k or more (bisection over the bit patterns of the
+// floats in [0, 1], which are ordered as the floats are); bucket[i]: the code of i / kBuckets.
+// A value's code is its bucket's, raised while the value reaches the next code's first float:
+// one or two comparisons, as a bucket spans less than one code (sRGB's steepest slope is 12.92).
+struct Srgb8Table {
+  static constexpr int kBuckets = 4096;
+  float first[257];
+  uint8_t bucket[kBuckets + 1];
+
+  Srgb8Table() {
+    const uint32_t one = 0x3f800000u;  // 1.0f
+    first[0] = 0.f;
+    for (int k = 1; k <= 255; ++k) {
+      uint32_t lo = 0, hi = one;  // the code of hi is >= k, the code of lo < k
+      while (hi - lo > 1) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        (srgb8_by_definition(float_from_bits(mid)) >= k ? hi : lo) = mid;
+      }
+      first[k] = float_from_bits(hi);
+    }
+    first[256] = INFINITY;
+    for (int i = 0; i <= kBuckets; ++i) bucket[i] = srgb8_by_definition(float(i) / float(kBuckets));
+  }
+
+  uint8_t code(float x) const {
+    if (!(x > 0.f)) return 0;  // also NaN
+    if (x >= 1.f) return 255;
+    int c = bucket[int(x * float(kBuckets))];  // x * 2^12 is exact: the bucket's lower end is <= x
+    while (x >= first[c + 1]) ++c;
+    return uint8_t(c);
+  }
+};
+
+const Srgb8Table& srgb8_table() {
+  static const Srgb8Table table;
+  return table;
+}
 
 bool ends_with(const std::string& s, const std::string& suffix) {
   if (s.size() < suffix.size()) return false;
@@ -40,6 +88,23 @@ void write_pfm_channels(const std::string& path, uint32_t w, uint32_t h, int cha
 
 }  // namespace
 
+uint8_t linear_to_srgb8(float linear) { return srgb8_table().code(linear); }
+
+std::vector<uint8_t> to_rgb8(const Image& image, const vec3f& background_srgb) {
+  // composite_rgb and the encoding in one pass over the pixels.
+  const Srgb8Table& table = srgb8_table();
+  const float bg[3] = {srgb_to_linear(background_srgb.x), srgb_to_linear(background_srgb.y),
+                       srgb_to_linear(background_srgb.z)};
+  std::vector<uint8_t> bytes(size_t(image.width) * image.height * 3);
+  parallel_for_ranges(int64_t(image.width) * image.height, [&](int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) {
+      const float* p = image.rgba.data() + 4 * i;
+      for (int c = 0; c < 3; ++c) bytes[size_t(3 * i + c)] = table.code(p[c] + (1.f - p[3]) * bg[c]);
+    }
+  }, 1 << 14);
+  return bytes;
+}
+
 std::vector<float> composite_rgb(const Image& img, const vec3f& bg_srgb) {
   const float bg[3] = {srgb_to_linear(bg_srgb.x), srgb_to_linear(bg_srgb.y), srgb_to_linear(bg_srgb.z)};
   std::vector<float> rgb(size_t(img.width) * img.height * 3);
@@ -57,12 +122,11 @@ void write_png(const Image& img, const std::string& path, const ImageWriteOption
     for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
       const float* p = img.rgba.data() + 4 * i;
       const float a = std::clamp(p[3], 0.f, 1.f);
-      for (int c = 0; c < 3; ++c) bytes[4 * i + c] = to_byte(a > 0.f ? linear_to_srgb(p[c] / a) : 0.f);  // straight alpha
+      for (int c = 0; c < 3; ++c) bytes[4 * i + c] = a > 0.f ? linear_to_srgb8(p[c] / a) : 0;  // straight alpha
       bytes[4 * i + 3] = to_byte(a);
     }
   } else {
-    const std::vector<float> rgb = composite_rgb(img, opt.background);
-    for (size_t i = 0; i < rgb.size(); ++i) bytes[i] = to_byte(linear_to_srgb(rgb[i]));
+    bytes = to_rgb8(img, opt.background);
   }
   std::unique_ptr<FILE, FileCloser> f(std::fopen(path.c_str(), "wb"));
   if (!f) throw std::runtime_error("cannot write " + path);

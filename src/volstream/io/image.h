@@ -24,6 +24,14 @@ struct ImageWriteOptions {
 // The image over the background (ignored with alpha), in linear RGB: one value per channel.
 std::vector<float> composite_rgb(const Image& image, const vec3f& background_srgb);
 
+// The 8-bit sRGB code of a linear value: round(255 * linear_to_srgb(x)) for x clamped to [0, 1],
+// 0 for NaN. Found in a table of the codes' first values (built once from that definition)
+// instead of a powf per channel; equal to the definition (tested).
+uint8_t linear_to_srgb8(float linear);
+
+// 8-bit sRGB RGB over the background, rows top to bottom: what PNG and ffmpeg's rgb24 take.
+std::vector<uint8_t> to_rgb8(const Image& image, const vec3f& background_srgb);
+
 // 8-bit sRGB PNG: RGB composited over the background, or RGBA with straight alpha.
 void write_png(const Image& image, const std::string& path, const ImageWriteOptions& options = {});
 // Little-endian colour PFM ("PF"), linear RGB composited over the background. With alpha, the

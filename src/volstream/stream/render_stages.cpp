@@ -13,16 +13,6 @@
 
 namespace vs::stream {
 
-std::vector<uint8_t> to_rgb8(const Image& image, const vec3f& background_srgb) {
-  const std::vector<float> rgb = composite_rgb(image, background_srgb);
-  std::vector<uint8_t> bytes(rgb.size());
-  for (size_t i = 0; i < rgb.size(); ++i) {
-    const float c = linear_to_srgb(rgb[i]);
-    bytes[i] = uint8_t(c <= 0.f ? 0 : (c >= 1.f ? 255 : int(c * 255.f + 0.5f)));
-  }
-  return bytes;
-}
-
 // ---------------------------------------------------------------------------------------------
 namespace {
 // The one "%[0][width]d" of a pattern ("%%" is a literal percent sign).

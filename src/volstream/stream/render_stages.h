@@ -24,9 +24,6 @@ class FrameWriter {
   virtual void finish() {}  // flush and check (e.g. the encoder's exit status)
 };
 
-// 8-bit sRGB RGB over the background, rows top to bottom: what PNG and ffmpeg's rgb24 take.
-std::vector<uint8_t> to_rgb8(const Image& image, const vec3f& background_srgb);
-
 // Writes `pattern` with the frame index substituted for its one %d (e.g. frames_%04d.png). Each
 // file is written under a temporary name and renamed, so an interrupted run leaves no partial frame.
 class PngSequenceWriter : public FrameWriter {

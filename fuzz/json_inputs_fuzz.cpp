@@ -3,7 +3,6 @@
 // patched by the input (fuzz_util.h), then both read.
 #include <chrono>
 #include <fstream>
-#include <sstream>
 
 #include "fuzz_util.h"
 #include "volstream/render/transfer_function.h"
@@ -30,13 +29,6 @@ void write_pristine(const std::filesystem::path& dir) {
   std::ofstream(dir / "pristine_map.json") << kColorMap;
 }
 
-std::string read_text(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -53,6 +45,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const auto events = stream::read_chrome_trace(trace);
     (void)stream::gantt_svg(events, {});
   });
-  fuzz::expect_clean([&] { (void)parse_paraview_color_map(read_text(map), map.string()); });
+  fuzz::expect_clean([&] { (void)load_paraview_color_map(map.string()); });
   return 0;
 }

@@ -66,6 +66,14 @@ const Srgb8Table& srgb8_table() {
   return table;
 }
 
+// A premultiplied pixel's channels over an opaque background (given sRGB, held linear).
+struct Over {
+  float bg[3];
+  explicit Over(const vec3f& bg_srgb)
+      : bg{srgb_to_linear(bg_srgb.x), srgb_to_linear(bg_srgb.y), srgb_to_linear(bg_srgb.z)} {}
+  float operator()(const float* p, int c) const { return p[c] + (1.f - p[3]) * bg[c]; }
+};
+
 bool ends_with(const std::string& s, const std::string& suffix) {
   if (s.size() < suffix.size()) return false;
   return std::equal(suffix.rbegin(), suffix.rend(), s.rbegin(),
@@ -93,25 +101,20 @@ uint8_t linear_to_srgb8(float linear) { return srgb8_table().code(linear); }
 std::vector<uint8_t> to_rgb8(const Image& image, const vec3f& background_srgb) {
   // composite_rgb and the encoding in one pass over the pixels.
   const Srgb8Table& table = srgb8_table();
-  const float bg[3] = {srgb_to_linear(background_srgb.x), srgb_to_linear(background_srgb.y),
-                       srgb_to_linear(background_srgb.z)};
+  const Over over(background_srgb);
   std::vector<uint8_t> bytes(size_t(image.width) * image.height * 3);
   parallel_for_ranges(int64_t(image.width) * image.height, [&](int64_t begin, int64_t end) {
-    for (int64_t i = begin; i < end; ++i) {
-      const float* p = image.rgba.data() + 4 * i;
-      for (int c = 0; c < 3; ++c) bytes[size_t(3 * i + c)] = table.code(p[c] + (1.f - p[3]) * bg[c]);
-    }
+    for (int64_t i = begin; i < end; ++i)
+      for (int c = 0; c < 3; ++c) bytes[size_t(3 * i + c)] = table.code(over(image.rgba.data() + 4 * i, c));
   }, 1 << 14);
   return bytes;
 }
 
 std::vector<float> composite_rgb(const Image& img, const vec3f& bg_srgb) {
-  const float bg[3] = {srgb_to_linear(bg_srgb.x), srgb_to_linear(bg_srgb.y), srgb_to_linear(bg_srgb.z)};
+  const Over over(bg_srgb);
   std::vector<float> rgb(size_t(img.width) * img.height * 3);
-  for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
-    const float* p = img.rgba.data() + 4 * i;
-    for (int c = 0; c < 3; ++c) rgb[3 * i + c] = p[c] + (1.f - p[3]) * bg[c];
-  }
+  for (size_t i = 0; i < size_t(img.width) * img.height; ++i)
+    for (int c = 0; c < 3; ++c) rgb[3 * i + c] = over(img.rgba.data() + 4 * i, c);
   return rgb;
 }
 

@@ -129,6 +129,7 @@ TransferTable::TransferTable(const TransferFunctionSpec& spec, uint32_t size) : 
   // Prefix counts of entries with non-zero alpha: O(1) range queries for classification.
   opaque_prefix_.assign(size + 1, 0);
   for (uint32_t i = 0; i < size; ++i) opaque_prefix_[i + 1] = opaque_prefix_[i] + (entries_[i].a > 0.f ? 1u : 0u);
+  shortcuts_ = find_shortcuts();
 }
 
 TfView TransferTable::view() const {
@@ -151,6 +152,13 @@ double value_at(const TfView& v, double x) {
 }  // namespace
 
 OpacityIndex TransferTable::opacity_index() const {
+  OpacityIndex index = shortcuts_;
+  index.tf = view();
+  index.opaque_prefix = opaque_prefix_.data();
+  return index;
+}
+
+OpacityIndex TransferTable::find_shortcuts() const {
   OpacityIndex index{view(), opaque_prefix_.data()};
   const TfView& v = index.tf;
   const int64_t size = v.size;

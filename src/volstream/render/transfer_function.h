@@ -131,6 +131,8 @@ class TransferTable {
   TransferFunctionSpec spec_;
   std::vector<Rgba> entries_;
   std::vector<uint32_t> opaque_prefix_;  // [i]: entries before i with alpha > 0 (size + 1 counts)
+  OpacityIndex shortcuts_;               // the value thresholds, found once; opacity_index() sets the pointers
+  OpacityIndex find_shortcuts() const;
 };
 
 // sRGB transfer functions (IEC 61966-2-1).

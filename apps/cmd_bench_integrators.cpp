@@ -7,10 +7,11 @@
 #include <cstdio>
 
 #include "commands.h"
-#include "volstream/blocks/block_renderer.h"
+#include "volstream/io/image.h"
+#include "volstream/render/integrators/block_renderer.h"
 #include "volstream/core/error.h"
 #include "volstream/io/dataset.h"
-#include "volstream/render/renderer.h"
+#include "volstream/render/integrators/abr_renderer.h"
 
 namespace vs::cli {
 namespace {

@@ -15,7 +15,7 @@
 #include "volstream/io/dataset.h"
 #include "volstream/io/image.h"
 #include "volstream/amr/ranges.h"
-#include "volstream/render/renderer.h"
+#include "volstream/render/integrators/abr_renderer.h"
 
 namespace vs::cli {
 namespace {

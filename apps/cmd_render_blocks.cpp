@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "render_blocks.h"
-#include "volstream/blocks/block_renderer.h"
+#include "volstream/render/integrators/block_renderer.h"
 #include "volstream/core/error.h"
 
 namespace vs::cli {
@@ -64,11 +64,11 @@ Image render_with_blocks(const Dataset& ds, int step, int field, const TransferT
   frame.settings.reconstruction = a.reconstruction == "nearest" ? Reconstruction::nearest : Reconstruction::trilinear;
   frame.settings.optics = bb ? Optics::blackbody : Optics::tf;
   const TransferFunctionSpec& spec = tf.spec();
-  frame.rho_max = spec.hi;
-  frame.log_decades = density_decades(spec, a.density_scale);
-  frame.emission_power = a.emission_power > 0 ? float(a.emission_power) : (frame.log_decades > 0.f ? 4.f : 1.f);
-  frame.emission = float(a.emission);
-  frame.absorption = float(a.absorption);
+  frame.blackbody.rho_max = spec.hi;
+  frame.blackbody.log_decades = density_decades(spec, a.density_scale);
+  frame.blackbody.emission_power = a.emission_power > 0 ? float(a.emission_power) : (frame.blackbody.log_decades > 0.f ? 4.f : 1.f);
+  frame.blackbody.emission = float(a.emission);
+  frame.blackbody.absorption = float(a.absorption);
   BlockRenderer renderer(ds.topology(), ds.manifest().transform);
   renderer.set_fields(values.data(), bb ? temperature.data() : nullptr,
                       frame.settings.reconstruction == Reconstruction::trilinear);

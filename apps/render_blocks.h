@@ -4,7 +4,7 @@
 #include <string>
 
 #include "volstream/io/dataset.h"
-#include "volstream/render/renderer.h"
+#include "volstream/render/integrators/abr_renderer.h"
 
 namespace vs::cli {
 

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "volstream/io/dataset.h"
-#include "volstream/render/renderer.h"
+#include "volstream/render/integrators/abr_renderer.h"
 #include "volstream/stream/render_stages.h"
 
 namespace vs::cli {

@@ -12,9 +12,9 @@
 
 #include "test_util.h"
 #include "volstream/amr/bricks.h"
-#include "volstream/blocks/blackbody.h"
-#include "volstream/blocks/block_renderer.h"
-#include "volstream/blocks/kd_blocks.h"
+#include "volstream/render/optics/blackbody.h"
+#include "volstream/render/integrators/block_renderer.h"
+#include "volstream/amr/kd_blocks.h"
 #include "volstream/cuda/backend.h"
 
 namespace vs {
@@ -390,7 +390,7 @@ TEST(Blackbody, ColoursFollowTemperature) {
   EXPECT_FLOAT_EQ(cold.x, 1.f);
   EXPECT_TRUE(std::isfinite(cold.y) && std::isfinite(cold.z));
   const BlackbodyTable table;
-  const BlackbodyView v = table.view(1, 1, 1);
+  const BlackbodyView v = table.view(BlackbodyParams{});
   const vec3f t = v.color(5800);
   EXPECT_NEAR(t.y, sun.y, 0.02f);
 }
@@ -467,12 +467,12 @@ TEST(Blackbody, RenderedImageReddensWithAbsorption) {
   frame.width = frame.height = 16;
   frame.settings.optics = Optics::blackbody;
   frame.settings.ref_step = 16;
-  frame.rho_max = 1;
-  frame.emission = 1;
+  frame.blackbody.rho_max = 1;
+  frame.blackbody.emission = 1;
   const Camera cam = test_camera(r);
   float last = 0;
   for (float s : {0.1f, 0.5f, 1.f, 2.f}) {
-    frame.absorption = s;
+    frame.blackbody.absorption = s;
     const Image img = r.render(nullptr, cam, frame);
     const float* p = img.pixel(8, 8);
     ASSERT_GT(p[2], 0.f);
@@ -521,8 +521,8 @@ TEST(BlocksCuda, MatchesCpu) {
       frame.settings.ref_step = 1;
       frame.settings.optics = optics;
       frame.settings.reconstruction = rec;
-      frame.emission = 0.2f;
-      frame.absorption = 0.3f;
+      frame.blackbody.emission = 0.2f;
+      frame.blackbody.absorption = 0.3f;
       BlockStats cpu_stats, gpu_stats;
       const Image cpu = r.render(&tv, cam, frame, Device::cpu, &cpu_stats);
       const Image gpu = r.render(&tv, cam, frame, Device::cuda, &gpu_stats);

@@ -21,7 +21,7 @@
 #include "volstream/cuda/backend.h"
 #include "volstream/io/image.h"
 #include "volstream/amr/ranges.h"
-#include "volstream/render/renderer.h"
+#include "volstream/render/integrators/abr_renderer.h"
 
 namespace vs {
 namespace {

@@ -10,7 +10,9 @@
 #include "volstream/amr/model.h"
 
 namespace vs {
-struct RenderView;
+template <typename V>
+struct FrameView;
+struct AmrVolume;
 struct IntegratorSettings;
 class TransferTable;
 }  // namespace vs
@@ -56,10 +58,10 @@ class DeviceScene {
   void set_refit_nodes(const std::vector<BvhNode>& nodes);
   std::vector<BvhNode> download_refit_nodes() const;
 
-  // Renders `host_view` (camera, settings and transfer tables from the host; its topology, BVH
-  // and value pointers are replaced by the scene's and the given device arrays) and copies the
+  // Renders `host_view` (camera, settings and optics tables from the host; its topology, BVH
+  // and field pointers are replaced by the scene's and the given device arrays) and copies the
   // image (and the sample counts when host_view.sample_counts is set) back to host_view.rgba.
-  RenderTimes render(const RenderView& host_view, const float* device_values, const float* device_color_values);
+  RenderTimes render(const FrameView<AmrVolume>& host_view, const float* device_values, const float* device_second);
 
  private:
   struct Impl;
@@ -86,6 +88,6 @@ class DeviceValueBuffers {
 
 // One frame from host data: uploads the topology, the BVHs and the values (through a
 // DeviceScene), renders `host_view` as classified and refit on the host, copies the image back.
-RenderTimes render(const AmrTopology& topology, const RenderView& host_view);
+RenderTimes render(const AmrTopology& topology, const FrameView<AmrVolume>& host_view);
 
 }  // namespace vs::cuda

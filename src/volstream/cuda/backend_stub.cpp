@@ -15,7 +15,7 @@ struct DeviceValueBuffers::Impl {};
 bool cuda_available() { return false; }
 std::string device_name() { return {}; }
 std::vector<float> probe_points(const AmrTopology&, const Bvh&, const float*, const std::vector<vec3f>&) { no_cuda(); }
-RenderTimes render(const AmrTopology&, const RenderView&) { no_cuda(); }
+RenderTimes render(const AmrTopology&, const FrameView<AmrVolume>&) { no_cuda(); }
 
 DeviceScene::DeviceScene(const AmrTopology&) { no_cuda(); }
 DeviceScene::~DeviceScene() = default;
@@ -25,7 +25,7 @@ std::vector<Range> DeviceScene::download_ranges() const { no_cuda(); }
 uint64_t DeviceScene::classify_and_refit(const TransferTable&, const IntegratorSettings&, bool) { no_cuda(); }
 void DeviceScene::set_refit_nodes(const std::vector<BvhNode>&) { no_cuda(); }
 std::vector<BvhNode> DeviceScene::download_refit_nodes() const { no_cuda(); }
-RenderTimes DeviceScene::render(const RenderView&, const float*, const float*) { no_cuda(); }
+RenderTimes DeviceScene::render(const FrameView<AmrVolume>&, const float*, const float*) { no_cuda(); }
 
 DeviceValueBuffers::DeviceValueBuffers(int, uint64_t) { no_cuda(); }
 DeviceValueBuffers::~DeviceValueBuffers() = default;

@@ -1,10 +1,10 @@
-// The GPU side of the block raycaster (block_backend.h): copies of the view's arrays and one
-// thread per pixel running the same render_block_pixel as the CPU (blocks/block_integrator.h).
+// The GPU side of the block integrator (block_backend.h): copies of the view's arrays and the
+// same integrator as the CPU (render/integrators/integrator.h), one thread per pixel.
 #include <chrono>
 
-#include "volstream/blocks/block_integrator.h"
 #include "volstream/cuda/block_backend.h"
-#include "volstream/cuda/launch.cuh"
+#include "volstream/cuda/render_frame.cuh"
+#include "volstream/volume/block_volume.h"
 
 namespace vs::cuda {
 namespace {
@@ -23,31 +23,32 @@ T* copy_in(DeviceBuffer<T>& buffer, const T* host, size_t n) {
 
 }  // namespace
 
-BlockRenderTimes render_blocks(const BlockRenderView& h) {
+BlockRenderTimes render_blocks(const FrameView<BlockVolume>& h, const AmrTopology& topology, const KdBlocks& kd,
+                               uint64_t vertex_count) {
   BlockRenderTimes times;
   const size_t pixels = size_t(h.width) * h.height;
   auto t0 = Clock::now();
-  // The kd traversal stack (kMaxKdDepth entries) is the kernel's whole stack frame, 768 bytes
-  // (ptxas -v): within the default per-thread stack, no cudaDeviceSetLimit needed.
   DeviceBuffer<KdNode> nodes;
   DeviceBuffer<Block> blocks;
   DeviceBuffer<Brick> bricks;
-  DeviceBuffer<float> values, temperature, vertex_values, vertex_temperature, rgba;
+  DeviceBuffer<float> fields[kVolumeFields], vertex_fields[kVolumeFields], rgba;
   DeviceBuffer<uint64_t> vertex_offsets;
-  DeviceBuffer<Rgba> tf;
+  DeviceBuffer<Rgba> tf, color_tf;
   DeviceBuffer<vec3f> bb;
   DeviceBuffer<uint32_t> counts;
-  BlockRenderView d = h;
-  d.kd.nodes = copy_in(nodes, h.kd.nodes, h.kd.node_count);
-  d.kd.blocks = copy_in(blocks, h.kd.blocks, h.kd.block_count);
-  d.bricks = copy_in(bricks, h.bricks, h.brick_count);
-  d.values = copy_in(values, h.values, h.value_count);
-  d.temperature = copy_in(temperature, h.temperature, h.value_count);
-  d.vertex_offsets = copy_in(vertex_offsets, h.vertex_offsets, h.kd.block_count);
-  d.vertex_values = copy_in(vertex_values, h.vertex_values, h.vertex_count);
-  d.vertex_temperature = copy_in(vertex_temperature, h.vertex_temperature, h.vertex_count);
-  d.tf.table = copy_in(tf, h.tf.table, h.tf.size);
-  d.bb.table = copy_in(bb, h.bb.table, h.bb.size);
+  FrameView<BlockVolume> d = h;
+  BlockVolume& v = d.volume;
+  v.kd.nodes = copy_in(nodes, h.volume.kd.nodes, kd.nodes.size());
+  v.kd.blocks = copy_in(blocks, h.volume.kd.blocks, kd.blocks.size());
+  v.bricks = copy_in(bricks, h.volume.bricks, topology.bricks.size());
+  for (int f = 0; f < kVolumeFields; ++f) {
+    v.fields[f] = copy_in(fields[f], h.volume.fields[f], topology.cell_count);
+    v.vertex_fields[f] = copy_in(vertex_fields[f], h.volume.vertex_fields[f], vertex_count);
+  }
+  v.vertex_offsets = copy_in(vertex_offsets, h.volume.vertex_offsets, kd.blocks.size());
+  d.optics.tf.table = copy_in(tf, h.optics.tf.table, h.optics.tf.size);
+  d.optics.bb.table = copy_in(bb, h.optics.bb.table, h.optics.bb.size);
+  d.color_tf.table = copy_in(color_tf, h.color_tf.table, h.color_tf.size);
   rgba.resize(4 * pixels);
   d.rgba = rgba.data();
   if (h.sample_counts) {
@@ -56,17 +57,7 @@ BlockRenderTimes render_blocks(const BlockRenderView& h) {
   }
   times.upload_seconds = seconds_since(t0);
 
-  const Event start, stop;
-  VS_CUDA_CHECK(cudaEventRecord(start.e));
-  const uint32_t width = h.width;
-  parallel_for("render_blocks", int64_t(pixels), [=] __device__(int64_t i) {
-    render_block_pixel(d, uint32_t(i % width), uint32_t(i / width));
-  });
-  VS_CUDA_CHECK(cudaEventRecord(stop.e));
-  VS_CUDA_CHECK(cudaEventSynchronize(stop.e));
-  float ms = 0.f;
-  VS_CUDA_CHECK(cudaEventElapsedTime(&ms, start.e, stop.e));
-  times.kernel_seconds = ms * 1e-3;
+  times.kernel_seconds = render_frame(d, cudaStream_t(0));
 
   t0 = Clock::now();
   VS_CUDA_CHECK(cudaMemcpy(h.rgba, d.rgba, 4 * pixels * sizeof(float), cudaMemcpyDeviceToHost));

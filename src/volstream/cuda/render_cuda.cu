@@ -1,7 +1,7 @@
 // The GPU side of rendering (backend.h): a DeviceScene holding the topology and BVHs, and the
 // per-frame ranges, classification, refit and render kernels. The kernels call the same
 // host-device functions as the CPU path (amr/ranges.h, render/classify.h, accel/refit.h,
-// render/integrator.h); only memory handling lives here.
+// render/integrators/integrator.h); only memory handling lives here.
 #include <chrono>
 
 #include "volstream/accel/refit.h"
@@ -9,7 +9,9 @@
 #include "volstream/cuda/backend.h"
 #include "volstream/cuda/launch.cuh"
 #include "volstream/render/classify.h"
-#include "volstream/render/integrator.h"
+#include "volstream/cuda/render_frame.cuh"
+#include "volstream/render/optics/transfer_function.h"
+#include "volstream/volume/amr_volume.h"
 
 namespace vs::cuda {
 namespace {
@@ -64,6 +66,7 @@ struct DeviceScene::Impl {
   DeviceBuffer<uint32_t> opaque_prefix;
   DeviceBuffer<unsigned long long> counter;
   DeviceBuffer<Rgba> tf, color_tf;
+  DeviceBuffer<vec3f> bb;  // blackbody colour table
   DeviceBuffer<float> rgba;
   DeviceBuffer<uint32_t> counts;
   Stream stream;
@@ -86,12 +89,7 @@ DeviceScene::DeviceScene(const AmrTopology& topology) : impl_(std::make_unique<I
   m.ranges.resize(m.abr_count);
   m.keep.resize(m.abr_count);
   m.counter.resize(1);
-  // The integrator keeps its traversal stacks and segment batch in local memory (~1 KiB per
-  // thread, as ptxas reports); make sure the per-thread stack allows it. Set here, once: it
-  // synchronises the device.
-  size_t stack = 0;
-  VS_CUDA_CHECK(cudaDeviceGetLimit(&stack, cudaLimitStackSize));
-  if (stack < 4096) VS_CUDA_CHECK(cudaDeviceSetLimit(cudaLimitStackSize, 4096));
+  ensure_integrator_stack();
 }
 
 DeviceScene::~DeviceScene() = default;
@@ -165,44 +163,38 @@ void DeviceScene::set_refit_nodes(const std::vector<BvhNode>& nodes) { impl_->re
 
 std::vector<BvhNode> DeviceScene::download_refit_nodes() const { return impl_->refit_nodes.download(); }
 
-RenderTimes DeviceScene::render(const RenderView& h, const float* device_values, const float* device_color_values) {
+RenderTimes DeviceScene::render(const FrameView<AmrVolume>& h, const float* device_values, const float* device_second) {
   Impl& m = *impl_;
   RenderTimes times;
   const auto t0 = std::chrono::steady_clock::now();
   const size_t pixels = size_t(h.width) * h.height;
-  m.tf.upload_async(h.tf.table, h.tf.size, m.stream.s);
-  if (device_color_values) m.color_tf.upload_async(h.color_tf.table, h.color_tf.size, m.stream.s);
+  m.tf.upload_async(h.optics.tf.table, h.optics.tf.size, m.stream.s);
+  if (h.color_isosurfaces) m.color_tf.upload_async(h.color_tf.table, h.color_tf.size, m.stream.s);
+  if (h.optics.bb.table) m.bb.upload_async(h.optics.bb.table, h.optics.bb.size, m.stream.s);
   m.rgba.ensure(4 * pixels);
   if (h.sample_counts) m.counts.ensure(pixels);
   m.stream.sync();
   times.upload_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  RenderView d = h;
-  d.amr = m.view(device_values);
-  d.color_values = device_color_values;
-  d.nodes = m.refit_nodes.data();
-  d.node_count = uint32_t(m.refit_nodes.size());
-  d.all_nodes = m.template_nodes.data();
-  d.all_node_count = uint32_t(m.template_nodes.size());
-  d.tf.table = m.tf.data();
-  d.color_tf.table = device_color_values ? m.color_tf.data() : nullptr;
+  FrameView<AmrVolume> d = h;
+  d.volume.amr = m.view(device_values);
+  d.volume.fields[0] = device_values;
+  d.volume.fields[1] = device_second;
+  d.volume.nodes = m.refit_nodes.data();
+  d.volume.node_count = uint32_t(m.refit_nodes.size());
+  d.volume.all_nodes = m.template_nodes.data();
+  d.volume.all_node_count = uint32_t(m.template_nodes.size());
+  d.optics.tf.table = m.tf.data();
+  d.optics.bb.table = h.optics.bb.table ? m.bb.data() : nullptr;
+  d.color_tf.table = h.color_isosurfaces ? m.color_tf.data() : nullptr;
   d.rgba = m.rgba.data();
   d.sample_counts = h.sample_counts ? m.counts.data() : nullptr;
 
-  const Event start, stop;
-  VS_CUDA_CHECK(cudaEventRecord(start.e, m.stream.s));
-  const uint32_t width = h.width;
-  parallel_for("render", int64_t(pixels), [=] __device__(int64_t i) {
-    render_pixel(d, uint32_t(i % width), uint32_t(i / width));
-  }, m.stream.s);
-  VS_CUDA_CHECK(cudaEventRecord(stop.e, m.stream.s));
+  times.kernel_seconds = render_frame(d, m.stream.s);
   VS_CUDA_CHECK(cudaMemcpyAsync(h.rgba, d.rgba, 4 * pixels * sizeof(float), cudaMemcpyDeviceToHost, m.stream.s));
   if (h.sample_counts)
     VS_CUDA_CHECK(cudaMemcpyAsync(h.sample_counts, d.sample_counts, pixels * sizeof(uint32_t), cudaMemcpyDeviceToHost, m.stream.s));
   m.stream.sync();
-  float ms = 0.f;
-  VS_CUDA_CHECK(cudaEventElapsedTime(&ms, start.e, stop.e));
-  times.kernel_seconds = ms * 1e-3;
   return times;
 }
 
@@ -232,16 +224,18 @@ void DeviceValueBuffers::upload(int buffer, const float* host, uint64_t floats) 
 uint64_t DeviceValueBuffers::bytes() const { return impl_->buffers.size() * impl_->floats * sizeof(float); }
 
 // ---------------------------------------------------------------------------------------------
-RenderTimes render(const AmrTopology& topology, const RenderView& h) {
+RenderTimes render(const AmrTopology& topology, const FrameView<AmrVolume>& h) {
   const auto t0 = std::chrono::steady_clock::now();
   DeviceScene scene(topology);
-  scene.set_bvh(std::vector<BvhNode>(h.all_nodes, h.all_nodes + h.all_node_count));
-  scene.set_refit_nodes(std::vector<BvhNode>(h.nodes, h.nodes + h.node_count));
-  DeviceValueBuffers values(h.color_values ? 2 : 1, topology.cell_count);
-  values.upload(0, h.amr.values, topology.cell_count);
-  if (h.color_values) values.upload(1, h.color_values, topology.cell_count);
+  const AmrVolume& vol = h.volume;
+  scene.set_bvh(std::vector<BvhNode>(vol.all_nodes, vol.all_nodes + vol.all_node_count));
+  scene.set_refit_nodes(std::vector<BvhNode>(vol.nodes, vol.nodes + vol.node_count));
+  const bool second = vol.fields[1] != nullptr;
+  DeviceValueBuffers values(second ? 2 : 1, topology.cell_count);
+  values.upload(0, vol.fields[0], topology.cell_count);
+  if (second) values.upload(1, vol.fields[1], topology.cell_count);
   const double upload = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  RenderTimes times = scene.render(h, values.data(0), h.color_values ? values.data(1) : nullptr);
+  RenderTimes times = scene.render(h, values.data(0), second ? values.data(1) : nullptr);
   times.upload_seconds += upload;
   return times;
 }

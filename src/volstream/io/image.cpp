@@ -12,7 +12,7 @@
 
 #include "volstream/core/error.h"
 #include "volstream/core/parallel.h"
-#include "volstream/render/transfer_function.h"
+#include "volstream/render/optics/transfer_function.h"
 
 namespace vs {
 namespace {

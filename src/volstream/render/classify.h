@@ -1,8 +1,8 @@
 // Classification of ABRs for empty-space skipping, one function for the CPU and the GPU.
 #pragma once
 #include "volstream/amr/model.h"
-#include "volstream/render/integrator.h"
-#include "volstream/render/transfer_function.h"
+#include "volstream/render/integrators/settings.h"
+#include "volstream/render/optics/transfer_function.h"
 
 namespace vs {
 

@@ -188,7 +188,9 @@ void RendererStages::render(const FrameData& frame) {
     return;
   }
   image_ = Image(fs.width, fs.height);
-  RenderView view = renderer_->host_view(frame.values, tf_, nullptr, nullptr, setup_.camera, fs);
+  OpticsView optics;
+  optics.tf = tf_.view();
+  FrameView<AmrVolume> view = renderer_->view({frame.values, nullptr}, optics, nullptr, setup_.camera, fs);
   view.rgba = image_.rgba.data();
   scene_->render(view, frame.values, nullptr);
 }

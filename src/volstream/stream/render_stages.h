@@ -11,7 +11,7 @@
 #include "volstream/cuda/backend.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/image.h"
-#include "volstream/render/renderer.h"
+#include "volstream/render/integrators/abr_renderer.h"
 #include "volstream/stream/pipeline.h"
 
 namespace vs::stream {

@@ -2,7 +2,7 @@
 // viridis and inferno: every 8th entry of matplotlib's 256-entry tables (plus the last one);
 // cool-warm: Moreland's 33-entry "CoolWarmFloat33"; blackbody: a black-red-yellow-white ramp in
 // the spirit of Moreland's "Black-Body"; grayscale: black to white.
-#include "volstream/render/transfer_function.h"
+#include "volstream/render/optics/transfer_function.h"
 
 namespace vs {
 namespace {

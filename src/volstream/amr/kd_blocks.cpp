@@ -1,4 +1,4 @@
-#include "volstream/blocks/kd_blocks.h"
+#include "volstream/amr/kd_blocks.h"
 
 #include <algorithm>
 #include <cstdlib>

@@ -1,4 +1,4 @@
-#include "volstream/render/transfer_function.h"
+#include "volstream/render/optics/transfer_function.h"
 
 #include <algorithm>
 #include <fstream>

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "volstream/blocks/kd_blocks.h"
+#include "volstream/amr/kd_blocks.h"
 
 namespace vs {
 

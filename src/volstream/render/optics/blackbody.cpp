@@ -1,4 +1,4 @@
-#include "volstream/blocks/blackbody.h"
+#include "volstream/render/optics/blackbody.h"
 
 #include <algorithm>
 #include <cmath>
@@ -85,14 +85,15 @@ BlackbodyTable::BlackbodyTable(uint32_t size) {
   }
 }
 
-BlackbodyView BlackbodyTable::view(float rho_max, float emission, float absorption, float log_decades) const {
+BlackbodyView BlackbodyTable::view(const BlackbodyParams& p) const {
   BlackbodyView v;
   v.table = entries_.data();
   v.size = uint32_t(entries_.size());
-  v.inv_rho_max = rho_max > 0.f ? 1.f / rho_max : 1.f;
-  v.log_decades = log_decades;
-  v.emission = emission;
-  v.absorption = absorption;
+  v.inv_rho_max = p.rho_max > 0.f ? 1.f / p.rho_max : 1.f;
+  v.log_decades = p.log_decades;
+  v.emission_power = p.emission_power;
+  v.emission = p.emission;
+  v.absorption = p.absorption;
   v.rayleigh = rayleigh_weights();
   return v;
 }

@@ -1,4 +1,4 @@
-#include "volstream/blocks/vertex_field.h"
+#include "volstream/amr/vertex_field.h"
 
 #include <algorithm>
 #include <mutex>

@@ -1,5 +1,7 @@
-// The host side of the AMR renderer: the BVH template built once over all ABRs, per-frame ABR
-// classification and refit, and the CPU/CUDA launch of the one integrator (integrator.h).
+// The host side of paper 000's ABR integrator: the volume's regions are the ABRs (AmrVolume), a
+// BVH template over all of them is built once, and per frame the ABRs are classified from their
+// value ranges and the BVH refit (culled ABRs get empty boxes); then the one integrator
+// (integrator.h) runs on the CPU or the GPU.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -8,21 +10,18 @@
 #include "volstream/accel/bvh.h"
 #include "volstream/amr/model.h"
 #include "volstream/amr/source.h"
-#include "volstream/io/image.h"
+#include "volstream/backend/device.h"
+#include "volstream/core/image.h"
 #include "volstream/render/camera.h"
-#include "volstream/render/integrator.h"
-#include "volstream/render/transfer_function.h"
+#include "volstream/render/integrators/integrator.h"
+#include "volstream/render/optics/optics.h"
+#include "volstream/volume/amr_volume.h"
 
 namespace vs {
 
-enum class Device { cpu, cuda };
-// "auto" (CUDA when a GPU is present), "cpu" or "cuda"; UsageError for cuda without a GPU.
-Device resolve_device(const std::string& name);
-const char* to_string(Device d);
-
 struct FrameSettings {
   uint32_t width = 512, height = 512;
-  IntegratorSettings integrator;  // ref_step <= 0: AmrRenderer::default_reference_step()
+  IntegratorSettings integrator;  // ref_step <= 0: default_reference_step()
   bool skip = true;               // empty-space skipping: cull ABRs that cannot contribute
   bool brick_ranges = false;      // CPU: cull by per-brick ranges (cheaper, looser; amr/ranges.h)
 };
@@ -41,6 +40,23 @@ struct FrameStats {
 std::vector<uint8_t> classify_abrs(const std::vector<Range>& abr_ranges, const TransferTable& tf,
                                    const IntegratorSettings& iso);
 
+// The world length over which table alphas apply unchanged by default: 1/256 of the domain's
+// largest extent, so an image looks the same at any resolution (cell count) of the same field.
+double default_reference_step(const Box3<double>& world_bounds);
+
+// The kernel's grid map of a world transform.
+GridMap make_grid_map(const WorldTransform& transform);
+
+// The frame's settings with the defaults filled in (ref_step) and checked (rate).
+IntegratorSettings resolve_settings(IntegratorSettings s, const Box3<double>& world_bounds);
+
+// Fields a frame samples, in device order: the primary one and an optional second one (the
+// isosurfaces' colour field, or the temperature of the blackbody optics).
+struct FrameFields {
+  const float* primary = nullptr;
+  const float* second = nullptr;
+};
+
 class AmrRenderer {
  public:
   // Builds the BVH template over all ABRs (once). Keeps a reference to `topology`.
@@ -51,19 +67,20 @@ class AmrRenderer {
   uint64_t classify(const std::vector<Range>& abr_ranges, const TransferTable& tf, const IntegratorSettings& iso,
                     bool skip, FrameStats* stats = nullptr);
 
-  // Renders with the current classification. color_values/color_tf may be null.
+  // The kernel view with host pointers (outputs left null). color_tf: colour the isosurfaces by
+  // fields.second (else null).
+  FrameView<AmrVolume> view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
+                            const Camera& camera, const FrameSettings& settings) const;
+  // Renders a view made by view() on the device.
+  Image render(Device device, const FrameView<AmrVolume>& host_view, FrameStats* stats = nullptr) const;
+
+  // The transfer-function optics with an optional colour field for the isosurfaces.
   Image render(Device device, const float* values, const TransferTable& tf, const float* color_values,
                const TransferTable* color_tf, const Camera& camera, const FrameSettings& settings,
                FrameStats* stats = nullptr) const;
 
-  // The kernel view with host pointers (output pointers left null).
-  RenderView host_view(const float* values, const TransferTable& tf, const float* color_values,
-                       const TransferTable* color_tf, const Camera& camera, const FrameSettings& settings) const;
-
   Box3<double> world_bounds() const;
-  // The world length over which table alphas apply unchanged: 1/256 of the domain's largest
-  // extent, so an image looks the same at any resolution (cell count) of the same field.
-  double default_reference_step() const;
+  double default_reference_step() const { return vs::default_reference_step(world_bounds()); }
   const Bvh& template_bvh() const { return template_; }
   const std::vector<BvhNode>& refit_nodes() const { return nodes_; }
   const AmrTopology& topology() const { return topology_; }
@@ -76,7 +93,7 @@ class AmrRenderer {
   std::vector<box3f> abr_boxes_;
 };
 
-// Runs render_pixel for every pixel of `view` on all CPU cores (view.rgba must be set).
-void render_cpu(const RenderView& view);
+// The world box of the leaf cells.
+Box3<double> world_bounds(const AmrTopology& topology, const WorldTransform& transform);
 
 }  // namespace vs

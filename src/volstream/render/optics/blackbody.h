@@ -70,10 +70,18 @@ struct BlackbodyView {
   }
 };
 
+// The model's parameters (BlackbodyView has their meaning).
+struct BlackbodyParams {
+  float rho_max = 1.f;         // density normalising emission and absorption
+  float emission = 1.f, absorption = 1.f;
+  float emission_power = 1.f;
+  float log_decades = 0.f;     // > 0: density on a log scale
+};
+
 class BlackbodyTable {
  public:
   explicit BlackbodyTable(uint32_t size = 512);
-  BlackbodyView view(float rho_max, float emission, float absorption, float log_decades = 0.f) const;
+  BlackbodyView view(const BlackbodyParams& params) const;
   const std::vector<vec3f>& entries() const { return entries_; }
 
  private:

@@ -1,0 +1,38 @@
+// One launch of the integrator (render/integrators/integrator.h) for any volume kind: one thread
+// per pixel over a view whose pointers are all device pointers, timed with CUDA events.
+#pragma once
+#include "volstream/cuda/launch.cuh"
+#include "volstream/render/integrators/integrator.h"
+
+namespace vs::cuda {
+
+// The integrator keeps its traversal stacks, segment batch and isosurface hits in local memory
+// (about 1 KiB per thread, as ptxas reports): make sure the per-thread stack allows it. Once per
+// process: it synchronises the device.
+inline void ensure_integrator_stack() {
+  static const bool done = [] {
+    size_t stack = 0;
+    VS_CUDA_CHECK(cudaDeviceGetLimit(&stack, cudaLimitStackSize));
+    if (stack < 4096) VS_CUDA_CHECK(cudaDeviceSetLimit(cudaLimitStackSize, 4096));
+    return true;
+  }();
+  (void)done;
+}
+
+// Returns the kernel's time in seconds (waits for the stream).
+template <typename V>
+double render_frame(const FrameView<V>& d, cudaStream_t stream) {
+  ensure_integrator_stack();
+  const Event start, stop;
+  VS_CUDA_CHECK(cudaEventRecord(start.e, stream));
+  const uint32_t width = d.width;
+  parallel_for("render", int64_t(d.width) * d.height,
+               [=] __device__(int64_t i) { render_pixel(d, uint32_t(i % width), uint32_t(i / width)); }, stream);
+  VS_CUDA_CHECK(cudaEventRecord(stop.e, stream));
+  VS_CUDA_CHECK(cudaEventSynchronize(stop.e));
+  float ms = 0.f;
+  VS_CUDA_CHECK(cudaEventElapsedTime(&ms, start.e, stop.e));
+  return ms * 1e-3;
+}
+
+}  // namespace vs::cuda

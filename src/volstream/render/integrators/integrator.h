@@ -1,0 +1,345 @@
+// The per-pixel volume integrator, one source for every volume kind (volume/volume.h), every
+// optical model (render/optics/optics.h) and both CPU and CUDA.
+//
+// A ray visits the volume's visible regions front to back. Each region's interval is cut into
+// steps no longer than the region's finest width / rate (adaptive sampling), in one of two
+// schemes (March: paper 000's equal jittered steps, or paper 004's fixed steps with an exact
+// last one); each sample is reconstructed by the volume and composited front to back by the
+// optics with opacity corrected for the step length, with early termination at 0.99.
+// Isosurfaces are sign changes of f - iso between consecutive samples (also across adjacent
+// regions), refined by bisection and a final secant step, shaded with the gradient (a headlight)
+// and composited in the same march.
+//
+// Units: the ray is generated in world space with a unit direction, so its parameter t is a
+// world distance; origin and direction are mapped to grid units (anisotropic scale allowed) and
+// the same t addresses the same point in both spaces.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "volstream/render/camera.h"
+#include "volstream/render/integrators/settings.h"
+#include "volstream/render/optics/optics.h"
+#include "volstream/volume/volume.h"
+
+namespace vs {
+
+inline constexpr float kFaceInset = 1e-3f;  // fraction of a step that samples keep off region faces
+
+struct GridMap {
+  vec3f origin{0.f, 0.f, 0.f};         // world position of grid point 0
+  vec3f inv_cell_size{1.f, 1.f, 1.f};  // grid units per world unit, per axis
+};
+
+// Everything a kernel reads: plain pointers (host or device) and values.
+template <typename V>
+struct FrameView {
+  V volume;
+  OpticsView optics;
+  uint32_t color_isosurfaces = 0;  // colour isosurfaces by field 1 through color_tf
+  TfView color_tf;
+  CameraView camera;
+  GridMap grid;
+  IntegratorSettings settings;
+  uint32_t width = 0, height = 0;
+  float* rgba = nullptr;              // output: width*height premultiplied linear RGBA
+  uint32_t* sample_counts = nullptr;  // optional output: samples taken per pixel
+};
+
+namespace detail {
+
+VS_HOST_DEVICE inline uint32_t hash32(uint32_t x) {  // "lowbias32" integer hash
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+VS_HOST_DEVICE inline float hash_unit(uint32_t a, uint32_t b, uint32_t c) {  // in [0, 1)
+  return float(hash32(a ^ hash32(b ^ hash32(c))) >> 8) * (1.f / 16777216.f);
+}
+VS_HOST_DEVICE inline float fract(float x) { return x - floorf(x); }
+VS_HOST_DEVICE inline bool is_nan(float x) { return x != x; }  // no <cmath> overload puzzles on host/device
+
+struct Ray {
+  vec3f org_w, dir_w;  // world
+  vec3f org, dir;      // grid units, same parameter t
+  float dir_len;       // |dir| in grid units per unit t
+  VS_HOST_DEVICE vec3f at(float t) const { return org + dir * t; }
+};
+
+// Gradient in world units by central differences (one-sided at the volume's edge).
+template <typename V>
+VS_HOST_DEVICE inline vec3f world_gradient(const FrameView<V>& v, uint32_t region, const vec3f& p, float f) {
+  const float h = 0.5f * v.volume.step_width(region);
+  vec3f g;
+  for (int a = 0; a < 3; ++a) {
+    vec3f pp = p, pm = p;
+    pp[a] += h;
+    pm[a] -= h;
+    const float fp = v.volume.sample_near(0, region, pp), fm = v.volume.sample_near(0, region, pm);
+    const bool okp = !is_nan(fp), okm = !is_nan(fm);
+    g[a] = okp && okm ? (fp - fm) / (2.f * h) : okp ? (fp - f) / h : okm ? (f - fm) / h : 0.f;
+  }
+  return g * v.grid.inv_cell_size;  // d/dworld = d/dgrid * dgrid/dworld
+}
+
+// Headlight Blinn-Phong, two-sided: the light sits at the eye, so the half vector is the view
+// direction and only |n . view| matters.
+VS_HOST_DEVICE inline Rgba headlight(const Rgba& c, const vec3f& gradient, const vec3f& view_dir, float ambient,
+                                     float specular) {
+  const float len = length(gradient);
+  if (!(len > 0.f)) return c;
+  const float cosine = fabsf(dot(gradient, view_dir)) / len;
+  const float diffuse = ambient + (1.f - ambient) * cosine;
+  const float c2 = cosine * cosine, c4 = c2 * c2, c8 = c4 * c4, c16 = c8 * c8;
+  const float spec = specular * c16 * c16;  // shininess 32
+  return {c.r * diffuse + spec, c.g * diffuse + spec, c.b * diffuse + spec, c.a};
+}
+
+// The last valid sample: where an isosurface crossing to the next sample begins.
+struct PrevSample {
+  bool valid = false;
+  float t = 0.f, f = 0.f;
+  uint32_t region = 0;
+  float end = 0.f;  // exit distance of that sample's region interval
+};
+
+struct RayState {
+  Accum acc;
+  PrevSample prev;
+  uint32_t samples = 0;
+};
+
+// f between sample a (in region_a, whose interval ends at end_a) and sample b (region_b).
+struct Bracket {
+  float ta, fa, tb, fb, end_a;
+  uint32_t region_a, region_b;
+  VS_HOST_DEVICE uint32_t region_at(float t) const { return t <= end_a ? region_a : region_b; }
+};
+
+// Root of f - iso in the bracket: 4 bisection steps (robust), then a secant step (accurate).
+// Returns NaN when f does not pass through iso continuously: where a reconstruction has gaps
+// (the half-cell shell of the tent basis, nearest-cell steps) bisection closes in on a jump,
+// where f stays far from iso.
+template <typename V>
+VS_HOST_DEVICE inline float refine_root(const FrameView<V>& v, const Ray& ray, const Bracket& br, float iso,
+                                        RayState& s) {
+  auto g = [&](float t) {
+    ++s.samples;
+    return v.volume.sample(0, br.region_at(t), ray.at(t)) - iso;
+  };
+  float ta = br.ta, ga = br.fa - iso, tb = br.tb, gb = br.fb - iso;
+  for (int i = 0; i < 4; ++i) {
+    const float tm = 0.5f * (ta + tb);
+    const float gm = g(tm);
+    if (is_nan(gm)) return NAN;
+    if ((gm < 0.f) == (ga < 0.f)) {
+      ta = tm;
+      ga = gm;
+    } else {
+      tb = tm;
+      gb = gm;
+    }
+  }
+  const float t = ta + (tb - ta) * ga / (ga - gb);  // ga, gb have opposite signs: no 0/0
+  const float residual = g(t);
+  return fabsf(residual) <= 0.05f * fabsf(br.fa - br.fb) ? t : NAN;
+}
+
+// Composites the isosurfaces crossed between the two samples of `br`, nearest first.
+template <typename V>
+VS_HOST_DEVICE inline void isosurfaces(const FrameView<V>& v, const Ray& ray, const Bracket& br, RayState& s) {
+  const IntegratorSettings& st = v.settings;
+  float hit_t[kMaxIso];
+  uint32_t hit_iso[kMaxIso];
+  uint32_t n = 0;
+  for (uint32_t i = 0; i < st.iso_count && i < kMaxIso; ++i) {
+    if ((br.fa - st.iso[i] < 0.f) == (br.fb - st.iso[i] < 0.f)) continue;
+    const float t = refine_root(v, ray, br, st.iso[i], s);
+    if (is_nan(t)) continue;
+    uint32_t k = n++;
+    for (; k > 0 && hit_t[k - 1] > t; --k) {  // insertion sort by distance
+      hit_t[k] = hit_t[k - 1];
+      hit_iso[k] = hit_iso[k - 1];
+    }
+    hit_t[k] = t;
+    hit_iso[k] = i;
+  }
+  for (uint32_t k = 0; k < n && !s.acc.opaque(); ++k) {
+    const uint32_t region = br.region_at(hit_t[k]);
+    const vec3f p = ray.at(hit_t[k]);
+    Rgba c = v.optics.tf.lookup(st.iso[hit_iso[k]]);
+    if (v.color_isosurfaces) {
+      const float cf = v.volume.sample_near(1, region, p);
+      if (!is_nan(cf)) c = v.color_tf.lookup(cf);
+    }
+    const vec3f g = world_gradient(v, region, p, st.iso[hit_iso[k]]);
+    s.samples += 6;
+    const Rgba lit = headlight(c, g, ray.dir_w, 0.2f, 0.35f);
+    s.acc.blend(lit.r, lit.g, lit.b, st.iso_alpha);
+  }
+}
+
+// The previous interval ended and the next one does not touch it (culled regions in between):
+// check the stretch from the last sample to that interval's exit, then forget it.
+template <typename V>
+VS_HOST_DEVICE inline void close_interval(const FrameView<V>& v, const Ray& ray, RayState& s) {
+  if (!s.prev.valid) return;
+  const PrevSample& p = s.prev;
+  // Just inside the exit face: on a face where two bricks' supports meet edge to edge the
+  // weights vanish and f is 0/0, while it is defined arbitrarily close to it.
+  const float t_end = p.end - kFaceInset * (p.end - p.t);
+  const float f_end = v.volume.sample(0, p.region, ray.at(t_end));
+  ++s.samples;
+  if (!is_nan(f_end) && t_end > p.t) isosurfaces(v, ray, {p.t, p.f, t_end, f_end, p.end, p.region, p.region}, s);
+  s.prev.valid = false;
+}
+
+// Volume sample f at distance t in `region`: isosurfaces since the previous sample, then the
+// optics' emission and absorption over len_ref reference steps.
+template <typename V>
+VS_HOST_DEVICE inline void take_sample(const FrameView<V>& v, const Ray& ray, uint32_t region, float t, float end,
+                                       float f, float len_ref, RayState& s) {
+  if (v.settings.iso_count > 0 && s.prev.valid)
+    isosurfaces(v, ray, {s.prev.t, s.prev.f, t, f, s.prev.end, s.prev.region, region}, s);
+  if (v.optics.kind == OpticsKind::blackbody) {
+    const float temperature = v.volume.sample(1, region, ray.at(t));
+    ++s.samples;
+    if (!s.acc.opaque()) blackbody_step(v.optics.bb, f, temperature, len_ref, s.acc);
+  } else {
+    Rgba c = v.optics.tf.lookup(f);
+    if (c.a > 0.f && !s.acc.opaque()) {
+      const float alpha = corrected_alpha(c.a, len_ref);
+      if (v.settings.shade) {
+        c = headlight(c, world_gradient(v, region, ray.at(t), f), ray.dir_w, 0.35f, 0.25f);
+        s.samples += 6;
+      }
+      s.acc.blend(c.r, c.g, c.b, alpha);
+    }
+  }
+  s.prev = {true, t, f, region, end};
+}
+
+// The steps of one interval (settings.h, March).
+struct Steps {
+  float t0, t1, dt, inv_ref;
+  uint32_t n;
+  bool fixed;
+  // Sample k: its distance and the length of its step in reference steps.
+  VS_HOST_DEVICE void at(uint32_t k, float jitter, float& t, float& len_ref) const {
+    if (!fixed) {
+      t = t0 + (float(k) + jitter) * dt;
+      len_ref = dt * inv_ref;
+      return;
+    }
+    const float a = t0 + float(k) * dt;
+    const float e = k + 1 < n ? a + dt : t1;
+    t = 0.5f * (a + e);
+    len_ref = (e - a) * inv_ref;
+  }
+};
+
+VS_HOST_DEVICE inline uint32_t step_count(float steps) {  // no float->int overflow
+  return steps < 1.f ? 1u : (steps < 16777216.f ? uint32_t(steps) : 16777216u);
+}
+
+VS_HOST_DEVICE inline Steps make_steps(const IntegratorSettings& st, const Ray& ray, float width, float t0, float t1) {
+  const float len = t1 - t0;
+  const float max_dt = width / (st.rate * ray.dir_len);
+  Steps s{t0, t1, max_dt, 1.f / st.ref_step, 1u, st.march == March::fixed_midpoint};
+  if (s.fixed) {
+    s.n = step_count(ceilf(len / max_dt * (1.f - 1e-5f)));  // a rounding remainder is no extra step
+  } else {
+    s.n = step_count(ceilf(len / max_dt));
+    s.dt = len / float(s.n);
+  }
+  return s;
+}
+
+// Marches one region's interval.
+template <typename V>
+VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, float jitter,
+                                          RayState& s) {
+  const IntegratorSettings& st = v.settings;
+  if (!(iv.t1 - iv.t0 > 0.f)) return;
+  const float width = st.adaptive ? v.volume.step_width(iv.region) : 1.f;
+  const Steps steps = make_steps(st, ray, width, iv.t0, iv.t1);
+  if (st.iso_count > 0) {
+    if (s.prev.valid && iv.t0 - s.prev.end > 1e-4f * steps.dt) close_interval(v, ray, s);
+    if (!s.prev.valid) {  // start the crossing test at the interval's entry face (just inside)
+      const float t0 = iv.t0 + kFaceInset * steps.dt;
+      const float f0 = v.volume.sample(0, iv.region, ray.at(t0));
+      ++s.samples;
+      if (!is_nan(f0)) s.prev = {true, t0, f0, iv.region, iv.t1};
+    }
+  }
+  for (uint32_t k = 0; k < steps.n; ++k) {
+    float t, len_ref;
+    steps.at(k, jitter, t, len_ref);
+    const float f = v.volume.sample(0, iv.region, ray.at(t));
+    ++s.samples;
+    if (is_nan(f)) {  // outside the volume's data (e.g. beyond every cell's support)
+      s.prev.valid = false;
+      continue;
+    }
+    take_sample(v, ray, iv.region, t, iv.t1, f, len_ref, s);
+    if (s.acc.opaque()) return;
+  }
+}
+
+template <typename V>
+VS_HOST_DEVICE inline RayState trace_ray(const FrameView<V>& v, const vec3f& org_w, const vec3f& dir_w, float jitter) {
+  Ray ray;
+  ray.org_w = org_w;
+  ray.dir_w = dir_w;
+  ray.org = (org_w - v.grid.origin) * v.grid.inv_cell_size;
+  ray.dir = dir_w * v.grid.inv_cell_size;
+  ray.dir_len = length(ray.dir);
+  RayState s;
+  v.volume.for_each_interval(ray.org, ray.dir, [&](const RayInterval& iv) {
+    march_interval(v, ray, iv, jitter, s);
+    return !s.acc.opaque();
+  });
+  if (v.settings.iso_count > 0 && !s.acc.opaque()) close_interval(v, ray, s);
+  return s;
+}
+
+}  // namespace detail
+
+// Renders pixel (x, y) into v.rgba (and v.sample_counts when given).
+template <typename V>
+VS_HOST_DEVICE inline void render_pixel(const FrameView<V>& v, uint32_t x, uint32_t y) {
+  const IntegratorSettings& st = v.settings;
+  const uint32_t spp = st.spp > 0 ? st.spp : 1u;
+  const uint32_t pixel = y * v.width + x;
+  // Per-pixel random offsets, shifted per ray by low-discrepancy sequences (R2 on the pixel,
+  // golden ratio in depth), so several rays per pixel stratify instead of clumping.
+  const float rx = detail::hash_unit(x, y, st.seed * 3u + 1u), ry = detail::hash_unit(x, y, st.seed * 3u + 2u);
+  const float rz = detail::hash_unit(x, y, st.seed * 3u + 3u);
+  vec3f color{0.f, 0.f, 0.f};
+  float alpha = 0.f;
+  uint32_t samples = 0;
+  for (uint32_t i = 0; i < spp; ++i) {
+    const float sx = spp > 1 ? detail::fract(rx + 0.7548776662f * float(i)) : 0.5f;
+    const float sy = spp > 1 ? detail::fract(ry + 0.5698402910f * float(i)) : 0.5f;
+    float jitter = st.jitter ? detail::fract(rz + 0.6180339887f * float(i)) : 0.5f;
+    jitter = kFaceInset + (1.f - 2.f * kFaceInset) * jitter;  // never exactly on a region face
+    vec3f org, dir;
+    v.camera.ray(float(x) + sx, float(y) + sy, org, dir);
+    const detail::RayState s = detail::trace_ray(v, org, dir, jitter);
+    color = color + s.acc.color;
+    alpha += s.acc.alpha();
+    samples += s.samples;
+  }
+  const float inv = 1.f / float(spp);
+  float* out = v.rgba + 4 * size_t(pixel);
+  out[0] = color.x * inv;
+  out[1] = color.y * inv;
+  out[2] = color.z * inv;
+  out[3] = alpha * inv;
+  if (v.sample_counts) v.sample_counts[pixel] = samples;
+}
+
+}  // namespace vs

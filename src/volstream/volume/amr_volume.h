@@ -1,0 +1,56 @@
+// AMR through active brick regions (paper 000): the regions are the ABRs, found front to back by
+// the refit BVH (culled ABRs have empty boxes and are never hit), and fields are reconstructed
+// with the tent basis over each ABR's bricks only (amr/sampler.h).
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "volstream/accel/bvh_traverse.h"
+#include "volstream/amr/model.h"
+#include "volstream/amr/sampler.h"
+#include "volstream/volume/volume.h"
+
+namespace vs {
+
+struct AmrVolume {
+  AmrView amr;                                   // topology (amr.values unused: see fields)
+  const float* fields[kVolumeFields] = {};       // device order; fields[1] may be null
+  const BvhNode* nodes = nullptr;                // refit BVH: visible ABRs only
+  uint32_t node_count = 0;
+  const BvhNode* all_nodes = nullptr;            // template BVH over all ABRs: point location
+  uint32_t all_node_count = 0;
+
+  VS_HOST_DEVICE float sample(int field, uint32_t abr, const vec3f& p) const {
+    AmrView v = amr;
+    v.values = fields[field];
+    return sample_abr(v, abr, p);
+  }
+  VS_HOST_DEVICE int64_t locate(const vec3f& p) const {
+    return bvh_locate(all_nodes, all_node_count, [&](uint32_t i) { return amr.abrs[i].box; }, p);
+  }
+  VS_HOST_DEVICE float sample_near(int field, uint32_t abr, const vec3f& p) const {
+    if (amr.abrs[abr].box.contains(p)) return sample(field, abr, p);
+    const int64_t other = locate(p);
+    return other < 0 ? NAN : sample(field, uint32_t(other), p);
+  }
+  VS_HOST_DEVICE float step_width(uint32_t abr) const { return amr.abrs[abr].finest_width; }
+
+  // ABR segments come K at a time from one traversal (bvh_next_leaves), front to back.
+  template <typename Visit>
+  VS_HOST_DEVICE void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
+    const SlabRay slab(org, dir);
+    constexpr int kBatch = 16;
+    LeafHit hits[kBatch];
+    float t = 0.f;
+    for (;;) {
+      const int n = bvh_next_leaves<kBatch>(nodes, node_count, slab, t, INFINITY, hits);
+      for (int i = 0; i < n; ++i)
+        if (!visit(RayInterval{hits[i].item, hits[i].t0, hits[i].t1})) return;
+      if (n < kBatch) return;
+      t = hits[kBatch - 1].t1;
+    }
+  }
+};
+static_assert(Volume<AmrVolume>);
+
+}  // namespace vs

@@ -19,8 +19,8 @@
 #include "volstream/accel/refit.h"
 #include "volstream/amr/ranges.h"
 #include "volstream/io/dataset.h"
-#include "volstream/render/renderer.h"
-#include "volstream/render/transfer_function.h"
+#include "volstream/render/integrators/abr_renderer.h"
+#include "volstream/render/optics/transfer_function.h"
 
 namespace {
 

@@ -103,8 +103,8 @@ LevelResult run_level(const Dataset& ds, const RenderPlan& r, const std::vector<
   res.level = level;
   if (!keep_cache) res.cache = drop_cache(files);
   HashingSink sink(r.background);
-  RendererStages stages(ds, r.setup, &sink);
-  Pipeline pipeline(ds, r.field, PipelineFlags::at(level), stages, &timeline);
+  RendererStages stages(ds, r.setup(), &sink);
+  Pipeline pipeline(ds, r.request.field, PipelineFlags::at(level), stages, &timeline);
   res.stats = pipeline.play(steps);
   for (const StageSummary& s : summarize(timeline.events())) {
     res.stage_ms[int(s.stage)] = s.total_ms / std::max(res.stats.frames, 1);
@@ -136,13 +136,14 @@ void run_bench_stream(const BenchStreamArgs& a) {
   const RenderPlan r = make_stream_render_plan(a.render, ds);
   std::vector<std::filesystem::path> files;
   for (int s : std::set<int>(steps.begin(), steps.end())) {
-    files.push_back(ds.values_path(r.field, s));
-    if (ds.has_file_order()) files.push_back(ds.file_order_values_path(r.field, s));  // the baseline levels read these
+    files.push_back(ds.values_path(r.request.field, s));
+    if (ds.has_file_order()) files.push_back(ds.file_order_values_path(r.request.field, s));  // the baseline levels read these
   }
 
-  const auto& fs = r.setup.settings;
+  const stream::RenderSetup setup = r.setup();
+  const auto& fs = setup.settings;
   std::printf("bench stream: %s, field %s, %zu frames, %ux%u on %s, %.1f MiB per step\n", a.dir.c_str(),
-              ds.manifest().fields[size_t(r.field)].name.c_str(), steps.size(), fs.width, fs.height, to_string(r.setup.device),
+              ds.manifest().fields[size_t(r.request.field)].name.c_str(), steps.size(), fs.width, fs.height, to_string(setup.device),
               double(ds.manifest().cell_count) * 4 / (1 << 20));
   const CacheState before = drop_cache(files);
   bool direct = false;
@@ -160,8 +161,8 @@ void run_bench_stream(const BenchStreamArgs& a) {
                                   : "identity gather (no file-order copy: demo/convert --file-order writes one)");
   {  // warm-up: thread pool, page tables and caches of the topology, off the record
     HashingSink sink(r.background);
-    RendererStages stages(ds, r.setup, &sink);
-    Pipeline(ds, r.field, PipelineFlags::at(Level::baseline), stages, nullptr).play({steps.front()});
+    RendererStages stages(ds, r.setup(), &sink);
+    Pipeline(ds, r.request.field, PipelineFlags::at(Level::baseline), stages, nullptr).play({steps.front()});
   }
   std::vector<std::unique_ptr<Timeline>> timelines;
   std::vector<LevelResult> results;

@@ -29,7 +29,7 @@ struct PlayArgs {
 std::unique_ptr<FrameWriter> make_writer(const PlayArgs& a, const RenderPlan& r) {
   if (a.output.empty()) return nullptr;
   if (is_video_path(a.output))
-    return std::make_unique<VideoWriter>(a.output, r.setup.settings.width, r.setup.settings.height, a.fps, r.background);
+    return std::make_unique<VideoWriter>(a.output, r.request.width, r.request.height, a.fps, r.background);
   return std::make_unique<PngSequenceWriter>(a.output, r.background);
 }
 
@@ -74,9 +74,9 @@ void run_play(const PlayArgs& a) {
 
   const RenderPlan render = make_stream_render_plan(a.render, ds);
   std::unique_ptr<FrameWriter> writer = make_writer(a, render);
-  RendererStages stages(ds, render.setup, writer.get());
+  RendererStages stages(ds, render.setup(), writer.get());
   Timeline timeline(std::string("play ") + level_name(level));
-  Pipeline pipeline(ds, render.field, PipelineFlags::at(level), stages, &timeline);
+  Pipeline pipeline(ds, render.request.field, PipelineFlags::at(level), stages, &timeline);
 
   Progress progress("playing", steps.size(), !a.quiet, "frame");
   const auto start = std::chrono::steady_clock::now();

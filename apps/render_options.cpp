@@ -6,6 +6,7 @@
 
 #include "parse_util.h"
 #include "volstream/core/error.h"
+#include "volstream/frame/look.h"
 
 namespace vs::cli {
 
@@ -63,104 +64,69 @@ void add_render_options(CLI::App* cmd, RenderOptions& o, RenderContext context) 
   cmd->add_option("--device", o.device, stream ? "auto | cpu | cuda (cuda: each step is uploaded; ranges, refit and render run on the GPU)"
                                          : "auto | cpu | cuda")
       ->capture_default_str();
+  if (!stream) add_integrator_options(cmd, o);
+}
+
+void add_integrator_options(CLI::App* cmd, RenderOptions& o) {
+  cmd->add_option("--integrator", o.integrator,
+                  "abr: paper 000's ABRs with the tent basis and empty-space skipping; blocks: paper 004's kd-tree "
+                  "block raycaster; auto: blocks for --optics blackbody (the paper's pairing), else abr")
+      ->check(CLI::IsMember({"auto", "abr", "blocks"}))
+      ->capture_default_str();
+  cmd->add_option("--reconstruction", o.reconstruction,
+                  "blocks: nearest (the cell's value) or trilinear (vertex values shared between blocks); isosurfaces "
+                  "need trilinear (nearest is piecewise constant: no surface to find between cells)")
+      ->check(CLI::IsMember({"nearest", "trilinear"}))
+      ->capture_default_str();
+  cmd->add_option("--optics", o.optics,
+                  "tf: transfer function; blackbody: emission of a blackbody at --temperature-field through Johnson "
+                  "R,V,B filters scaled by density, Rayleigh absorption (paper 004; either integrator)")
+      ->check(CLI::IsMember({"tf", "blackbody"}))
+      ->capture_default_str();
+  cmd->add_option("--temperature-field", o.temperature_field, "blackbody: temperature field (K)")->capture_default_str();
+  cmd->add_option("--absorption", o.absorption, "blackbody: Rayleigh extinction (V band) per unit distance at max density")
+      ->capture_default_str();
+  cmd->add_option("--emission", o.emission, "blackbody: emission per unit distance at max density")->capture_default_str();
+  cmd->add_option("--density-scale", o.density_scale,
+                  "blackbody: how density is normalised: linear (rho / max rho, paper 004), log (its log10 position "
+                  "over the value range, 7 decades below the max unless --range/--log give one) or auto (the transfer "
+                  "function's scale: log for the cosmo demo's look and --log, else linear)")
+      ->check(CLI::IsMember({"auto", "linear", "log"}))
+      ->capture_default_str();
+  cmd->add_option("--emission-power", o.emission_power,
+                  "blackbody: emission ~ normalised density^P (default: 1 for a linear density scale, 4 for a log one)");
 }
 
 namespace {
 
-// Built-in demos have a field and a look that show them well; other datasets: the first field.
-struct Look {
-  std::string field, color_map;
-  float log_decades = 0;              // > 0: log scale over [hi / 10^decades, hi]
-  std::vector<OpacityPoint> opacity;  // normalised positions; empty: default ramp
-};
-Look default_look(const DatasetManifest& m) {
-  if (m.field_index("vorticity") >= 0)  // jet: body, wingtip vortices and the vortex street
-    return {"vorticity", "inferno", 3.2f, {{0.15f, 0.f}, {0.46f, 0.01f}, {0.77f, 0.03f}, {0.93f, 0.4f}, {1.f, 0.9f}}};
-  if (m.field_index("density") >= 0)  // cosmo: filaments and clumps over many decades
-    return {"density", "inferno", 7.f, {{0.19f, 0.f}, {0.29f, 0.03f}, {0.43f, 0.1f}, {0.72f, 0.5f}, {1.f, 0.9f}}};
-  return {m.fields.at(0).name, "viridis", 0.f, {}};
-}
-
-int field_or_throw(const Dataset& ds, const std::string& name) {
-  const int f = ds.manifest().field_index(name);
-  if (f < 0) throw UsageError("no field '" + name + "' in " + ds.dir().string());
-  return f;
-}
-
-// The union of a field's ranges over the steps (callers have checked the steps).
-Range union_range(const FieldInfo& f, const std::vector<int>& steps) {
-  Range r{INFINITY, -INFINITY};
-  for (int s : steps) {
-    const Range& x = f.step_ranges.at(size_t(s));
-    r = {std::min(r.lo, x.lo), std::max(r.hi, x.hi)};
-  }
-  return r;
-}
-
-// Value range: --range, else `r` (the look's decades below its maximum on a log scale). On a log
-// scale the lower end must be positive: it becomes hi * 1e-6 when the data reach down to zero.
-void value_range(const RenderOptions& o, Range r, float decades, TransferFunctionSpec& spec) {
-  if (!o.range.empty()) {
-    const auto v = parse_numbers(o.range, "--range");
-    if (v.size() != 2 || !(v[0] < v[1])) throw UsageError("--range expects LO,HI with LO < HI");
-    r = {float(v[0]), float(v[1])};
-  } else if (spec.log_scale && decades > 0 && r.hi > 0) {
-    r.lo = std::max(r.lo, r.hi * std::pow(10.f, -decades));
-  }
-  if (!(r.lo <= r.hi)) r = {0.f, 1.f};  // a field with no finite value
-  if (spec.log_scale && !(r.hi > 0)) throw UsageError("--log: the value range has no positive values");
-  if (spec.log_scale && !(r.lo > 0)) r.lo = r.hi * 1e-6f;
-  spec.lo = r.lo;
-  spec.hi = r.hi;
-}
-
-// --tf NAME | FILE.json: colours (and a ParaView preset's opacity points, when it has any).
-void colors_from(const std::string& tf, TransferFunctionSpec& spec) {
-  if (tf.size() > 5 && tf.substr(tf.size() - 5) == ".json") {
-    const ParaviewColorMap cm = load_paraview_color_map(tf);
-    spec.colors = cm.colors;
-    if (spec.opacity.empty()) spec.opacity = cm.opacity;
-    return;
-  }
-  spec.colors = builtin_color_map(tf);
-  if (spec.colors.empty()) {
-    std::string names = "auto";
-    for (const auto& n : builtin_color_map_names()) names += ", " + n;
-    throw UsageError("unknown transfer function '" + tf + "' (" + names + ", or a ParaView .json file)");
-  }
-}
-
-// --opacity V:A,... with V in data units (also with --log) and A in [0, 1].
-std::vector<OpacityPoint> parse_opacity(const std::string& text, const TransferFunctionSpec& spec) {
-  std::vector<OpacityPoint> pts;
+// --opacity V:A,... with V in data units (also with --log).
+std::vector<std::pair<double, double>> parse_opacity(const std::string& text) {
+  std::vector<std::pair<double, double>> pts;
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ',')) {
     const auto colon = item.find(':');
     if (colon == std::string::npos) throw UsageError("--opacity expects VALUE:ALPHA pairs, got '" + item + "'");
-    const double v = parse_numbers(item.substr(0, colon), "--opacity").at(0);
-    const double alpha = parse_numbers(item.substr(colon + 1), "--opacity").at(0);
-    if (alpha < 0 || alpha > 1) throw UsageError("--opacity: alpha must be in [0, 1]");
-    const float x = normalised_position(spec, v);
-    if (std::isnan(x)) throw UsageError("--opacity: value " + item.substr(0, colon) + " is not positive (--log)");
-    pts.push_back({x, float(alpha)});
+    pts.emplace_back(parse_numbers(item.substr(0, colon), "--opacity").at(0),
+                     parse_numbers(item.substr(colon + 1), "--opacity").at(0));
   }
-  std::sort(pts.begin(), pts.end(), [](const OpacityPoint& a, const OpacityPoint& b) { return a.x < b.x; });
   return pts;
 }
 
-// The world box of the leaf cells (what AmrRenderer::world_bounds gives, without building a BVH).
-Box3<double> world_bounds(const Dataset& ds) {
-  Box3<double> b{vec3d(INFINITY), vec3d(-INFINITY)};
-  const WorldTransform& t = ds.manifest().transform;
-  for (const Brick& br : ds.topology().bricks) {
-    const box3i c = br.cell_box();
-    b.extend(t.to_world(vec3d(c.lower)));
-    b.extend(t.to_world(vec3d(c.upper)));
+TransferFunctionRequest transfer_function_request(const RenderOptions& o) {
+  TransferFunctionRequest t;
+  t.color_map = o.tf;
+  t.log = o.log;
+  if (!o.range.empty()) {
+    const auto v = parse_numbers(o.range, "--range");
+    if (v.size() != 2) throw UsageError("--range expects LO,HI with LO < HI");
+    t.range = Range{float(v[0]), float(v[1])};
   }
-  if (b.empty()) b = {vec3d(0), vec3d(1)};
-  return b;
+  if (!o.opacity.empty()) t.opacity = parse_opacity(o.opacity);
+  return t;
 }
+
+std::string dataset_name(const Dataset& ds) { return ds.dir().string(); }
 
 }  // namespace
 
@@ -174,25 +140,8 @@ void parse_size(const std::string& text, uint32_t& w, uint32_t& h) {
 }
 
 int render_field(const RenderOptions& o, const Dataset& ds) {
-  if (!o.field.empty()) return field_or_throw(ds, o.field);
-  return o.field_from_look ? field_or_throw(ds, default_look(ds.manifest()).field) : 0;
-}
-
-TransferFunctionSpec make_transfer_function(const RenderOptions& o, const Dataset& ds, int field,
-                                            const std::vector<int>& range_steps) {
-  const DatasetManifest& m = ds.manifest();
-  const Look look = default_look(m);
-  const bool demo_look = m.fields.at(size_t(field)).name == look.field;
-  const bool use_look = demo_look && o.tf == "auto";
-  TransferFunctionSpec spec;
-  spec.log_scale = o.log || (use_look && look.log_decades > 0);
-  value_range(o, union_range(m.fields[size_t(field)], range_steps), use_look ? look.log_decades : 0.f, spec);
-  if (!o.opacity.empty())
-    spec.opacity = parse_opacity(o.opacity, spec);
-  else if (use_look)
-    spec.opacity = look.opacity;
-  colors_from(o.tf == "auto" ? (demo_look ? look.color_map : "viridis") : o.tf, spec);
-  return spec;
+  if (!o.field.empty()) return field_or_throw(ds.manifest(), o.field, dataset_name(ds));
+  return o.field_from_look ? field_or_throw(ds.manifest(), default_look(ds.manifest()).field, dataset_name(ds)) : 0;
 }
 
 IntegratorSettings make_integrator_settings(const RenderOptions& o) {
@@ -216,17 +165,8 @@ IntegratorSettings make_integrator_settings(const RenderOptions& o) {
   return s;
 }
 
-FrameSettings make_frame_settings(const RenderOptions& o) {
-  FrameSettings fs;
-  parse_size(o.size, fs.width, fs.height);
-  fs.integrator = make_integrator_settings(o);
-  fs.skip = !o.no_skip;
-  fs.brick_ranges = o.brick_ranges;
-  return fs;
-}
-
 Camera make_camera(const RenderOptions& o, const Dataset& ds, uint32_t width, uint32_t height) {
-  Camera c = default_camera(world_bounds(ds), double(width) / height);
+  Camera c = default_view(ds, width, height);
   if (!o.camera_at.empty()) c.look_at = parse_vec3(o.camera_at, "--camera-at");
   if (!o.camera_pos.empty()) c.position = parse_vec3(o.camera_pos, "--camera-pos");
   if (!o.camera_up.empty()) c.up = parse_vec3(o.camera_up, "--camera-up");
@@ -237,26 +177,44 @@ Camera make_camera(const RenderOptions& o, const Dataset& ds, uint32_t width, ui
   return c;
 }
 
+namespace {
+
+void apply_integrator_options(const RenderOptions& o, const Dataset& ds, FrameRequest& r) {
+  const bool blackbody = o.optics == "blackbody";
+  r.kind = o.integrator == "blocks" || (o.integrator == "auto" && blackbody) ? IntegratorKind::blocks : IntegratorKind::abr;
+  r.reconstruction = o.reconstruction == "nearest" ? Reconstruction::nearest : Reconstruction::trilinear;
+  if (r.kind == IntegratorKind::blocks && r.reconstruction == Reconstruction::nearest && r.integrator.iso_count > 0)
+    throw UsageError("--iso with --integrator blocks needs --reconstruction trilinear (nearest has no surface between cells)");
+  if (!blackbody) return;
+  if (!o.color_field.empty()) throw UsageError("--color-field: not with --optics blackbody (the second field is the temperature)");
+  r.optics = OpticsKind::blackbody;
+  r.second_field = ds.manifest().field_index(o.temperature_field);
+  if (r.second_field < 0) throw UsageError("no temperature field '" + o.temperature_field + "' (--temperature-field)");
+  r.blackbody = make_blackbody_params(r.tf, parse_density_scale(o.density_scale), o.emission,
+                                      o.absorption, o.emission_power);
+}
+
+}  // namespace
+
 RenderPlan make_render_plan(const RenderOptions& o, const Dataset& ds, const std::vector<int>& range_steps) {
   const DatasetManifest& m = ds.manifest();
   RenderPlan p;
-  p.field = render_field(o, ds);
-  p.setup.tf = make_transfer_function(o, ds, p.field, range_steps);
-  p.setup.settings = make_frame_settings(o);
-  p.setup.camera = make_camera(o, ds, p.setup.settings.width, p.setup.settings.height);
-  p.setup.device = resolve_device(o.device);
+  FrameRequest& r = p.request;
+  r.field = render_field(o, ds);
+  r.tf = make_transfer_function(m, r.field, range_steps, transfer_function_request(o));
+  parse_size(o.size, r.width, r.height);
+  r.integrator = make_integrator_settings(o);
+  r.skip = !o.no_skip;
+  r.range_mode = o.brick_ranges ? RangeMode::per_brick : RangeMode::tight;
+  r.stored_ranges = o.stored_ranges;
+  r.camera = make_camera(o, ds, r.width, r.height);
   p.background = vec3f(parse_vec3(o.background, "--background"));
   if (!o.color_field.empty()) {
-    p.color_field = field_or_throw(ds, o.color_field);
-    TransferFunctionSpec& c = p.color_tf;
-    c = p.setup.tf;  // the same colours, over the colour field's own range
-    c.log_scale = o.log;
-    Range r = union_range(m.fields[size_t(p.color_field)], range_steps);
-    if (!(r.lo <= r.hi)) r = {0.f, 1.f};
-    if (c.log_scale && !(r.lo > 0)) r.lo = r.hi * 1e-6f;
-    c.lo = r.lo;
-    c.hi = r.hi;
+    r.second_field = field_or_throw(m, o.color_field, dataset_name(ds));
+    r.color_tf = make_color_field_transfer_function(m, r.second_field, range_steps, r.tf, o.log);
   }
+  apply_integrator_options(o, ds, r);
+  p.device = resolve_device(o.device);
   return p;
 }
 
@@ -269,6 +227,19 @@ RenderPlan make_stream_render_plan(const RenderOptions& o, const Dataset& ds) {
   std::vector<int> all(size_t(ds.manifest().step_count()));
   for (size_t s = 0; s < all.size(); ++s) all[s] = int(s);
   return make_render_plan(o, ds, all);
+}
+
+stream::RenderSetup RenderPlan::setup() const {
+  stream::RenderSetup s;
+  s.tf = request.tf;
+  s.settings.width = request.width;
+  s.settings.height = request.height;
+  s.settings.integrator = request.integrator;
+  s.settings.skip = request.skip;
+  s.settings.brick_ranges = request.range_mode == RangeMode::per_brick;
+  s.camera = request.camera;
+  s.device = device;
+  return s;
 }
 
 }  // namespace vs::cli

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "volstream/io/dataset.h"
-#include "volstream/render/integrators/abr_renderer.h"
+#include "volstream/frame/frame_renderer.h"
 #include "volstream/stream/render_stages.h"
 
 namespace vs::cli {
@@ -24,6 +24,10 @@ struct RenderOptions {
   double fov = 35, rate = 2, iso_alpha = 1, unit_distance = 0;
   bool log = false, ortho = false, no_skip = false, no_adaptive = false, no_jitter = false, shade = false;
   bool stored_ranges = false, alpha = false, brick_ranges = false;
+  // Integrator and optics (render only; paper 004's block raycaster and blackbody model).
+  std::string integrator = "auto", reconstruction = "trilinear", optics = "tf", temperature_field = "temperature";
+  std::string density_scale = "auto";  // auto (the transfer function's scale), linear or log
+  double absorption = 0.25, emission = 4, emission_power = 0;  // power 0: 1 linear, 4 log
   // Not an option: with no --field, render the built-in demo's look field (vorticity, density:
   // render) or the dataset's first field (play, bench: their frames stay what they were).
   bool field_from_look = true;
@@ -37,16 +41,18 @@ RenderOptions stream_render_defaults();
 enum class RenderContext { image, stream };
 
 // Registers every render option on `cmd`; the values in `o` are the defaults --help shows.
-// `context` only changes help texts (e.g. what the default range is).
+// `context` changes help texts (e.g. what the default range is); the integrator and optics
+// options are registered for images only (the pipeline streams one field per step).
 void add_render_options(CLI::App* cmd, RenderOptions& o, RenderContext context);
+void add_integrator_options(CLI::App* cmd, RenderOptions& o);
 
-// Everything a frame needs, fixed for a whole animation.
+// Everything a frame needs, parsed and checked: the library's request plus what only the output
+// needs.
 struct RenderPlan {
-  int field = 0;
-  stream::RenderSetup setup;          // transfer function, frame settings, camera, device
-  vec3f background;                   // --background (sRGB, as the image writers take it)
-  int color_field = -1;               // --color-field (-1: none)
-  TransferFunctionSpec color_tf;      // its colours over its own range
+  FrameRequest request;
+  vec3f background;  // --background (sRGB, as the image writers take it)
+  Device device = Device::cpu;  // --device
+  stream::RenderSetup setup() const;  // what the streaming stages take
 };
 
 // Checks every option and builds the plan. The transfer function's default range (and the
@@ -60,10 +66,7 @@ RenderPlan make_stream_render_plan(const RenderOptions& o, const Dataset& datase
 // The parts, for callers that need only one.
 void parse_size(const std::string& text, uint32_t& width, uint32_t& height);  // WxH, 1..16384
 int render_field(const RenderOptions& o, const Dataset& dataset);  // --field, else see field_from_look
-TransferFunctionSpec make_transfer_function(const RenderOptions& o, const Dataset& dataset, int field,
-                                            const std::vector<int>& range_steps);
 IntegratorSettings make_integrator_settings(const RenderOptions& o);
-FrameSettings make_frame_settings(const RenderOptions& o);
 Camera make_camera(const RenderOptions& o, const Dataset& dataset, uint32_t width, uint32_t height);
 
 }  // namespace vs::cli

@@ -8,8 +8,8 @@
 #include <cstring>
 #include <filesystem>
 
-#include "volstream/amr/ranges.h"
 #include "volstream/core/error.h"
+#include "volstream/cuda/backend.h"
 
 namespace vs::stream {
 
@@ -140,60 +140,41 @@ class GpuValueStore : public ValueStore {
  private:
   cuda::DeviceValueBuffers buffers_;
 };
+
+FrameRequest stream_request(const RenderSetup& setup) {
+  FrameRequest r;
+  r.tf = setup.tf;
+  r.camera = setup.camera;
+  r.width = setup.settings.width;
+  r.height = setup.settings.height;
+  r.integrator = setup.settings.integrator;
+  r.skip = setup.settings.skip;
+  r.range_mode = setup.settings.brick_ranges ? RangeMode::per_brick : RangeMode::tight;
+  return r;
+}
 }  // namespace
 
 RendererStages::RendererStages(const Dataset& dataset, const RenderSetup& setup, FrameWriter* writer)
-    : dataset_(dataset), setup_(setup), tf_(setup.tf), writer_(writer),
-      // The BVH template is built once before the first frame (paper 000, section 5.6).
-      renderer_(std::make_unique<AmrRenderer>(dataset.topology(), dataset.manifest().transform)) {
-  if (setup_.device == Device::cuda) {
-    scene_ = std::make_unique<cuda::DeviceScene>(dataset.topology());
-    scene_->set_bvh(renderer_->template_bvh().nodes);
-  } else {
-    macro_offset_ = macrocell_offsets(dataset.topology().bricks);
-  }
+    : dataset_(dataset), request_(stream_request(setup)), writer_(writer), renderer_(dataset, setup.device) {
+  // The BVH template is built once before the first frame (paper 000, section 5.6).
+  renderer_.refit(request_, true);
 }
 
 RendererStages::~RendererStages() = default;
 
 std::unique_ptr<ValueStore> RendererStages::make_value_store(int count, uint64_t bytes_each) {
-  if (!scene_) return make_host_value_store(count, bytes_each);
+  if (renderer_.device() != Device::cuda) return make_host_value_store(count, bytes_each);
   return std::make_unique<GpuValueStore>(count, dataset_.manifest().cell_count);
 }
 
 void RendererStages::ranges(const FrameData& frame) {
-  if (scene_)
-    scene_->compute_ranges(frame.values);
-  else
-    abr_ranges_ = compute_abr_ranges(dataset_.topology(), frame.values, &macro_offset_,
-                                     setup_.settings.brick_ranges ? RangeMode::per_brick : RangeMode::tight);
+  renderer_.use_values(frame.values);
+  renderer_.compute_ranges(request_);
 }
 
-void RendererStages::refit(const FrameData&, bool rebuild) {
-  // The renderer builds its BVH over all ABRs on construction, so constructing it anew is the
-  // from-scratch rebuild; the refit levels keep it and only refit (paper 000, section 5.6).
-  if (rebuild) {
-    renderer_ = std::make_unique<AmrRenderer>(dataset_.topology(), dataset_.manifest().transform);
-    if (scene_) scene_->set_bvh(renderer_->template_bvh().nodes);
-  }
-  const FrameSettings& fs = setup_.settings;
-  visible_ = scene_ ? scene_->classify_and_refit(tf_, fs.integrator, fs.skip)
-                    : renderer_->classify(abr_ranges_, tf_, fs.integrator, fs.skip);
-}
+void RendererStages::refit(const FrameData&, bool rebuild) { renderer_.refit(request_, rebuild); }
 
-void RendererStages::render(const FrameData& frame) {
-  const FrameSettings& fs = setup_.settings;
-  if (!scene_) {
-    image_ = renderer_->render(Device::cpu, frame.values, tf_, nullptr, nullptr, setup_.camera, fs);
-    return;
-  }
-  image_ = Image(fs.width, fs.height);
-  OpticsView optics;
-  optics.tf = tf_.view();
-  FrameView<AmrVolume> view = renderer_->view({frame.values, nullptr}, optics, nullptr, setup_.camera, fs);
-  view.rgba = image_.rgba.data();
-  scene_->render(view, frame.values, nullptr);
-}
+void RendererStages::render(const FrameData&) { image_ = renderer_.render_image(request_); }
 
 void RendererStages::output(const FrameData& frame) {
   if (writer_) writer_->write(image_, frame.frame, frame.step);

@@ -8,10 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "volstream/cuda/backend.h"
+#include "volstream/frame/frame_renderer.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/image.h"
-#include "volstream/render/integrators/abr_renderer.h"
 #include "volstream/stream/pipeline.h"
 
 namespace vs::stream {
@@ -64,11 +63,12 @@ struct RenderSetup {
   Device device = Device::cpu;
 };
 
-// ranges: per-ABR value ranges (amr/ranges.h); refit: classify the ABRs from them and refit the
-// BVH template; a rebuild builds the renderer's BVH from scratch first (what the levels before
-// `refit` pay every frame); render: one image; output: hands it to the writer (if any).
-// On CUDA the values live in GPU memory and ranges, classification, refit and render run there
-// (cuda::DeviceScene); only the BVH build and the image cross the bus.
+// The stages through the library's FrameRenderer (frame/frame_renderer.h): ranges: per-ABR
+// value ranges of the values the pipeline read (and uploaded); refit: classify the ABRs from
+// them and refit the BVH template; a rebuild builds the BVH from scratch first (what the levels
+// before `refit` pay every frame); render: one image; output: hands it to the writer (if any).
+// On CUDA the values live in GPU memory and ranges, classification, refit and render run there;
+// only the BVH build and the image cross the bus.
 class RendererStages : public FrameStages {
  public:
   RendererStages(const Dataset& dataset, const RenderSetup& setup, FrameWriter* writer);
@@ -79,21 +79,16 @@ class RendererStages : public FrameStages {
   void render(const FrameData& frame) override;
   void output(const FrameData& frame) override;
   const Image& image() const { return image_; }
-  uint64_t visible_abrs() const { return visible_; }
+  uint64_t visible_abrs() const { return renderer_.visible_regions(); }
   // Called after each frame's output with its image (tests and benchmarks compare frames).
   std::function<void(const FrameData&, const Image&)> on_image;
 
  private:
   const Dataset& dataset_;
-  RenderSetup setup_;
-  TransferTable tf_;
+  FrameRequest request_;
   FrameWriter* writer_;
-  std::unique_ptr<AmrRenderer> renderer_;
-  std::unique_ptr<cuda::DeviceScene> scene_;  // CUDA only
-  std::vector<Range> abr_ranges_;             // CPU only
-  std::vector<uint64_t> macro_offset_;        // CPU only: amr/ranges.h
+  FrameRenderer renderer_;
   Image image_;
-  uint64_t visible_ = 0;
 };
 
 }  // namespace vs::stream

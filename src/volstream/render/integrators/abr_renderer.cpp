@@ -66,13 +66,20 @@ uint64_t AmrRenderer::classify(const std::vector<Range>& abr_ranges, const Trans
     visible = uint64_t(std::count(keep.begin(), keep.end(), uint8_t(1)));
   }
   const double classify_s = watch.lap();
-  refit_bvh(nodes_, abr_boxes_, keep);
-  if (stats) {
-    stats->classify_seconds = classify_s;
-    stats->refit_seconds = watch.seconds();
-    stats->visible_abrs = visible;
-  }
+  refit(keep, stats);
+  if (stats) stats->classify_seconds = classify_s;
   return visible;
+}
+
+uint64_t AmrRenderer::refit(const std::vector<uint8_t>& keep, FrameStats* stats) {
+  Stopwatch watch;
+  refit_bvh(nodes_, abr_boxes_, keep);
+  const uint64_t visible = keep.empty() ? keep.size() : uint64_t(std::count(keep.begin(), keep.end(), uint8_t(1)));
+  if (stats) {
+    stats->refit_seconds = watch.seconds();
+    stats->visible_abrs = keep.empty() ? topology_.abrs.size() : visible;
+  }
+  return keep.empty() ? topology_.abrs.size() : visible;
 }
 
 Box3<double> AmrRenderer::world_bounds() const { return vs::world_bounds(topology_, transform_); }

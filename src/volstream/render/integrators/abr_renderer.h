@@ -67,6 +67,9 @@ class AmrRenderer {
   uint64_t classify(const std::vector<Range>& abr_ranges, const TransferTable& tf, const IntegratorSettings& iso,
                     bool skip, FrameStats* stats = nullptr);
 
+  // Refits the BVH to the ABRs with keep[i] != 0 (empty: all). Returns visible ABRs.
+  uint64_t refit(const std::vector<uint8_t>& keep, FrameStats* stats = nullptr);
+
   // The kernel view with host pointers (outputs left null). color_tf: colour the isosurfaces by
   // fields.second (else null).
   FrameView<AmrVolume> view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,

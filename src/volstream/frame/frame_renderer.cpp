@@ -1,0 +1,351 @@
+#include "volstream/frame/frame_renderer.h"
+
+#include <cmath>
+#include <numeric>
+
+#include "volstream/backend/stopwatch.h"
+#include "volstream/core/error.h"
+#include "volstream/cuda/backend.h"
+#include "volstream/frame/look.h"
+
+namespace vs {
+namespace {
+
+bool same_spec(const TransferFunctionSpec& a, const TransferFunctionSpec& b) {
+  auto same_colors = [](const std::vector<ColorPoint>& x, const std::vector<ColorPoint>& y) {
+    return std::equal(x.begin(), x.end(), y.begin(), y.end(), [](const ColorPoint& p, const ColorPoint& q) {
+      return p.x == q.x && p.r == q.r && p.g == q.g && p.b == q.b;
+    });
+  };
+  auto same_opacity = [](const std::vector<OpacityPoint>& x, const std::vector<OpacityPoint>& y) {
+    return std::equal(x.begin(), x.end(), y.begin(), y.end(),
+                      [](const OpacityPoint& p, const OpacityPoint& q) { return p.x == q.x && p.a == q.a; });
+  };
+  return a.lo == b.lo && a.hi == b.hi && a.log_scale == b.log_scale && same_colors(a.colors, b.colors) &&
+         same_opacity(a.opacity, b.opacity);
+}
+
+bool same_iso(const IntegratorSettings& a, const IntegratorSettings& b) {
+  if (a.iso_count != b.iso_count) return false;
+  for (uint32_t i = 0; i < a.iso_count && i < kMaxIso; ++i)
+    if (a.iso[i] != b.iso[i]) return false;
+  return true;
+}
+
+// A transfer table rebuilt only when its spec changes.
+struct CachedTable {
+  std::unique_ptr<TransferTable> table;
+  const TransferTable& get(const TransferFunctionSpec& spec) {
+    if (!table || !same_spec(table->spec(), spec)) table = std::make_unique<TransferTable>(spec);
+    return *table;
+  }
+};
+
+// The values of one field at one step: read into host memory (and uploaded on CUDA), or handed
+// over by the streaming pipeline. `generation` changes whenever the values do.
+struct FieldSlot {
+  int field = -1, step = -1;
+  std::vector<float> host;
+  const float* external = nullptr;  // use_values(): host or device memory of the caller
+  uint64_t generation = 0;
+};
+
+// The ABRs where the blackbody model has something to emit or absorb: some density whose
+// normalised value is above 0 (blackbody.h), with a margin for float rounding.
+std::vector<uint8_t> blackbody_keep(const std::vector<Range>& ranges, const FrameRequest& r) {
+  if (!r.skip) return {};
+  const BlackbodyParams& p = r.blackbody;
+  const double threshold = p.log_decades > 0.f ? 0.999 * p.rho_max * std::pow(10.0, -double(p.log_decades)) : 0.0;
+  std::vector<uint8_t> keep(ranges.size());
+  for (size_t i = 0; i < ranges.size(); ++i) keep[i] = ranges[i].lo <= ranges[i].hi && ranges[i].hi > threshold ? 1 : 0;
+  return keep;
+}
+
+}  // namespace
+
+struct FrameRenderer::Impl {
+  const Dataset& dataset;
+  Device device;
+  FieldSlot slots[kVolumeFields];
+  uint64_t next_generation = 1;
+
+  std::unique_ptr<AmrRenderer> abr;
+  std::unique_ptr<cuda::DeviceScene> scene;                // CUDA: topology, BVHs, ranges, image
+  std::unique_ptr<cuda::DeviceValueBuffers> device_values;  // CUDA: one buffer per slot
+  std::vector<uint64_t> macro_offset;                      // CPU ranges (amr/ranges.h)
+  std::vector<Range> ranges;                               // CPU (and stored ranges)
+
+  // What the current ranges and classification were made from (0: nothing yet).
+  uint64_t ranges_generation = 0;
+  RangeMode ranges_mode = RangeMode::tight;
+  bool ranges_stored = false;
+  uint64_t ranges_stamp = 0, classified_stamp = 0;
+  TransferFunctionSpec classified_tf;
+  IntegratorSettings classified_iso;
+  bool classified_skip = true;
+  OpticsKind classified_optics = OpticsKind::tf;
+  BlackbodyParams classified_bb;
+
+  std::unique_ptr<BlockRenderer> blocks;
+  uint64_t block_generation[kVolumeFields] = {};
+  bool block_vertices = false;
+
+  CachedTable tf, color_tf;
+
+  Impl(const Dataset& ds, Device d) : dataset(ds), device(d) {}
+
+  AmrRenderer& abr_renderer() {
+    if (!abr) build_abr();
+    return *abr;
+  }
+  void build_abr() {
+    abr = std::make_unique<AmrRenderer>(dataset.topology(), dataset.manifest().transform);
+    if (device == Device::cuda) {
+      if (!scene) scene = std::make_unique<cuda::DeviceScene>(dataset.topology());
+      scene->set_bvh(abr->template_bvh().nodes);
+    }
+    classified_stamp = 0;  // a fresh BVH is not refit yet
+  }
+
+  // The values of slot s in the memory the kernels read (device memory on CUDA).
+  const float* kernel_values(int s) const {
+    const FieldSlot& slot = slots[s];
+    if (slot.external) return slot.external;
+    if (slot.field < 0) return nullptr;
+    return device == Device::cuda ? device_values->data(s) : slot.host.data();
+  }
+  const float* host_values(int s) const {
+    const FieldSlot& slot = slots[s];
+    if (slot.field < 0) return nullptr;
+    if (slot.external && device == Device::cuda)
+      throw UsageError("the block integrator on CUDA needs the values in host memory (use render, not play)");
+    return slot.external ? slot.external : slot.host.data();
+  }
+
+  void load(int s, int field, int step, FrameTimes& t) {
+    FieldSlot& slot = slots[s];
+    if (field < 0) {
+      slot = {};
+      return;
+    }
+    if (!slot.external && slot.field == field && slot.step == step) return;
+    Stopwatch watch;
+    slot.host = dataset.load_values(field, step);
+    slot.field = field;
+    slot.step = step;
+    slot.external = nullptr;
+    slot.generation = next_generation++;
+    t.read += watch.lap();
+    if (device == Device::cuda) {
+      const uint64_t cells = dataset.manifest().cell_count;
+      if (!device_values) device_values = std::make_unique<cuda::DeviceValueBuffers>(kVolumeFields, cells);
+      device_values->upload(s, slot.host.data(), cells);
+      t.upload += watch.lap();
+    }
+  }
+};
+
+FrameRenderer::FrameRenderer(const Dataset& dataset, Device device)
+    : dataset_(dataset), device_(device), impl_(std::make_unique<Impl>(dataset, device)) {}
+
+FrameRenderer::~FrameRenderer() = default;
+
+Box3<double> FrameRenderer::world_bounds() const {
+  return vs::world_bounds(dataset_.topology(), dataset_.manifest().transform);
+}
+
+Camera FrameRenderer::default_camera(uint32_t width, uint32_t height) const {
+  return default_view(dataset_, width, height);
+}
+
+void FrameRenderer::use_values(const float* primary) {
+  FieldSlot& slot = impl_->slots[0];
+  slot.external = primary;
+  slot.host.clear();
+  slot.field = slot.step = -1;
+  slot.generation = impl_->next_generation++;
+  impl_->slots[1] = {};
+}
+
+void FrameRenderer::compute_ranges(const FrameRequest& r, FrameReport* report) {
+  Impl& m = *impl_;
+  if (r.kind != IntegratorKind::abr) return;
+  m.abr_renderer();  // the BVH (and on CUDA the device scene) on first use
+  const uint64_t generation = m.slots[0].generation;
+  if (m.ranges_stamp && m.ranges_generation == generation && m.ranges_mode == r.range_mode &&
+      m.ranges_stored == r.stored_ranges)
+    return;
+  Stopwatch watch;
+  if (r.stored_ranges) {
+    if (m.slots[0].field < 0) throw UsageError("stored ranges need a dataset step, not streamed values");
+    m.ranges = m.dataset.load_abr_ranges(m.slots[0].field, m.slots[0].step);
+  } else if (m.device == Device::cuda) {
+    m.scene->compute_ranges(m.kernel_values(0));
+  } else {
+    if (m.macro_offset.empty()) m.macro_offset = macrocell_offsets(m.dataset.topology().bricks);
+    m.ranges = compute_abr_ranges(m.dataset.topology(), m.kernel_values(0), &m.macro_offset, r.range_mode);
+  }
+  m.ranges_generation = generation;
+  m.ranges_mode = r.range_mode;
+  m.ranges_stored = r.stored_ranges;
+  m.ranges_stamp = m.next_generation++;
+  if (report) report->seconds.ranges += watch.seconds();
+}
+
+void FrameRenderer::refit(const FrameRequest& r, bool rebuild, FrameReport* report) {
+  Impl& m = *impl_;
+  if (r.kind != IntegratorKind::abr) return;
+  if (rebuild) {
+    Stopwatch watch;
+    m.build_abr();  // what the pipeline levels before `refit` pay every frame
+    if (report) report->seconds.refit += watch.seconds();
+  }
+  AmrRenderer& abr = m.abr_renderer();
+  if (m.ranges_stamp == 0) return;  // no ranges yet: classified at the first frame
+  if (m.classified_stamp == m.ranges_stamp && m.classified_skip == r.skip && same_iso(m.classified_iso, r.integrator) &&
+      same_spec(m.classified_tf, r.tf) && m.classified_optics == r.optics &&
+      m.classified_bb.rho_max == r.blackbody.rho_max && m.classified_bb.log_decades == r.blackbody.log_decades)
+    return;
+  const TransferTable& table = m.tf.get(r.tf);
+  FrameStats stats;
+  Stopwatch watch;
+  if (r.optics == OpticsKind::blackbody) {
+    // Emission and absorption depend on density alone, not on the transfer function's opacity.
+    const bool device_ranges = m.device == Device::cuda && !r.stored_ranges;
+    visible_ = abr.refit(blackbody_keep(device_ranges ? m.scene->download_ranges() : m.ranges, r), &stats);
+    stats.classify_seconds = watch.seconds() - stats.refit_seconds;
+    if (m.device == Device::cuda) m.scene->set_refit_nodes(abr.refit_nodes());
+  } else if (m.device == Device::cuda && !r.stored_ranges) {
+    visible_ = m.scene->classify_and_refit(table, r.integrator, r.skip);
+    stats.refit_seconds = watch.seconds();
+  } else {
+    visible_ = abr.classify(m.ranges, table, r.integrator, r.skip, &stats);
+    if (m.device == Device::cuda) m.scene->set_refit_nodes(abr.refit_nodes());
+  }
+  m.classified_stamp = m.ranges_stamp;
+  m.classified_tf = r.tf;
+  m.classified_iso = r.integrator;
+  m.classified_skip = r.skip;
+  m.classified_optics = r.optics;
+  m.classified_bb = r.blackbody;
+  if (report) {
+    report->seconds.classify += stats.classify_seconds;
+    report->seconds.refit += stats.refit_seconds;
+  }
+}
+
+namespace {
+
+BlockFrame block_frame(const FrameRequest& r) {
+  BlockFrame f;
+  f.width = r.width;
+  f.height = r.height;
+  f.settings.rate = r.integrator.rate;
+  f.settings.ref_step = r.integrator.ref_step;
+  f.settings.reconstruction = r.reconstruction;
+  f.settings.optics = r.optics;
+  f.blackbody = r.blackbody;
+  f.integrator = r.integrator;
+  return f;
+}
+
+FrameSettings frame_settings(const FrameRequest& r) {
+  FrameSettings fs;
+  fs.width = r.width;
+  fs.height = r.height;
+  fs.integrator = r.integrator;
+  fs.integrator.march = March::equal_jittered;
+  fs.skip = r.skip;
+  fs.brick_ranges = r.range_mode == RangeMode::per_brick;
+  return fs;
+}
+
+}  // namespace
+
+Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
+  Impl& m = *impl_;
+  const TransferTable& table = m.tf.get(r.tf);
+  const bool color_iso = r.optics == OpticsKind::tf && r.second_field >= 0;
+  const TfView color_view = color_iso ? m.color_tf.get(r.color_tf).view() : TfView{};
+  FrameReport local;
+  local.device = m.device;
+  Image img;
+  if (r.kind == IntegratorKind::blocks) {
+    if (!m.blocks) m.blocks = std::make_unique<BlockRenderer>(m.dataset.topology(), m.dataset.manifest().transform);
+    const bool vertices = r.reconstruction == Reconstruction::trilinear;
+    if (m.block_generation[0] != m.slots[0].generation || m.block_generation[1] != m.slots[1].generation ||
+        (vertices && !m.block_vertices)) {
+      m.blocks->set_fields(m.host_values(0), m.host_values(1), vertices);
+      m.block_generation[0] = m.slots[0].generation;
+      m.block_generation[1] = m.slots[1].generation;
+      m.block_vertices = vertices;
+      local.vertex_seconds = m.blocks->vertex_seconds();
+      local.seconds.ranges += local.vertex_seconds;
+    }
+    const TfView tf_view = table.view();
+    BlockStats bs;
+    img = m.blocks->render(&tf_view, r.camera, block_frame(r), m.device, &bs, color_iso ? &color_view : nullptr);
+    local.seconds.upload += bs.upload_seconds;
+    local.seconds.render += bs.render_seconds;
+    local.samples = bs.samples;
+    local.visible_regions = local.region_count = m.blocks->kd().blocks.size();
+  } else {
+    AmrRenderer& abr = m.abr_renderer();
+    OpticsView optics;
+    optics.kind = r.optics;
+    optics.tf = table.view();
+    static const BlackbodyTable bb_table;  // immutable after construction: shared by every frame
+    if (r.optics == OpticsKind::blackbody) optics.bb = bb_table.view(r.blackbody);
+    const FrameView<AmrVolume> view =
+        abr.view({m.kernel_values(0), m.kernel_values(1)}, optics, color_iso ? &color_view : nullptr, r.camera,
+                 frame_settings(r));
+    if (m.device == Device::cuda) {
+      img = Image(r.width, r.height);
+      std::vector<uint32_t> counts(size_t(r.width) * r.height);
+      FrameView<AmrVolume> out = view;
+      out.rgba = img.rgba.data();
+      out.sample_counts = counts.data();
+      const cuda::RenderTimes t = m.scene->render(out, m.kernel_values(0), m.kernel_values(1));
+      local.seconds.upload += t.upload_seconds;
+      local.seconds.render += t.kernel_seconds;
+      local.samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
+    } else {
+      FrameStats stats;
+      img = abr.render(Device::cpu, view, &stats);
+      local.seconds.render += stats.render_seconds;
+      local.samples = stats.samples;
+    }
+    local.visible_regions = visible_;
+    local.region_count = m.dataset.topology().abrs.size();
+  }
+  if (report) {
+    report->device = local.device;
+    report->seconds.upload += local.seconds.upload;
+    report->seconds.ranges += local.seconds.ranges;
+    report->seconds.render += local.seconds.render;
+    report->samples = local.samples;
+    report->visible_regions = local.visible_regions;
+    report->region_count = local.region_count;
+    report->vertex_seconds = local.vertex_seconds;
+  }
+  return img;
+}
+
+Image FrameRenderer::render(const FrameRequest& r, FrameReport* report) {
+  Impl& m = *impl_;
+  const DatasetManifest& manifest = dataset_.manifest();
+  if (r.step < 0 || r.step >= manifest.step_count())
+    throw UsageError("step " + std::to_string(r.step) + " out of range 0.." + std::to_string(manifest.step_count() - 1));
+  if (r.optics == OpticsKind::blackbody && r.second_field < 0)
+    throw UsageError("blackbody optics needs a temperature field");
+  FrameReport local;
+  m.load(0, r.field, r.step, local.seconds);
+  m.load(1, r.second_field, r.step, local.seconds);
+  compute_ranges(r, &local);
+  refit(r, false, &local);
+  Image img = render_image(r, &local);
+  if (report) *report = local;
+  return img;
+}
+
+}  // namespace vs

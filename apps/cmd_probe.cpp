@@ -7,7 +7,7 @@
 #include "commands.h"
 #include "volstream/amr/probe.h"
 #include "volstream/core/error.h"
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 #include "volstream/io/dataset.h"
 
 namespace vs::cli {

@@ -9,7 +9,7 @@
 #include <cmath>
 
 #include "volstream/core/error.h"
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 
 namespace vs {
 namespace {

@@ -14,7 +14,7 @@
 #include <utility>
 
 #include "volstream/core/error.h"
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 
 namespace vs {
 namespace {

@@ -1,7 +1,7 @@
 #include "volstream/amr/probe.h"
 
 #include "volstream/accel/bvh_sah.h"
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 
 namespace vs {
 

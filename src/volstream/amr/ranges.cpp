@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <mutex>
 
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 
 namespace vs {
 

@@ -5,7 +5,7 @@
 #include <numeric>
 #include <utility>
 
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 
 namespace vs {
 namespace {

@@ -13,6 +13,9 @@ namespace vs {
 template <typename V>
 struct FrameView;
 struct AmrVolume;
+struct BlockVolume;
+struct KdBlocks;
+struct VertexField;
 struct IntegratorSettings;
 class TransferTable;
 }  // namespace vs
@@ -30,7 +33,9 @@ struct RenderTimes {
   double upload_seconds = 0, kernel_seconds = 0;
 };
 
-// GPU-resident state for rendering frames of one topology (paper 000, section 5): the topology
+// GPU-resident state for rendering frames of one topology (paper 000, section 5), the one place
+// where device memory for a dataset lives: the ABR integrator, the block integrator and point
+// probes all read the same bricks; every buffer is counted in the memory ledger. The topology
 // and the BVH template are uploaded once; per frame only the values change (DeviceValueBuffers),
 // and the ranges, classification and refit run on the GPU, so nothing of the size of the ABR
 // list crosses the bus. Each call returns when its work is done, but the work runs on the
@@ -62,6 +67,15 @@ class DeviceScene {
   // and field pointers are replaced by the scene's and the given device arrays) and copies the
   // image (and the sample counts when host_view.sample_counts is set) back to host_view.rgba.
   RenderTimes render(const FrameView<AmrVolume>& host_view, const float* device_values, const float* device_second);
+
+  // The block integrator's kd-tree and blocks (once per topology) and vertex values (once per
+  // set of field values; null: none), then frames as render() above.
+  void set_blocks(const KdBlocks& kd);
+  void set_vertex_fields(const VertexField* primary, const VertexField* second);
+  RenderTimes render(const FrameView<BlockVolume>& host_view, const float* device_values, const float* device_second);
+
+  // Field values at points (grid units) through the BVH template (amr/probe.h): NaN outside.
+  std::vector<float> probe(const float* device_values, const std::vector<vec3f>& grid_points);
 
  private:
   struct Impl;

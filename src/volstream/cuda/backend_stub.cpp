@@ -26,6 +26,10 @@ uint64_t DeviceScene::classify_and_refit(const TransferTable&, const IntegratorS
 void DeviceScene::set_refit_nodes(const std::vector<BvhNode>&) { no_cuda(); }
 std::vector<BvhNode> DeviceScene::download_refit_nodes() const { no_cuda(); }
 RenderTimes DeviceScene::render(const FrameView<AmrVolume>&, const float*, const float*) { no_cuda(); }
+void DeviceScene::set_blocks(const KdBlocks&) { no_cuda(); }
+void DeviceScene::set_vertex_fields(const VertexField*, const VertexField*) { no_cuda(); }
+RenderTimes DeviceScene::render(const FrameView<BlockVolume>&, const float*, const float*) { no_cuda(); }
+std::vector<float> DeviceScene::probe(const float*, const std::vector<vec3f>&) { no_cuda(); }
 
 DeviceValueBuffers::DeviceValueBuffers(int, uint64_t) { no_cuda(); }
 DeviceValueBuffers::~DeviceValueBuffers() = default;

@@ -5,6 +5,7 @@
 
 #include "volstream/amr/kd_blocks.h"
 #include "volstream/amr/model.h"
+#include "volstream/amr/vertex_field.h"
 
 namespace vs {
 template <typename V>
@@ -20,11 +21,11 @@ struct BlockRenderTimes {
   double download_seconds = 0;  // the image and sample counts back
 };
 
-// Renders one frame of `host_view` (host pointers into `topology`, `kd` and vertex fields of
-// `vertex_count` entries): deep copies every array it points to, runs the integrator one thread
-// per pixel, and copies the image into host_view.rgba (and the sample counts into
-// host_view.sample_counts when set). Nothing stays on the device between calls.
+// Renders one frame of `host_view` (host pointers into `topology`, `kd` and the vertex fields,
+// null when not used) through a DeviceScene made for it, and copies the image into
+// host_view.rgba (and the sample counts into host_view.sample_counts when set). Frame loops keep
+// a DeviceScene instead (frame/frame_renderer.h).
 BlockRenderTimes render_blocks(const FrameView<BlockVolume>& host_view, const AmrTopology& topology, const KdBlocks& kd,
-                               uint64_t vertex_count);
+                               const VertexField* primary_vertices, const VertexField* second_vertices);
 
 }  // namespace vs::cuda

@@ -5,7 +5,8 @@
 #include "volstream/cuda/block_backend.h"
 
 namespace vs::cuda {
-BlockRenderTimes render_blocks(const FrameView<BlockVolume>&, const AmrTopology&, const KdBlocks&, uint64_t) {
+BlockRenderTimes render_blocks(const FrameView<BlockVolume>&, const AmrTopology&, const KdBlocks&, const VertexField*,
+                               const VertexField*) {
   throw std::runtime_error("this volstream was built without CUDA");
 }
 }  // namespace vs::cuda

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "volstream/backend/memory.h"
+
 namespace vs::cuda {
 
 inline void check(cudaError_t e, const char* what, const char* file, int line) {
@@ -15,23 +17,29 @@ inline void check(cudaError_t e, const char* what, const char* file, int line) {
 }
 #define VS_CUDA_CHECK(call) ::vs::cuda::check((call), #call, __FILE__, __LINE__)
 
-// An owning device array (RAII). Kernels get its data() pointer.
+// An owning device array (RAII), counted in the memory ledger under its structure's name.
+// Kernels get its data() pointer.
 template <typename T>
 class DeviceBuffer {
  public:
-  DeviceBuffer() = default;
-  explicit DeviceBuffer(size_t n) { resize(n); }
-  explicit DeviceBuffer(const std::vector<T>& host) { upload(host); }
+  explicit DeviceBuffer(const char* structure = "CUDA scratch") : counted_(structure, MemorySpace::device) {}
+  DeviceBuffer(const char* structure, size_t n) : DeviceBuffer(structure) { resize(n); }
+  DeviceBuffer(const char* structure, const std::vector<T>& host) : DeviceBuffer(structure) { upload(host); }
   DeviceBuffer(const DeviceBuffer&) = delete;
   DeviceBuffer& operator=(const DeviceBuffer&) = delete;
-  DeviceBuffer(DeviceBuffer&& o) noexcept : ptr_(o.ptr_), n_(o.n_) { o.ptr_ = nullptr, o.n_ = 0; }
+  DeviceBuffer(DeviceBuffer&& o) noexcept : ptr_(o.ptr_), n_(o.n_), counted_(std::move(o.counted_)) {
+    o.ptr_ = nullptr, o.n_ = 0;
+  }
   ~DeviceBuffer() { cudaFree(ptr_); }
   void resize(size_t n) {
     if (n == n_) return;
     cudaFree(ptr_);
     ptr_ = nullptr;
-    n_ = n;
+    n_ = 0;
+    counted_.set(0);
     if (n) VS_CUDA_CHECK(cudaMalloc(&ptr_, n * sizeof(T)));
+    n_ = n;
+    counted_.set(int64_t(n * sizeof(T)));
   }
   // Returns when the data is on the device. cudaMemcpy from pageable memory returns once the
   // data is staged, before its DMA has landed, and it runs on the default stream, which kernels
@@ -64,6 +72,7 @@ class DeviceBuffer {
  private:
   T* ptr_ = nullptr;
   size_t n_ = 0;
+  CountedBytes counted_;
 };
 
 // A CUDA event (RAII), for kernel timings.

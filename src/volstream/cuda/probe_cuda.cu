@@ -1,7 +1,6 @@
-// GPU point probes: the host-device sample_point() from amr/probe.h launched as a CUDA grid.
-#include "volstream/amr/probe.h"
+// CUDA device queries, and one-off point probes through a DeviceScene (DeviceScene::probe).
 #include "volstream/cuda/backend.h"
-#include "volstream/cuda/launch.cuh"
+#include "volstream/cuda/cuda_check.h"
 
 namespace vs::cuda {
 
@@ -19,24 +18,11 @@ std::string device_name() {
 
 std::vector<float> probe_points(const AmrTopology& topology, const Bvh& bvh, const float* values,
                                 const std::vector<vec3f>& grid_points) {
-  DeviceBuffer<Brick> bricks(topology.bricks);
-  DeviceBuffer<Abr> abrs(topology.abrs);
-  DeviceBuffer<uint32_t> abr_bricks(topology.abr_bricks);
-  DeviceBuffer<BvhNode> nodes(bvh.nodes);
-  DeviceBuffer<float> d_values;
-  d_values.upload(values, topology.cell_count);
-  DeviceBuffer<vec3f> points(grid_points);
-  DeviceBuffer<float> out(grid_points.size());
-  AmrView view{bricks.data(), abrs.data(), abr_bricks.data(), d_values.data(), uint32_t(topology.bricks.size()),
-               uint32_t(topology.abrs.size())};
-  const BvhNode* n = nodes.data();
-  const uint32_t node_count = uint32_t(bvh.nodes.size());
-  const vec3f* p = points.data();
-  float* o = out.data();
-  parallel_for("probe", int64_t(grid_points.size()),
-               [=] __device__(int64_t i) { o[i] = sample_point(view, n, node_count, p[i]); });
-  VS_CUDA_CHECK(cudaDeviceSynchronize());
-  return out.download();
+  DeviceScene scene(topology);
+  scene.set_bvh(bvh.nodes);
+  DeviceValueBuffers device_values(1, topology.cell_count);
+  device_values.upload(0, values, topology.cell_count);
+  return scene.probe(device_values.data(0), grid_points);
 }
 
 }  // namespace vs::cuda

@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "volstream/accel/refit.h"
+#include "volstream/amr/probe.h"
 #include "volstream/amr/ranges.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/cuda/launch.cuh"
@@ -12,6 +13,7 @@
 #include "volstream/cuda/render_frame.cuh"
 #include "volstream/render/optics/transfer_function.h"
 #include "volstream/volume/amr_volume.h"
+#include "volstream/volume/block_volume.h"
 
 namespace vs::cuda {
 namespace {
@@ -54,25 +56,67 @@ __device__ void count_per_warp(bool flag, unsigned long long* count) {
 
 struct DeviceScene::Impl {
   uint32_t brick_count = 0, abr_count = 0;
-  DeviceBuffer<Brick> bricks;
-  DeviceBuffer<Abr> abrs;
-  DeviceBuffer<uint32_t> abr_bricks;
-  DeviceBuffer<BvhNode> template_nodes, refit_nodes;
-  DeviceBuffer<uint32_t> schedule;         // RefitSchedule::nodes
-  std::vector<uint32_t> group_begin;       // RefitSchedule::group_begin (host: launch bounds)
-  DeviceBuffer<uint64_t> macro_offset;    // macrocell_offsets(bricks)
-  DeviceBuffer<Range> macro, ranges;
-  DeviceBuffer<uint8_t> keep;
-  DeviceBuffer<uint32_t> opaque_prefix;
-  DeviceBuffer<unsigned long long> counter;
-  DeviceBuffer<Rgba> tf, color_tf;
-  DeviceBuffer<vec3f> bb;  // blackbody colour table
-  DeviceBuffer<float> rgba;
-  DeviceBuffer<uint32_t> counts;
+  DeviceBuffer<Brick> bricks{"bricks"};
+  DeviceBuffer<Abr> abrs{"ABRs"};
+  DeviceBuffer<uint32_t> abr_bricks{"ABR brick lists"};
+  DeviceBuffer<BvhNode> template_nodes{"BVH"}, refit_nodes{"BVH (refit)"};
+  DeviceBuffer<uint32_t> schedule{"BVH (refit)"};       // RefitSchedule::nodes
+  std::vector<uint32_t> group_begin;                    // RefitSchedule::group_begin (host: launch bounds)
+  DeviceBuffer<uint64_t> macro_offset{"ABR ranges"};    // macrocell_offsets(bricks)
+  DeviceBuffer<Range> macro{"ABR ranges"}, ranges{"ABR ranges"};
+  DeviceBuffer<uint8_t> keep{"ABR ranges"};
+  DeviceBuffer<uint32_t> opaque_prefix{"transfer tables"};
+  DeviceBuffer<unsigned long long> counter{"ABR ranges"};
+  DeviceBuffer<Rgba> tf{"transfer tables"}, color_tf{"transfer tables"};
+  DeviceBuffer<vec3f> bb{"transfer tables"};  // blackbody colour table
+  DeviceBuffer<KdNode> kd_nodes{"kd-tree blocks"};
+  DeviceBuffer<Block> blocks{"kd-tree blocks"};
+  DeviceBuffer<uint64_t> vertex_offsets{"vertex values"};
+  DeviceBuffer<float> vertex_fields[kVolumeFields] = {DeviceBuffer<float>{"vertex values"}, DeviceBuffer<float>{"vertex values"}};
+  DeviceBuffer<float> rgba{"image"};
+  DeviceBuffer<uint32_t> counts{"image"};
   Stream stream;
 
   AmrView view(const float* values) const {
     return {bricks.data(), abrs.data(), abr_bricks.data(), values, brick_count, abr_count};
+  }
+
+  // The tables of the host view's optics on the device (transfer function, blackbody colours,
+  // isosurface colours) and the image buffers; returns the device view with those pointers.
+  template <typename V>
+  FrameView<V> device_view(const FrameView<V>& h) {
+    const size_t pixels = size_t(h.width) * h.height;
+    if (h.optics.tf.table) tf.upload_async(h.optics.tf.table, h.optics.tf.size, stream.s);
+    if (h.color_isosurfaces) color_tf.upload_async(h.color_tf.table, h.color_tf.size, stream.s);
+    if (h.optics.bb.table) bb.upload_async(h.optics.bb.table, h.optics.bb.size, stream.s);
+    rgba.ensure(4 * pixels);
+    if (h.sample_counts) counts.ensure(pixels);
+    FrameView<V> d = h;
+    d.optics.tf.table = h.optics.tf.table ? tf.data() : nullptr;
+    d.optics.bb.table = h.optics.bb.table ? bb.data() : nullptr;
+    d.color_tf.table = h.color_isosurfaces ? color_tf.data() : nullptr;
+    d.rgba = rgba.data();
+    d.sample_counts = h.sample_counts ? counts.data() : nullptr;
+    return d;
+  }
+
+  // Runs the integrator over `d` and copies the image (and sample counts) to the host view's.
+  template <typename V>
+  RenderTimes render(const FrameView<V>& h, const FrameView<V>& d, double upload_seconds) {
+    RenderTimes times;
+    times.upload_seconds = upload_seconds;
+    const size_t pixels = size_t(h.width) * h.height;
+    times.kernel_seconds = render_frame(d, stream.s);
+    VS_CUDA_CHECK(cudaMemcpyAsync(h.rgba, d.rgba, 4 * pixels * sizeof(float), cudaMemcpyDeviceToHost, stream.s));
+    if (h.sample_counts)
+      VS_CUDA_CHECK(cudaMemcpyAsync(h.sample_counts, d.sample_counts, pixels * sizeof(uint32_t), cudaMemcpyDeviceToHost, stream.s));
+    sync();
+    return times;
+  }
+
+  void sync() {
+    stream.sync();
+    collect_launch_times();
   }
 };
 
@@ -111,10 +155,12 @@ void DeviceScene::compute_ranges(const float* device_values) {
   constexpr unsigned kBlock = 128;  // 4 warps, 4 ABRs per block
   const uint64_t threads = uint64_t(m.abr_count) * 32u;
   if (threads > 0) {
+    TimedLaunch timed("abr_ranges", m.stream.s);
     abr_ranges_kernel<<<unsigned((threads + kBlock - 1) / kBlock), kBlock, 0, m.stream.s>>>(view, m.ranges.data());
     check(cudaGetLastError(), "abr_ranges_kernel", __FILE__, __LINE__);
+    timed.stop();
   }
-  m.stream.sync();
+  m.sync();
 }
 
 std::vector<Range> DeviceScene::download_ranges() const { return impl_->ranges.download(); }
@@ -154,7 +200,7 @@ uint64_t DeviceScene::classify_and_refit(const TransferTable& table, const Integ
   unsigned long long count = 0;
   if (skip)
     VS_CUDA_CHECK(cudaMemcpyAsync(&count, m.counter.data(), sizeof(count), cudaMemcpyDeviceToHost, m.stream.s));
-  m.stream.sync();
+  m.sync();
   if (skip) visible = count;  // read after the stream is done, not when cudaMemcpyAsync returns
   return visible;
 }
@@ -165,18 +211,10 @@ std::vector<BvhNode> DeviceScene::download_refit_nodes() const { return impl_->r
 
 RenderTimes DeviceScene::render(const FrameView<AmrVolume>& h, const float* device_values, const float* device_second) {
   Impl& m = *impl_;
-  RenderTimes times;
   const auto t0 = std::chrono::steady_clock::now();
-  const size_t pixels = size_t(h.width) * h.height;
-  m.tf.upload_async(h.optics.tf.table, h.optics.tf.size, m.stream.s);
-  if (h.color_isosurfaces) m.color_tf.upload_async(h.color_tf.table, h.color_tf.size, m.stream.s);
-  if (h.optics.bb.table) m.bb.upload_async(h.optics.bb.table, h.optics.bb.size, m.stream.s);
-  m.rgba.ensure(4 * pixels);
-  if (h.sample_counts) m.counts.ensure(pixels);
-  m.stream.sync();
-  times.upload_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
-  FrameView<AmrVolume> d = h;
+  FrameView<AmrVolume> d = m.device_view(h);
+  m.sync();
+  const double upload = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   d.volume.amr = m.view(device_values);
   d.volume.fields[0] = device_values;
   d.volume.fields[1] = device_second;
@@ -184,30 +222,66 @@ RenderTimes DeviceScene::render(const FrameView<AmrVolume>& h, const float* devi
   d.volume.node_count = uint32_t(m.refit_nodes.size());
   d.volume.all_nodes = m.template_nodes.data();
   d.volume.all_node_count = uint32_t(m.template_nodes.size());
-  d.optics.tf.table = m.tf.data();
-  d.optics.bb.table = h.optics.bb.table ? m.bb.data() : nullptr;
-  d.color_tf.table = h.color_isosurfaces ? m.color_tf.data() : nullptr;
-  d.rgba = m.rgba.data();
-  d.sample_counts = h.sample_counts ? m.counts.data() : nullptr;
+  return m.render(h, d, upload);
+}
 
-  times.kernel_seconds = render_frame(d, m.stream.s);
-  VS_CUDA_CHECK(cudaMemcpyAsync(h.rgba, d.rgba, 4 * pixels * sizeof(float), cudaMemcpyDeviceToHost, m.stream.s));
-  if (h.sample_counts)
-    VS_CUDA_CHECK(cudaMemcpyAsync(h.sample_counts, d.sample_counts, pixels * sizeof(uint32_t), cudaMemcpyDeviceToHost, m.stream.s));
-  m.stream.sync();
-  return times;
+void DeviceScene::set_blocks(const KdBlocks& kd) {
+  impl_->kd_nodes.upload(kd.nodes);
+  impl_->blocks.upload(kd.blocks);
+}
+
+void DeviceScene::set_vertex_fields(const VertexField* primary, const VertexField* second) {
+  Impl& m = *impl_;
+  const VertexField* fields[kVolumeFields] = {primary, second};
+  m.vertex_offsets.upload(primary ? primary->offsets : std::vector<uint64_t>{});
+  for (int f = 0; f < kVolumeFields; ++f) m.vertex_fields[f].upload(fields[f] ? fields[f]->values : std::vector<float>{});
+}
+
+RenderTimes DeviceScene::render(const FrameView<BlockVolume>& h, const float* device_values, const float* device_second) {
+  Impl& m = *impl_;
+  if (m.blocks.size() != h.volume.kd.block_count) throw std::logic_error("DeviceScene: set_blocks() before rendering blocks");
+  const auto t0 = std::chrono::steady_clock::now();
+  FrameView<BlockVolume> d = m.device_view(h);
+  m.sync();
+  const double upload = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  BlockVolume& v = d.volume;
+  v.kd.nodes = m.kd_nodes.data();
+  v.kd.blocks = m.blocks.data();
+  v.bricks = m.bricks.data();
+  v.fields[0] = device_values;
+  v.fields[1] = device_second;
+  const bool vertices = h.volume.vertex_offsets != nullptr;
+  v.vertex_offsets = vertices ? m.vertex_offsets.data() : nullptr;
+  for (int f = 0; f < kVolumeFields; ++f)
+    v.vertex_fields[f] = vertices && h.volume.vertex_fields[f] ? m.vertex_fields[f].data() : nullptr;
+  return m.render(h, d, upload);
+}
+
+std::vector<float> DeviceScene::probe(const float* device_values, const std::vector<vec3f>& grid_points) {
+  Impl& m = *impl_;
+  DeviceBuffer<vec3f> points("probe points", grid_points);
+  DeviceBuffer<float> out("probe points", grid_points.size());
+  const AmrView view = m.view(device_values);
+  const BvhNode* n = m.template_nodes.data();
+  const uint32_t node_count = uint32_t(m.template_nodes.size());
+  const vec3f* p = points.data();
+  float* o = out.data();
+  parallel_for("probe", int64_t(grid_points.size()),
+               [=] __device__(int64_t i) { o[i] = sample_point(view, n, node_count, p[i]); }, m.stream.s);
+  m.sync();
+  return out.download();
 }
 
 // ---------------------------------------------------------------------------------------------
 struct DeviceValueBuffers::Impl {
-  std::vector<DeviceBuffer<float>> buffers;
+  std::vector<DeviceBuffer<float>> buffers;  // "field values"
   uint64_t floats = 0;
   Stream stream;
 };
 
 DeviceValueBuffers::DeviceValueBuffers(int count, uint64_t floats_each) : impl_(std::make_unique<Impl>()) {
   impl_->floats = floats_each;
-  for (int i = 0; i < count; ++i) impl_->buffers.emplace_back(floats_each);
+  for (int i = 0; i < count; ++i) impl_->buffers.emplace_back("field values", floats_each);
 }
 
 DeviceValueBuffers::~DeviceValueBuffers() = default;

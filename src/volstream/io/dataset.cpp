@@ -13,7 +13,7 @@
 #include "volstream/amr/bricks.h"
 #include "volstream/amr/ranges.h"
 #include "volstream/core/error.h"
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 #include "volstream/core/progress.h"
 #include "volstream/io/binary_file.h"
 

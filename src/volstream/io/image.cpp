@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "volstream/core/error.h"
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 #include "volstream/render/optics/transfer_function.h"
 
 namespace vs {

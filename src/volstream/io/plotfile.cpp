@@ -22,7 +22,7 @@
 #include <unordered_map>
 
 #include "volstream/core/error.h"
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 #include "volstream/io/binary_file.h"
 
 namespace vs {

@@ -4,7 +4,7 @@
 #include <cstring>
 
 #include "volstream/core/error.h"
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 #include "volstream/io/binary_file.h"
 
 namespace vs {

@@ -8,7 +8,7 @@
 #include <numeric>
 
 #include "volstream/core/error.h"
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 
 namespace vs::stream {
 

@@ -7,7 +7,7 @@
 #include "volstream/accel/refit.h"
 #include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/render/classify.h"
 #include "volstream/render/integrators/launch_cpu.h"

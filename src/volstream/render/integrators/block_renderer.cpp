@@ -22,6 +22,11 @@ Box3<double> BlockRenderer::world_bounds() const {
   return {transform_.to_world(vec3d(kd_.bounds.lower)), transform_.to_world(vec3d(kd_.bounds.upper))};
 }
 
+const VertexField* BlockRenderer::vertex_field(int field) const {
+  const VertexField& f = field == 0 ? vertex_values_ : vertex_second_;
+  return f.values.empty() ? nullptr : &f;
+}
+
 void BlockRenderer::set_fields(const float* values, const float* second, bool vertex_values) {
   Stopwatch watch;
   values_ = values;
@@ -87,7 +92,7 @@ Image BlockRenderer::render(const TfView* tf, const Camera& camera, const BlockF
   if (kd_.blocks.empty()) {
     // nothing to draw: a transparent image
   } else if (device == Device::cuda) {
-    const cuda::BlockRenderTimes t = cuda::render_blocks(v, topology_, kd_, vertex_values_.values.size());
+    const cuda::BlockRenderTimes t = cuda::render_blocks(v, topology_, kd_, vertex_field(0), vertex_field(1));
     upload = t.upload_seconds + t.download_seconds;
     render = t.kernel_seconds;
   } else {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "volstream/core/parallel.h"
+#include "volstream/backend/parallel.h"
 #include "volstream/render/integrators/integrator.h"
 
 namespace vs {

@@ -1,5 +1,6 @@
-// parallel_for: the one way kernels are launched. On the CPU it is a oneTBB loop over chunks;
-// the CUDA backend (cuda/launch.cuh) provides the same signature as a grid launch.
+// parallel_for: the one way kernels are launched. On the CPU it is a oneTBB loop over chunks,
+// timed per name (launch_times.h); the CUDA backend (cuda/launch.cuh) provides the same
+// signature as a grid launch, timed with CUDA events.
 #pragma once
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -7,17 +8,23 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "volstream/backend/launch_times.h"
+#include "volstream/backend/stopwatch.h"
+
 namespace vs {
 
 template <typename F>
-void parallel_for(const char* /*name*/, int64_t n, F&& f) {
+void parallel_for(const char* name, int64_t n, F&& f) {
   if (n <= 0) return;
+  const Stopwatch watch;
   tbb::parallel_for(tbb::blocked_range<int64_t>(0, n), [&](const tbb::blocked_range<int64_t>& r) {
     for (int64_t i = r.begin(); i != r.end(); ++i) f(i);
   });
+  launch_times().add(name, watch.seconds());
 }
 
 // Like parallel_for, but hands each task a contiguous [begin, end) range (for per-task state).
+// Not timed: used inside larger steps (format conversion, demo generation) that time themselves.
 template <typename F>
 void parallel_for_ranges(int64_t n, F&& f, int64_t grain = 1) {
   if (n <= 0) return;

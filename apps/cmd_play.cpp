@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "parse_util.h"
 #include "render_options.h"
+#include "volstream/backend/memory.h"
 #include "volstream/core/error.h"
 #include "volstream/core/progress.h"
 #include "volstream/stream/pipeline.h"
@@ -57,6 +58,7 @@ void print_report(const Pipeline& p, const Timeline& timeline, const PlayStats& 
               stats.frames / std::max(stats.seconds, 1e-9));
   std::printf("buffers: %s\n", p.describe_buffers().c_str());
   std::printf("peak memory: %.1f MiB resident\n", peak_rss_mib());
+  std::printf("memory: %s\n", format_memory(memory_ledger().snapshot()).c_str());
   if (!p.pin_failure().empty()) std::printf("staging not page-locked: %s\n", p.pin_failure().c_str());
   std::printf("reads: %.1f MiB%s\n", double(stats.bytes_read) / (1 << 20),
               p.flags().direct_io ? (p.direct_io_active() ? ", O_DIRECT" : ", buffered (O_DIRECT refused)") : ", buffered");

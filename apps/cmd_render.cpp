@@ -9,6 +9,8 @@
 #include "commands.h"
 #include "render_options.h"
 #include "volstream/amr/demo.h"
+#include "volstream/backend/launch_times.h"
+#include "volstream/backend/memory.h"
 #include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
 #include "volstream/frame/frame_renderer.h"
@@ -57,6 +59,8 @@ void print_report(const Dataset& ds, const FrameRequest& r, const FrameReport& r
               r.stored_ranges ? " (stored)" : (abr ? "" : " (vertex values)"), t.classify, t.refit, t.upload);
   std::printf("render %ux%u: %.3fs (%.3fs CPU time), %.1f M samples, %.1f M samples/s -> %s\n", r.width, r.height,
               t.render, cpu_s, rep.samples * 1e-6, rep.samples * 1e-6 / std::max(t.render, 1e-9), output.c_str());
+  std::printf("memory: %s\n", format_memory(memory_ledger().snapshot()).c_str());
+  std::printf("launches: %s\n", format_launch_times(launch_times().snapshot()).c_str());
 }
 
 void run_render(RenderArgs a) {

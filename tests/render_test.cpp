@@ -29,38 +29,11 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Building volumes from cells
 
-struct Volume {
-  AmrTopology topology;
-  std::vector<float> values;  // device order
-  std::vector<Range> abr_ranges;
-  WorldTransform transform;
-};
-
-using GridFunction = std::function<double(const vec3d& centre)>;  // of the cell centre, grid units
-
+using Volume = test::TestVolume;
+using test::GridFunction;
+using test::uniform_cells;
 Volume make_volume(std::vector<Cell> cells, const GridFunction& f, const WorldTransform& xf = {}) {
-  Volume v;
-  BrickBuildResult r = build_bricks(std::move(cells), "test");
-  v.topology.bricks = r.bricks;
-  v.topology.cell_count = r.device_cells.size();
-  build_abrs(v.topology, "test");
-  v.values.resize(r.device_cells.size());
-  for (size_t i = 0; i < r.device_cells.size(); ++i) {
-    const Cell& c = r.device_cells[i];
-    v.values[i] = float(f(vec3d(c.lower) + vec3d(0.5 * level_width(c.level))));
-  }
-  v.abr_ranges = compute_abr_ranges(v.topology, v.values.data());
-  v.transform = xf;
-  return v;
-}
-
-std::vector<Cell> uniform_cells(vec3i dims, int level = 0, vec3i offset = {0, 0, 0}) {
-  std::vector<Cell> cells;
-  const int32_t w = level_width(level);
-  for (int z = 0; z < dims.z; ++z)
-    for (int y = 0; y < dims.y; ++y)
-      for (int x = 0; x < dims.x; ++x) cells.push_back({offset + vec3i(x, y, z) * w, level});
-  return cells;
+  return test::make_test_volume(std::move(cells), f, xf);
 }
 
 TransferFunctionSpec ramp_spec(float lo, float hi, float max_alpha = 0.6f) {

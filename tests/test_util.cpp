@@ -54,3 +54,49 @@ float test_value(const Cell& c, int variant) {
 }
 
 }  // namespace vs::test
+
+#include "volstream/amr/abrs.h"
+#include "volstream/amr/bricks.h"
+#include "volstream/amr/ranges.h"
+
+namespace vs::test {
+
+TestVolume make_test_volume(std::vector<Cell> cells, const GridFunction& f, const WorldTransform& xf) {
+  TestVolume v;
+  BrickBuildResult r = build_bricks(std::move(cells), "test");
+  v.topology.bricks = r.bricks;
+  v.topology.cell_count = r.device_cells.size();
+  build_abrs(v.topology, "test");
+  v.values.resize(r.device_cells.size());
+  for (size_t i = 0; i < r.device_cells.size(); ++i) {
+    const Cell& c = r.device_cells[i];
+    v.values[i] = float(f(vec3d(c.lower) + vec3d(0.5 * level_width(c.level))));
+  }
+  v.abr_ranges = compute_abr_ranges(v.topology, v.values.data());
+  v.transform = xf;
+  return v;
+}
+
+std::vector<float> test_values(const TestVolume& v, const GridFunction& f) {
+  // Cells in device order, from the bricks.
+  std::vector<float> out(v.values.size());
+  for (const Brick& b : v.topology.bricks)
+    for (int32_t z = 0; z < b.dims.z; ++z)
+      for (int32_t y = 0; y < b.dims.y; ++y)
+        for (int32_t x = 0; x < b.dims.x; ++x) {
+          const vec3d centre = vec3d(b.lower) + (vec3d(x, y, z) + vec3d(0.5)) * double(b.width());
+          out[b.value_offset + (uint64_t(z) * b.dims.y + y) * b.dims.x + x] = float(f(centre));
+        }
+  return out;
+}
+
+std::vector<Cell> uniform_cells(vec3i dims, int level, vec3i offset) {
+  std::vector<Cell> cells;
+  const int32_t w = level_width(level);
+  for (int z = 0; z < dims.z; ++z)
+    for (int y = 0; y < dims.y; ++y)
+      for (int x = 0; x < dims.x; ++x) cells.push_back({offset + vec3i(x, y, z) * w, level});
+  return cells;
+}
+
+}  // namespace vs::test

@@ -20,3 +20,24 @@ std::vector<Cell> random_octree_cells(uint32_t seed, vec3i root_dims, int levels
 // A smooth test function of grid position (plus a per-cell jitter that makes level jumps visible).
 float test_value(const Cell& c, int variant = 0);
 }  // namespace vs::test
+
+#include <functional>
+
+#include "volstream/amr/source.h"
+
+namespace vs::test {
+// A topology built from cells (bricks, ABRs), values from a function of the cell centre (grid
+// units) in device order, and the ABR ranges of those values.
+struct TestVolume {
+  AmrTopology topology;
+  std::vector<float> values;  // device order
+  std::vector<Range> abr_ranges;
+  WorldTransform transform;
+};
+using GridFunction = std::function<double(const vec3d& centre)>;
+TestVolume make_test_volume(std::vector<Cell> cells, const GridFunction& f, const WorldTransform& xf = {});
+// Values of another function on the same volume's cells (device order).
+std::vector<float> test_values(const TestVolume& volume, const GridFunction& f);
+// dims cells of one level, x fastest, starting at `offset` (grid units).
+std::vector<Cell> uniform_cells(vec3i dims, int level = 0, vec3i offset = {0, 0, 0});
+}  // namespace vs::test

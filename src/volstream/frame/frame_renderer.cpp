@@ -46,6 +46,7 @@ struct CachedTable {
 struct FieldSlot {
   int field = -1, step = -1;
   std::vector<float> host;
+  CountedBytes counted{"field values", MemorySpace::host};
   const float* external = nullptr;  // use_values(): host or device memory of the caller
   uint64_t generation = 0;
 };
@@ -74,6 +75,7 @@ struct FrameRenderer::Impl {
   std::unique_ptr<cuda::DeviceValueBuffers> device_values;  // CUDA: one buffer per slot
   std::vector<uint64_t> macro_offset;                      // CPU ranges (amr/ranges.h)
   std::vector<Range> ranges;                               // CPU (and stored ranges)
+  CountedBytes ranges_bytes{"ABR ranges", MemorySpace::host};
 
   // What the current ranges and classification were made from (0: nothing yet).
   uint64_t ranges_generation = 0;
@@ -98,13 +100,35 @@ struct FrameRenderer::Impl {
     if (!abr) build_abr();
     return *abr;
   }
+  cuda::DeviceScene& device_scene() {
+    if (!scene) scene = std::make_unique<cuda::DeviceScene>(dataset.topology());
+    return *scene;
+  }
   void build_abr() {
     abr = std::make_unique<AmrRenderer>(dataset.topology(), dataset.manifest().transform);
-    if (device == Device::cuda) {
-      if (!scene) scene = std::make_unique<cuda::DeviceScene>(dataset.topology());
-      scene->set_bvh(abr->template_bvh().nodes);
-    }
+    if (device == Device::cuda) device_scene().set_bvh(abr->template_bvh().nodes);
     classified_stamp = 0;  // a fresh BVH is not refit yet
+  }
+  BlockRenderer& block_renderer() {
+    if (!blocks) {
+      blocks = std::make_unique<BlockRenderer>(dataset.topology(), dataset.manifest().transform);
+      if (device == Device::cuda) device_scene().set_blocks(blocks->kd());
+    }
+    return *blocks;
+  }
+  // The block renderer's fields (and vertex values for trilinear) follow the slots; true when
+  // they were (re)built.
+  bool update_block_fields(bool vertices) {
+    if (block_generation[0] == slots[0].generation && block_generation[1] == slots[1].generation &&
+        (!vertices || block_vertices))
+      return false;
+    BlockRenderer& b = block_renderer();
+    b.set_fields(host_values(0), host_values(1), vertices);
+    if (device == Device::cuda) device_scene().set_vertex_fields(b.vertex_field(0), b.vertex_field(1));
+    block_generation[0] = slots[0].generation;
+    block_generation[1] = slots[1].generation;
+    block_vertices = vertices;
+    return true;
   }
 
   // The values of slot s in the memory the kernels read (device memory on CUDA).
@@ -131,6 +155,7 @@ struct FrameRenderer::Impl {
     if (!slot.external && slot.field == field && slot.step == step) return;
     Stopwatch watch;
     slot.host = dataset.load_values(field, step);
+    slot.counted.set(int64_t(slot.host.size() * sizeof(float)));
     slot.field = field;
     slot.step = step;
     slot.external = nullptr;
@@ -161,7 +186,8 @@ Camera FrameRenderer::default_camera(uint32_t width, uint32_t height) const {
 void FrameRenderer::use_values(const float* primary) {
   FieldSlot& slot = impl_->slots[0];
   slot.external = primary;
-  slot.host.clear();
+  slot.host = {};
+  slot.counted.set(0);
   slot.field = slot.step = -1;
   slot.generation = impl_->next_generation++;
   impl_->slots[1] = {};
@@ -185,6 +211,7 @@ void FrameRenderer::compute_ranges(const FrameRequest& r, FrameReport* report) {
     if (m.macro_offset.empty()) m.macro_offset = macrocell_offsets(m.dataset.topology().bricks);
     m.ranges = compute_abr_ranges(m.dataset.topology(), m.kernel_values(0), &m.macro_offset, r.range_mode);
   }
+  m.ranges_bytes.set(int64_t(m.ranges.size() * sizeof(Range) + m.macro_offset.size() * sizeof(uint64_t)));
   m.ranges_generation = generation;
   m.ranges_mode = r.range_mode;
   m.ranges_stored = r.stored_ranges;
@@ -271,24 +298,29 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
   local.device = m.device;
   Image img;
   if (r.kind == IntegratorKind::blocks) {
-    if (!m.blocks) m.blocks = std::make_unique<BlockRenderer>(m.dataset.topology(), m.dataset.manifest().transform);
-    const bool vertices = r.reconstruction == Reconstruction::trilinear;
-    if (m.block_generation[0] != m.slots[0].generation || m.block_generation[1] != m.slots[1].generation ||
-        (vertices && !m.block_vertices)) {
-      m.blocks->set_fields(m.host_values(0), m.host_values(1), vertices);
-      m.block_generation[0] = m.slots[0].generation;
-      m.block_generation[1] = m.slots[1].generation;
-      m.block_vertices = vertices;
-      local.vertex_seconds = m.blocks->vertex_seconds();
+    BlockRenderer& blocks = m.block_renderer();
+    if (m.update_block_fields(r.reconstruction == Reconstruction::trilinear)) {
+      local.vertex_seconds = blocks.vertex_seconds();
       local.seconds.ranges += local.vertex_seconds;
     }
     const TfView tf_view = table.view();
-    BlockStats bs;
-    img = m.blocks->render(&tf_view, r.camera, block_frame(r), m.device, &bs, color_iso ? &color_view : nullptr);
-    local.seconds.upload += bs.upload_seconds;
-    local.seconds.render += bs.render_seconds;
-    local.samples = bs.samples;
-    local.visible_regions = local.region_count = m.blocks->kd().blocks.size();
+    if (m.device == Device::cuda) {
+      img = Image(r.width, r.height);
+      std::vector<uint32_t> counts(size_t(r.width) * r.height);
+      FrameView<BlockVolume> view = blocks.view(&tf_view, r.camera, block_frame(r), color_iso ? &color_view : nullptr);
+      view.rgba = img.rgba.data();
+      view.sample_counts = counts.data();
+      const cuda::RenderTimes t = m.scene->render(view, m.kernel_values(0), m.kernel_values(1));
+      local.seconds.upload += t.upload_seconds;
+      local.seconds.render += t.kernel_seconds;
+      local.samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
+    } else {
+      BlockStats bs;
+      img = blocks.render(&tf_view, r.camera, block_frame(r), Device::cpu, &bs, color_iso ? &color_view : nullptr);
+      local.seconds.render += bs.render_seconds;
+      local.samples = bs.samples;
+    }
+    local.visible_regions = local.region_count = blocks.kd().blocks.size();
   } else {
     AmrRenderer& abr = m.abr_renderer();
     OpticsView optics;

@@ -223,6 +223,9 @@ Dataset::Dataset(const fs::path& dir) : dir_(dir) {
   topology_.abrs = read_records<Abr>(dir / dataset_files::kAbrs, manifest_.abr_count);
   topology_.abr_bricks = read_records<uint32_t>(dir / dataset_files::kAbrBricks, manifest_.abr_brick_count);
   validate_topology(topology_, (dir / dataset_files::kBricks).string());
+  brick_bytes_ = CountedBytes("bricks", MemorySpace::host, int64_t(topology_.bricks.size() * sizeof(Brick)));
+  abr_bytes_ = CountedBytes("ABRs", MemorySpace::host, int64_t(topology_.abrs.size() * sizeof(Abr)));
+  abr_list_bytes_ = CountedBytes("ABR brick lists", MemorySpace::host, int64_t(topology_.abr_bricks.size() * sizeof(uint32_t)));
   if (manifest_.file_order) {  // the index itself is read (and checked) by whoever needs it
     const fs::path index = dir / dataset_files::kFileIndex;
     const uint64_t size = file_size_checked(index);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "volstream/amr/model.h"
+#include "volstream/backend/memory.h"
 #include "volstream/amr/source.h"
 
 namespace vs {
@@ -107,6 +108,7 @@ class Dataset {
   std::filesystem::path dir_;
   DatasetManifest manifest_;
   AmrTopology topology_;
+  CountedBytes brick_bytes_, abr_bytes_, abr_list_bytes_;  // the topology's host memory
 };
 
 // Converts any source into a dataset directory, reading one (field, step) at a time.

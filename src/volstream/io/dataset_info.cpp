@@ -105,9 +105,12 @@ std::string format_summary(const json& j) {
     line("  %8llu-%-8llu %10llu %s\n", (unsigned long long)b["min"].get<uint64_t>(), (unsigned long long)b["max"].get<uint64_t>(),
          (unsigned long long)n, bar.c_str());
   }
-  s += "bytes\n";
-  for (const auto& [k, v] : j["bytes"].items())
-    line("  %-27s %s\n", k.c_str(), human_bytes(double(v.get<uint64_t>())).c_str());
+  for (const char* section : {"bytes", "device_bytes"}) {
+    if (!j.contains(section)) continue;
+    s += std::string(section) + "\n";
+    for (const auto& [k, v] : j[section].items())
+      line("  %-27s %s\n", k.c_str(), human_bytes(double(v.get<uint64_t>())).c_str());
+  }
   return s;
 }
 

@@ -136,7 +136,7 @@ namespace {
 class HostValueStore : public ValueStore {
  public:
   HostValueStore(int count, uint64_t bytes_each) {
-    for (int i = 0; i < count; ++i) buffers_.emplace_back(bytes_each, false);
+    for (int i = 0; i < count; ++i) buffers_.emplace_back(bytes_each, false, "field values");
   }
   const float* data(int buffer) const override { return buffers_.at(size_t(buffer)).floats(); }
   void upload(int buffer, const float* staging, uint64_t floats) override {

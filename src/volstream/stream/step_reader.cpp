@@ -43,7 +43,8 @@ const char* pinning_name(HostBuffer::Pinning p) {
   }
 }
 
-HostBuffer::HostBuffer(uint64_t bytes, bool want_pinned) : bytes_(round_up(std::max<uint64_t>(bytes, 1))) {
+HostBuffer::HostBuffer(uint64_t bytes, bool want_pinned, const char* structure)
+    : bytes_(round_up(std::max<uint64_t>(bytes, 1))) {
   if (want_pinned) {
     // CUDA's page-locked memory is what makes host-to-device copies fast; without CUDA, mlock()
     // gives the same guarantee to the OS (no paging), which is all a CPU "upload" can use.
@@ -64,6 +65,7 @@ HostBuffer::HostBuffer(uint64_t bytes, bool want_pinned) : bytes_(round_up(std::
     if (!data_) throw std::bad_alloc();
   }
   std::memset(data_, 0, bytes_);
+  counted_ = CountedBytes(structure, pinning_ == Pinning::none ? MemorySpace::host : MemorySpace::pinned, int64_t(bytes_));
 }
 
 HostBuffer& HostBuffer::operator=(HostBuffer&& o) noexcept {
@@ -72,6 +74,7 @@ HostBuffer& HostBuffer::operator=(HostBuffer&& o) noexcept {
     data_ = std::exchange(o.data_, nullptr);
     bytes_ = std::exchange(o.bytes_, 0);
     pinning_ = std::exchange(o.pinning_, Pinning::none);
+    counted_ = std::move(o.counted_);
     pin_failure_ = std::move(o.pin_failure_);
   }
   return *this;

@@ -2,6 +2,7 @@
 // by direct I/O (O_DIRECT, bypassing the page cache: paper 000, section 5.4), and the aligned,
 // optionally page-locked host buffers it reads into.
 #pragma once
+#include "volstream/backend/memory.h"
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
@@ -18,7 +19,8 @@ class HostBuffer {
   enum class Pinning { none, cuda, mlock };
 
   HostBuffer() = default;
-  HostBuffer(uint64_t bytes, bool want_pinned);
+  // Counted in the memory ledger as `structure` (pinned or host memory).
+  HostBuffer(uint64_t bytes, bool want_pinned, const char* structure = "staging");
   ~HostBuffer();
   HostBuffer(HostBuffer&& o) noexcept { *this = std::move(o); }
   HostBuffer& operator=(HostBuffer&& o) noexcept;
@@ -37,6 +39,7 @@ class HostBuffer {
   void* data_ = nullptr;
   uint64_t bytes_ = 0;
   Pinning pinning_ = Pinning::none;
+  CountedBytes counted_;
   std::string pin_failure_;
 };
 const char* pinning_name(HostBuffer::Pinning p);

@@ -53,6 +53,8 @@ AmrRenderer::AmrRenderer(const AmrTopology& topology, const WorldTransform& tran
   template_ = build_bvh_sah(abr_boxes_);
   if (!subtrees_are_runs(template_.nodes)) throw std::logic_error("BVH node order does not allow a bottom-up refit");
   nodes_ = template_.nodes;
+  bvh_bytes_ = CountedBytes("BVH", MemorySpace::host,
+                            int64_t((template_.nodes.size() + nodes_.size()) * sizeof(BvhNode) + abr_boxes_.size() * sizeof(box3f)));
 }
 
 uint64_t AmrRenderer::classify(const std::vector<Range>& abr_ranges, const TransferTable& tf,

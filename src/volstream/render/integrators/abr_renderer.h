@@ -11,6 +11,7 @@
 #include "volstream/amr/model.h"
 #include "volstream/amr/source.h"
 #include "volstream/backend/device.h"
+#include "volstream/backend/memory.h"
 #include "volstream/core/image.h"
 #include "volstream/render/camera.h"
 #include "volstream/render/integrators/integrator.h"
@@ -94,6 +95,7 @@ class AmrRenderer {
   Bvh template_;                 // all ABRs, never changes
   std::vector<BvhNode> nodes_;   // same topology, boxes refit to the visible ABRs
   std::vector<box3f> abr_boxes_;
+  CountedBytes bvh_bytes_;       // template, refit copy and boxes (host)
 };
 
 // The world box of the leaf cells.

@@ -15,6 +15,8 @@ BlockRenderer::BlockRenderer(const AmrTopology& topology, const WorldTransform& 
   Stopwatch watch;
   kd_ = build_kd_blocks(topology.bricks);
   build_seconds_ = watch.seconds();
+  kd_bytes_ = CountedBytes("kd-tree blocks", MemorySpace::host,
+                           int64_t(kd_.nodes.size() * sizeof(KdNode) + kd_.blocks.size() * sizeof(Block)));
 }
 
 Box3<double> BlockRenderer::world_bounds() const {
@@ -38,6 +40,8 @@ void BlockRenderer::set_fields(const float* values, const float* second, bool ve
     if (second) vertex_second_ = build_vertex_field(kd_, topology_.bricks, second);
   }
   vertex_seconds_ = watch.seconds();
+  auto bytes = [](const VertexField& f) { return f.offsets.size() * sizeof(uint64_t) + f.values.size() * sizeof(float); };
+  vertex_bytes_ = CountedBytes("vertex values", MemorySpace::host, int64_t(bytes(vertex_values_) + bytes(vertex_second_)));
 }
 
 FrameView<BlockVolume> BlockRenderer::view(const TfView* tf, const Camera& camera, const BlockFrame& frame,

@@ -10,6 +10,7 @@
 #include "volstream/amr/model.h"
 #include "volstream/amr/source.h"
 #include "volstream/amr/vertex_field.h"
+#include "volstream/backend/memory.h"
 #include "volstream/render/integrators/abr_renderer.h"
 #include "volstream/render/optics/blackbody.h"
 #include "volstream/volume/block_volume.h"
@@ -74,6 +75,7 @@ class BlockRenderer {
   const float* second_ = nullptr;
   VertexField vertex_values_, vertex_second_;  // empty unless set_fields made them
   double vertex_seconds_ = 0;
+  CountedBytes kd_bytes_, vertex_bytes_;  // host memory
 };
 
 }  // namespace vs

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "volstream/backend/backend.h"
 #include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
 #include "volstream/cuda/backend.h"
@@ -67,12 +68,13 @@ std::vector<uint8_t> blackbody_keep(const std::vector<Range>& ranges, const Fram
 struct FrameRenderer::Impl {
   const Dataset& dataset;
   Device device;
+  Backend backend;
   FieldSlot slots[kVolumeFields];
   uint64_t next_generation = 1;
 
   std::unique_ptr<AmrRenderer> abr;
   std::unique_ptr<cuda::DeviceScene> scene;                // CUDA: topology, BVHs, ranges, image
-  std::unique_ptr<cuda::DeviceValueBuffers> device_values;  // CUDA: one buffer per slot
+  std::vector<Buffer<float>> device_slots;                 // CUDA: the slots' values on the device
   std::vector<uint64_t> macro_offset;                      // CPU ranges (amr/ranges.h)
   std::vector<Range> ranges;                               // CPU (and stored ranges)
   CountedBytes ranges_bytes{"ABR ranges", MemorySpace::host};
@@ -94,7 +96,10 @@ struct FrameRenderer::Impl {
 
   CachedTable tf, color_tf;
 
-  Impl(const Dataset& ds, Device d) : dataset(ds), device(d) {}
+  Impl(const Dataset& ds, Device d) : dataset(ds), device(d), backend(d) {
+    if (d == Device::cuda)
+      for (int s = 0; s < kVolumeFields; ++s) device_slots.push_back(backend.buffer<float>("field values"));
+  }
 
   AmrRenderer& abr_renderer() {
     if (!abr) build_abr();
@@ -136,7 +141,7 @@ struct FrameRenderer::Impl {
     const FieldSlot& slot = slots[s];
     if (slot.external) return slot.external;
     if (slot.field < 0) return nullptr;
-    return device == Device::cuda ? device_values->data(s) : slot.host.data();
+    return device == Device::cuda ? device_slots[size_t(s)].data() : slot.host.data();
   }
   const float* host_values(int s) const {
     const FieldSlot& slot = slots[s];
@@ -162,9 +167,7 @@ struct FrameRenderer::Impl {
     slot.generation = next_generation++;
     t.read += watch.lap();
     if (device == Device::cuda) {
-      const uint64_t cells = dataset.manifest().cell_count;
-      if (!device_values) device_values = std::make_unique<cuda::DeviceValueBuffers>(kVolumeFields, cells);
-      device_values->upload(s, slot.host.data(), cells);
+      device_slots[size_t(s)].upload(slot.host);
       t.upload += watch.lap();
     }
   }

@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "parse_util.h"
 #include "render_options.h"
+#include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
 #include "volstream/stream/pipeline.h"
 #include "volstream/stream/render_stages.h"
@@ -65,9 +66,9 @@ CacheState drop_cache(const std::vector<std::filesystem::path>& files) {
 double raw_read_gbps(const Dataset& ds, const std::vector<std::filesystem::path>& files, bool& direct) {
   StepReader reader(ds.manifest().cell_count, ReadMode::direct);
   HostBuffer buffer(reader.padded_bytes(), false);
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   for (size_t i = 0; i < files.size(); ++i) reader.read(files[i], int(i), buffer.data());
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double s = watch.seconds();
   direct = reader.direct();
   return double(reader.bytes_read()) / std::max(s, 1e-9) * 1e-9;
 }

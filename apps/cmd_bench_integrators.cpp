@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "volstream/backend/stopwatch.h"
 #include "volstream/io/image.h"
 #include "volstream/render/integrators/block_renderer.h"
 #include "volstream/core/error.h"
@@ -57,9 +58,9 @@ template <typename F>
 double best_seconds(int repeat, F&& f) {
   double best = 1e300;
   for (int i = 0; i < std::max(repeat, 1); ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch watch;
     f();
-    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    best = std::min(best, watch.seconds());
   }
   return best;
 }

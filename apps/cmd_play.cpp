@@ -9,6 +9,7 @@
 #include "parse_util.h"
 #include "render_options.h"
 #include "volstream/backend/memory.h"
+#include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
 #include "volstream/core/progress.h"
 #include "volstream/stream/pipeline.h"
@@ -81,13 +82,12 @@ void run_play(const PlayArgs& a) {
   Pipeline pipeline(ds, render.request.field, PipelineFlags::at(level), stages, &timeline);
 
   Progress progress("playing", steps.size(), !a.quiet, "frame");
-  const auto start = std::chrono::steady_clock::now();
-  auto last_detail = start;
+  const Stopwatch playing;
+  Stopwatch since_detail;
   auto on_frame = [&](int frame, int) {
-    const auto now = std::chrono::steady_clock::now();
-    if (now - last_detail > std::chrono::milliseconds(250)) {
-      last_detail = now;
-      progress.set_detail(progress_detail(timeline, frame + 1, std::chrono::duration<double>(now - start).count()));
+    if (since_detail.seconds() > 0.25) {
+      since_detail.lap();
+      progress.set_detail(progress_detail(timeline, frame + 1, playing.seconds()));
     }
     progress.set(uint64_t(frame) + 1);
   };

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "volstream/backend/stopwatch.h"
 #include "volstream/accel/bvh_sah.h"
 #include "volstream/accel/refit.h"
 #include "volstream/amr/ranges.h"
@@ -53,9 +54,9 @@ Args parse(int argc, char** argv) {
 void time_stage(const char* name, int repeat, const std::function<void()>& f) {
   std::vector<double> ms;
   for (int r = 0; r < repeat; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const vs::Stopwatch watch;
     f();
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    ms.push_back(1e3 * watch.seconds());
   }
   std::sort(ms.begin(), ms.end());
   std::printf("%-22s %9.2f %9.2f %9.2f\n", name, ms[ms.size() / 2], ms.front(), ms.back());

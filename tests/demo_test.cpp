@@ -9,6 +9,7 @@
 #include <cstring>
 #include <unordered_set>
 
+#include "volstream/backend/stopwatch.h"
 #include "volstream/amr/demo.h"
 #include "volstream/core/error.h"
 
@@ -153,7 +154,7 @@ TEST_P(DemoSmall, ValuesFiniteAndChanging) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Demos, DemoSmall, ::testing::Values("jet", "cosmo"),
-                         [](const auto& info) { return info.param; });
+                         [](const auto& param_info) { return param_info.param; });
 
 TEST(DemoCosmo, DensityAndTemperatureRanges) {
   Demo d = make("cosmo", kSmall);
@@ -190,18 +191,13 @@ TEST(DemoJet, FinestCellsCrowdTheBody) {
   EXPECT_EQ(near_body, finest);
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 // Prints sizes and timings; asserts only the count (timings vary too much between machines).
 void check_large(const std::string& name, uint64_t target) {
-  auto t0 = std::chrono::steady_clock::now();
+  Stopwatch watch;
   auto source = make_demo({name, target, 2});
-  const double make_s = seconds_since(t0);
-  t0 = std::chrono::steady_clock::now();
+  const double make_s = watch.lap();
   const auto cells = source->take_cells();
-  const double cells_s = seconds_since(t0);
+  const double cells_s = watch.lap();
   EXPECT_NEAR(double(cells.size()) / double(target), 1.0, 0.25);
   std::vector<uint64_t> per_level(kMaxLevel + 1, 0);
   for (const Cell& c : cells) ++per_level[size_t(c.level)];
@@ -212,9 +208,9 @@ void check_large(const std::string& name, uint64_t target) {
   std::printf("\n");
   std::vector<float> v(cells.size());
   for (int f = 0; f < int(source->field_names().size()); ++f) {
-    t0 = std::chrono::steady_clock::now();
+    watch.lap();
     source->read_values(f, 1, v.data());
-    const double s = seconds_since(t0);
+    const double s = watch.lap();
     const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
     std::printf("    %s: read_values %.2fs, range [%g, %g]\n", source->field_names()[size_t(f)].c_str(), s,
                 double(*lo), double(*hi));

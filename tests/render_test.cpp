@@ -435,7 +435,9 @@ TEST(Bvh, NextLeavesVisitsAbrsInOrder) {
     for (size_t i = 0; i < got.size(); ++i) {
       EXPECT_EQ(got[i].item, expect[i].item) << "ray " << k << " hit " << i;
       EXPECT_FLOAT_EQ(got[i].t0, expect[i].t0);
-      if (i > 0) EXPECT_GE(got[i].t0, got[i - 1].t1);  // disjoint, front to back
+      if (i > 0) {
+        EXPECT_GE(got[i].t0, got[i - 1].t1);  // disjoint, front to back
+      }
     }
   }
 }

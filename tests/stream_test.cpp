@@ -422,8 +422,9 @@ TEST(Pipeline, ReadOfTheNextStepOverlapsProcessingOnlyWhenAsync) {
     EXPECT_EQ(overlapped, async ? kSteps - 1 : 0) << level_name(level);
     // The overlap level also uploads on the loader; the others upload on the frame thread.
     for (const TimelineEvent& e : timeline.events())
-      if (e.stage == Stage::upload && e.step > 0)
+      if (e.stage == Stage::upload && e.step > 0) {
         EXPECT_EQ(e.lane, level == Level::overlap ? kPrefetchLane : kFrameLane) << level_name(level);
+      }
   }
 }
 

@@ -4,6 +4,7 @@
 // render/integrators/integrator.h); only memory handling lives here.
 #include <chrono>
 
+#include "volstream/backend/stopwatch.h"
 #include "volstream/accel/refit.h"
 #include "volstream/amr/probe.h"
 #include "volstream/amr/ranges.h"
@@ -211,10 +212,10 @@ std::vector<BvhNode> DeviceScene::download_refit_nodes() const { return impl_->r
 
 RenderTimes DeviceScene::render(const FrameView<AmrVolume>& h, const float* device_values, const float* device_second) {
   Impl& m = *impl_;
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   FrameView<AmrVolume> d = m.device_view(h);
   m.sync();
-  const double upload = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double upload = watch.seconds();
   d.volume.amr = m.view(device_values);
   d.volume.fields[0] = device_values;
   d.volume.fields[1] = device_second;
@@ -240,10 +241,10 @@ void DeviceScene::set_vertex_fields(const VertexField* primary, const VertexFiel
 RenderTimes DeviceScene::render(const FrameView<BlockVolume>& h, const float* device_values, const float* device_second) {
   Impl& m = *impl_;
   if (m.blocks.size() != h.volume.kd.block_count) throw std::logic_error("DeviceScene: set_blocks() before rendering blocks");
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   FrameView<BlockVolume> d = m.device_view(h);
   m.sync();
-  const double upload = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double upload = watch.seconds();
   BlockVolume& v = d.volume;
   v.kd.nodes = m.kd_nodes.data();
   v.kd.blocks = m.blocks.data();
@@ -299,7 +300,7 @@ uint64_t DeviceValueBuffers::bytes() const { return impl_->buffers.size() * impl
 
 // ---------------------------------------------------------------------------------------------
 RenderTimes render(const AmrTopology& topology, const FrameView<AmrVolume>& h) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   DeviceScene scene(topology);
   const AmrVolume& vol = h.volume;
   scene.set_bvh(std::vector<BvhNode>(vol.all_nodes, vol.all_nodes + vol.all_node_count));
@@ -308,7 +309,7 @@ RenderTimes render(const AmrTopology& topology, const FrameView<AmrVolume>& h) {
   DeviceValueBuffers values(second ? 2 : 1, topology.cell_count);
   values.upload(0, vol.fields[0], topology.cell_count);
   if (second) values.upload(1, vol.fields[1], topology.cell_count);
-  const double upload = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double upload = watch.seconds();
   RenderTimes times = scene.render(h, values.data(0), second ? values.data(1) : nullptr);
   times.upload_seconds += upload;
   return times;

@@ -12,7 +12,7 @@
 
 #include "volstream/core/error.h"
 #include "volstream/backend/parallel.h"
-#include "volstream/render/optics/transfer_function.h"
+#include "volstream/core/color.h"
 
 namespace vs {
 namespace {

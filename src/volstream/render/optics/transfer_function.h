@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "volstream/core/color.h"
 #include "volstream/core/math.h"
 
 namespace vs {
@@ -135,8 +136,5 @@ class TransferTable {
   OpacityIndex find_shortcuts() const;
 };
 
-// sRGB transfer functions (IEC 61966-2-1).
-float srgb_to_linear(float c);
-float linear_to_srgb(float c);
 
 }  // namespace vs

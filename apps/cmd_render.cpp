@@ -1,7 +1,9 @@
 // render: one image of a dataset (or a built-in demo): DVR and/or isosurfaces through the ABRs.
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <ctime>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +14,8 @@
 #include "volstream/amr/demo.h"
 #include "volstream/core/error.h"
 #include "volstream/cuda/backend.h"
+#include "volstream/io/atomic_file.h"
+#include "volstream/io/cleanup.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/image.h"
 #include "volstream/amr/ranges.h"
@@ -28,23 +32,35 @@ struct RenderArgs {
   BlockRenderArgs blocks;   // --integrator, --optics, ... (cmd_render_blocks.cpp)
 };
 
-// A demo written to a temporary dataset directory, removed again on exit.
+// A demo written to a fresh private directory (mkdtemp: never a planted path or link), removed
+// again on exit and on Ctrl-C.
 struct TempDemo {
-  std::filesystem::path dir;
+  std::filesystem::path root, dir;
+  std::unique_ptr<RemoveOnSignal> on_signal;
   TempDemo(const std::string& name, double cells) {
-    dir = std::filesystem::temp_directory_path() / ("volstream_render_" + name + "_" + std::to_string(getpid()));
-    std::filesystem::remove_all(dir);
-    auto source = make_demo({name, uint64_t(cells), 1});
-    convert_to_dataset(*source, dir, ConvertOptions::silent());
+    std::string path = (std::filesystem::temp_directory_path() / ("volstream_render_" + name + "_XXXXXX")).string();
+    if (!::mkdtemp(path.data())) input_error(path, std::string("cannot create a temporary directory: ") + std::strerror(errno));
+    root = path;
+    on_signal = std::make_unique<RemoveOnSignal>(root);
+    dir = root / "dataset";
+    try {
+      auto source = make_demo({name, uint64_t(cells), 1});
+      convert_to_dataset(*source, dir, ConvertOptions::silent());
+    } catch (...) {
+      std::error_code ec;
+      std::filesystem::remove_all(root, ec);
+      throw;
+    }
   }
   ~TempDemo() {
     std::error_code ec;
-    std::filesystem::remove_all(dir, ec);
+    std::filesystem::remove_all(root, ec);
   }
 };
 
 void run_render(RenderArgs a) {
   if (a.dir.empty() == a.demo.empty()) throw UsageError("give either a dataset directory or --demo jet|cosmo");
+  check_image_output(a.output);  // before the work, not after
   std::unique_ptr<TempDemo> demo;
   auto t_load = std::chrono::steady_clock::now();
   if (!a.demo.empty()) demo = std::make_unique<TempDemo>(a.demo, a.cells);

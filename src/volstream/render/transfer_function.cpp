@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "volstream/core/error.h"
+#include "volstream/io/binary_file.h"
 
 namespace vs {
 
@@ -102,15 +103,8 @@ ParaviewColorMap parse_paraview_color_map(const std::string& text, const std::st
 }
 
 ParaviewColorMap load_paraview_color_map(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) input_error(path, "cannot open");
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  input_check(size >= 0 && size < (64 << 20), path, "colour map file is larger than 64 MiB");
-  in.seekg(0);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_paraview_color_map(ss.str(), path);
+  // A regular file of at most 64 MiB (not /dev/zero, a FIFO or a directory).
+  return parse_paraview_color_map(read_text_file(path, 64 << 20), path);
 }
 
 TransferTable::TransferTable(const TransferFunctionSpec& spec, uint32_t size) : spec_(spec) {

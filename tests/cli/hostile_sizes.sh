@@ -13,7 +13,7 @@ status=0; (timeout 60 "$VS" probe ds </dev/zero >/dev/null 2>err.txt) || status=
 echo '{"traceEvents":[{"ph":"X","name":"read","ts":0,"dur":1},{"ph":"X","name":"read","ts":1e300,"dur":1}]}' >extreme.json
 expect_bad_input "extreme timestamps" timeline extreme.json -o t.svg
 echo '{"traceEvents":[{"ph":"X","name":"read","ts":-1e15,"dur":1e15},{"ph":"X","name":"read","ts":1e15,"dur":1}]}' >far.json
-timeline far.json -o far.svg >/dev/null || fail "timeline with far timestamps did not finish"
+"$VS" timeline far.json -o far.svg >/dev/null || fail "timeline with far timestamps did not finish"
 /usr/bin/python3 -c "
 import json
 print(json.dumps({'traceEvents': [{'ph': 'X', 'name': 's%d' % i, 'ts': i, 'dur': 1} for i in range(100000)]}))" >names.json

@@ -11,7 +11,9 @@ for name in jet cosmo; do ln -s "$WORK/victim" "tmp/volstream_render_${name}_$$"
 [ "$(ls tmp | grep -vc '^volstream_render_.*_'$$'$')" = 0 ] || fail "temporary left: $(ls tmp)"
 rm tmp/*
 for sig in INT TERM; do
-  "$VS" render --demo jet --cells 3e6 --size 16x16 -o y.png >/dev/null 2>&1 &
+  # A background job starts with SIGINT ignored; exec volstream with it restored, as from a terminal.
+  /usr/bin/python3 -c 'import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); os.execv(sys.argv[1], sys.argv[1:])' \
+    "$VS" render --demo jet --cells 3e6 --size 16x16 -o y.png >/dev/null 2>&1 &
   pid=$!
   for _ in $(seq 100); do [ -n "$(ls -A tmp)" ] && break; sleep 0.1; done
   [ -n "$(ls -A tmp)" ] || fail "no temporary directory appeared"

@@ -34,13 +34,19 @@ fs::path make_temp_beside(const fs::path& target) {
   return temp;
 }
 
-void check_output_directory(const fs::path& output) {
+namespace {
+void check_parent_writable(const fs::path& output) {
   const fs::path dir = parent_or_dot(output);
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) input_error(output.string(), "output directory " + dir.string() + " does not exist");
   if (::access(dir.c_str(), W_OK | X_OK) != 0)
     input_error(output.string(), "output directory " + dir.string() + " is not writable");
-  if (fs::is_directory(output, ec)) input_error(output.string(), "is a directory");
+}
+}  // namespace
+
+void check_output_directory(const fs::path& output) {
+  check_parent_writable(output);
+  if (std::error_code ec; fs::is_directory(output, ec)) input_error(output.string(), "is a directory");
 }
 
 AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
@@ -90,7 +96,7 @@ StagedDirectory::StagedDirectory(fs::path target, const std::string& marker) : t
     if (!fs::is_empty(target_, ec) && !fs::exists(target_ / marker, ec))
       input_error(target_.string(), "is a non-empty directory without " + marker + "; refusing to replace it");
   }
-  check_output_directory(target_);
+  check_parent_writable(target_);
   std::string name = (parent_or_dot(target_) / ("." + target_.filename().string() + ".part-XXXXXX")).string();
   if (!::mkdtemp(name.data())) input_error(target_.string(), std::string("cannot create a directory beside it: ") + std::strerror(errno));
   temp_ = name;

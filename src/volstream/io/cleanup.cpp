@@ -25,7 +25,9 @@ Slot g_slots[kSlots];
 // which are plain system calls, unlike opendir or std::filesystem.
 void remove_children(int dir, int depth) {
   alignas(8) char buf[4096];
-  for (;;) {
+  // Other threads may still be writing: stop after a pass that removed nothing.
+  for (bool removed = true; removed;) {
+    removed = false;
     const long n = ::syscall(SYS_getdents64, dir, buf, sizeof buf);
     if (n <= 0) break;
     for (long off = 0; off < n;) {
@@ -39,11 +41,15 @@ void remove_children(int dir, int depth) {
       const Entry* e = reinterpret_cast<const Entry*>(buf + off);
       off += e->reclen;
       if (!std::strcmp(e->name, ".") || !std::strcmp(e->name, "..")) continue;
-      if (::unlinkat(dir, e->name, 0) == 0 || depth > 16) continue;
+      if (::unlinkat(dir, e->name, 0) == 0) {
+        removed = true;
+        continue;
+      }
+      if (depth > 16) continue;
       const int sub = ::openat(dir, e->name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
       if (sub < 0) continue;
       remove_children(sub, depth + 1);
-      ::unlinkat(dir, e->name, AT_REMOVEDIR);
+      removed |= ::unlinkat(dir, e->name, AT_REMOVEDIR) == 0;
     }
     ::lseek(dir, 0, SEEK_SET);  // entries were removed: read the (shorter) directory again
   }

@@ -124,7 +124,7 @@ void add_bench_integrators(CLI::App& bench) {
   cmd->add_option("dataset", a->dir, "dataset directory")->required();
   cmd->add_option("--field", a->field, "field (default: the first)");
   cmd->add_option("--step", a->step, "time step")->capture_default_str();
-  cmd->add_option("--size", a->size, "image size (square)")->capture_default_str();
+  cmd->add_option("--size", a->size, "image size (square, at most 8192)")->check(CLI::Range(1u, 8192u))->capture_default_str();
   cmd->add_option("--rate", a->rate, "samples per cell width")->capture_default_str();
   cmd->add_option("--repeat", a->repeat, "renders per integrator (best time kept)")->capture_default_str();
   cmd->callback([a] { run_bench_integrators(*a); });

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 
 #include "commands.h"
@@ -28,6 +29,10 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--fields", args->fields, "write only these fields (comma-separated; default: all)")->delimiter(',');
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar");
   cmd->callback([args] {
+    // Before the demo is generated (minutes for billions of cells); at least one field.
+    const uint64_t fields = std::max<uint64_t>(1, args->fields.size());
+    check_free_space(args->out, uint64_t(std::clamp(args->cells, 0.0, 1e12)), uint64_t(args->steps) * fields * (args->file_order ? 2 : 1),
+                     args->file_order);
     auto source = make_demo({args->name, uint64_t(args->cells), args->steps});
     const ConvertStats stats = convert_to_dataset(*source, args->out, {args->quiet, args->file_order, args->fields});
     std::printf("wrote %s: %s, %llu cells, %d steps%s (cells %.2fs, bricks %.2fs, ABRs %.2fs, values %.2fs)\n",

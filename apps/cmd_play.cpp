@@ -12,6 +12,7 @@
 #include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
 #include "volstream/core/progress.h"
+#include "volstream/io/atomic_file.h"
 #include "volstream/stream/pipeline.h"
 #include "volstream/stream/render_stages.h"
 #include "volstream/stream/timeline.h"
@@ -67,6 +68,7 @@ void print_report(const Pipeline& p, const Timeline& timeline, const PlayStats& 
 }
 
 void run_play(const PlayArgs& a) {
+  if (!a.timeline.empty()) check_output_directory(a.timeline);  // before the frames, not after
   const Dataset ds(a.dir);
   Level level;
   if (!parse_level(a.pipeline, level)) throw UsageError("--pipeline: unknown level '" + a.pipeline + "' (" + level_names() + ")");

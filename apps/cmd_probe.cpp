@@ -1,6 +1,6 @@
 // probe: values of a field at world-space points, through the ABRs (or the brute-force sum).
 #include <cstdio>
-#include <fstream>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
@@ -8,22 +8,49 @@
 #include "volstream/amr/probe.h"
 #include "volstream/core/error.h"
 #include "volstream/backend/parallel.h"
+#include "volstream/io/binary_file.h"
 #include "volstream/io/dataset.h"
 
 namespace vs::cli {
 namespace {
 
-std::vector<vec3d> read_points(std::istream& in, const std::string& name) {
+// At most this much text of points (some 8 million points): /dev/zero or a huge file given
+// by mistake is refused instead of read until memory runs out.
+constexpr uint64_t kMaxPointsBytes = uint64_t(256) << 20;
+
+// One point per line, "x y z" (nan and inf as strtod reads them: such a point prints nan, so
+// the output keeps one line per point); blank lines are skipped.
+std::vector<vec3d> parse_points(const std::string& text, const std::string& name) {
   std::vector<vec3d> points;
-  std::string line;
-  for (uint64_t n = 1; std::getline(in, line); ++n) {
-    std::istringstream ls(line);
-    vec3d p;
-    if (!(ls >> p.x)) continue;  // blank line
-    if (!(ls >> p.y >> p.z)) input_error(name, "line " + std::to_string(n) + ": expected three numbers 'x y z'");
-    points.push_back(p);
+  uint64_t n = 0;
+  for (size_t begin = 0; begin < text.size();) {
+    const size_t end = std::min(text.find('\n', begin), text.size());
+    const std::string line = text.substr(begin, end - begin);
+    begin = end + 1;
+    ++n;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const char* p = line.c_str();
+    char* next = nullptr;
+    vec3d v;
+    for (int a = 0; a < 3; ++a, p = next) {
+      v[a] = std::strtod(p, &next);
+      if (next == p) input_error(name, "line " + std::to_string(n) + ": expected three numbers 'x y z'");
+    }
+    if (std::string(next).find_first_not_of(" \t\r") != std::string::npos)
+      input_error(name, "line " + std::to_string(n) + ": expected three numbers 'x y z'");
+    points.push_back(v);
   }
   return points;
+}
+
+std::string read_stdin_capped() {
+  std::string text;
+  char buf[1 << 16];
+  while (std::cin.read(buf, sizeof buf) || std::cin.gcount() > 0) {
+    text.append(buf, size_t(std::cin.gcount()));
+    if (text.size() > kMaxPointsBytes) input_error("<stdin>", "more than 256 MiB of points");
+  }
+  return text;
 }
 
 }  // namespace
@@ -49,13 +76,10 @@ void add_probe_command(CLI::App& app) {
     if (a->step < 0 || a->step >= m.step_count())
       throw UsageError("step " + std::to_string(a->step) + " out of range 0.." + std::to_string(m.step_count() - 1));
     std::vector<vec3d> world;
-    if (a->points.empty()) {
-      world = read_points(std::cin, "<stdin>");
-    } else {
-      std::ifstream in(a->points);
-      if (!in) input_error(a->points, "cannot open");
-      world = read_points(in, a->points);
-    }
+    if (a->points.empty())
+      world = parse_points(read_stdin_capped(), "<stdin>");
+    else
+      world = parse_points(read_text_file(a->points, kMaxPointsBytes), a->points);
     const std::vector<float> values = ds.load_values(field, a->step);
     std::vector<double> out(world.size());
     if (a->brute) {

@@ -2,6 +2,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -14,6 +16,8 @@
 #include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
 #include "volstream/frame/frame_renderer.h"
+#include "volstream/io/atomic_file.h"
+#include "volstream/io/cleanup.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/image.h"
 
@@ -27,18 +31,29 @@ struct RenderArgs {
   RenderOptions render;  // shared with play and bench stream (render_options.h)
 };
 
-// A demo written to a temporary dataset directory, removed again on exit.
+// A demo written to a fresh private directory (mkdtemp: never a planted path or link), removed
+// again on exit and on Ctrl-C.
 struct TempDemo {
-  std::filesystem::path dir;
+  std::filesystem::path root, dir;
+  std::unique_ptr<RemoveOnSignal> on_signal;
   TempDemo(const std::string& name, double cells) {
-    dir = std::filesystem::temp_directory_path() / ("volstream_render_" + name + "_" + std::to_string(getpid()));
-    std::filesystem::remove_all(dir);
-    auto source = make_demo({name, uint64_t(cells), 1});
-    convert_to_dataset(*source, dir, ConvertOptions::silent());
+    std::string path = (std::filesystem::temp_directory_path() / ("volstream_render_" + name + "_XXXXXX")).string();
+    if (!::mkdtemp(path.data())) input_error(path, std::string("cannot create a temporary directory: ") + std::strerror(errno));
+    root = path;
+    on_signal = std::make_unique<RemoveOnSignal>(root);
+    dir = root / "dataset";
+    try {
+      auto source = make_demo({name, uint64_t(cells), 1});
+      convert_to_dataset(*source, dir, ConvertOptions::silent());
+    } catch (...) {
+      std::error_code ec;
+      std::filesystem::remove_all(root, ec);
+      throw;
+    }
   }
   ~TempDemo() {
     std::error_code ec;
-    std::filesystem::remove_all(dir, ec);
+    std::filesystem::remove_all(root, ec);
   }
 };
 
@@ -65,6 +80,7 @@ void print_report(const Dataset& ds, const FrameRequest& r, const FrameReport& r
 
 void run_render(RenderArgs a) {
   if (a.dir.empty() == a.demo.empty()) throw UsageError("give either a dataset directory or --demo jet|cosmo");
+  check_image_output(a.output);  // before the work, not after
   Stopwatch open_watch;
   std::unique_ptr<TempDemo> demo;
   if (!a.demo.empty()) demo = std::make_unique<TempDemo>(a.demo, a.cells);

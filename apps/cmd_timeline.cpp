@@ -1,9 +1,10 @@
 // timeline: draw a Chrome-trace timeline (from play or bench stream) as an SVG Gantt chart.
 #include <cstdio>
-#include <fstream>
 
 #include "commands.h"
 #include "volstream/core/error.h"
+#include "volstream/io/atomic_file.h"
+#include "volstream/io/binary_file.h"
 #include "volstream/stream/gantt.h"
 
 namespace vs::cli {
@@ -23,6 +24,7 @@ void add_timeline_command(CLI::App& app) {
   cmd->add_option("--title", a->title, "chart title (default: the file name)");
   cmd->add_flag("--absolute", a->absolute, "one time axis for all runs instead of starting each run at 0");
   cmd->callback([a] {
+    check_output_directory(a->output);
     const auto events = stream::read_chrome_trace(a->input);
     stream::GanttOptions options;
     options.rows = a->rows == "stage" ? stream::GanttOptions::Rows::stage : stream::GanttOptions::Rows::lane;
@@ -30,9 +32,7 @@ void add_timeline_command(CLI::App& app) {
     options.title = a->title.empty() ? std::filesystem::path(a->input).filename().string() : a->title;
     options.align_processes = !a->absolute;
     const std::string svg = stream::gantt_svg(events, options);
-    std::ofstream out(a->output, std::ios::binary);
-    if (!out || !out.write(svg.data(), std::streamsize(svg.size())) || !out.flush())
-      input_error(a->output, "cannot write");
+    write_file(a->output, svg.data(), svg.size());  // atomic, every write and the close checked
     std::printf("wrote %s: %zu events\n", a->output.c_str(), events.size());
   });
 }

@@ -25,6 +25,12 @@ std::vector<double> parse_numbers(const std::string& text, const std::string& wh
   return out;
 }
 
+double parse_number(const std::string& text, const std::string& what) {
+  const auto v = parse_numbers(text, what);
+  if (v.size() != 1) throw UsageError(what + ": '" + text + "' is not a number");
+  return v[0];
+}
+
 vec3d parse_vec3(const std::string& text, const std::string& what) {
   const auto v = parse_numbers(text, what);
   if (v.size() != 3) throw UsageError(what + " expects X,Y,Z");

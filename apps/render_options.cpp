@@ -48,7 +48,7 @@ void add_render_options(CLI::App* cmd, RenderOptions& o, RenderContext context) 
   cmd->add_option("--camera-up", o.camera_up, "X,Y,Z up direction")->default_str("0,1,0");
   cmd->add_option("--fov", o.fov, "vertical field of view, degrees")->capture_default_str();
   cmd->add_flag("--ortho", o.ortho, "orthographic projection (same framing as the perspective view at the look-at point)");
-  cmd->add_option("--size", o.size, "image size WxH")->capture_default_str();
+  cmd->add_option("--size", o.size, "image size WxH (each at most 16384, at most 8192x8192 pixels in all)")->capture_default_str();
   cmd->add_option("--spp", o.spp, "rays per pixel")->capture_default_str();
   cmd->add_option("--rate", o.rate, "samples per cell width (of each ABR's finest level)")->capture_default_str();
   cmd->add_flag("--no-skip", o.no_skip, "no empty-space skipping (march every ABR)");
@@ -107,8 +107,7 @@ std::vector<std::pair<double, double>> parse_opacity(const std::string& text) {
   while (std::getline(ss, item, ',')) {
     const auto colon = item.find(':');
     if (colon == std::string::npos) throw UsageError("--opacity expects VALUE:ALPHA pairs, got '" + item + "'");
-    pts.emplace_back(parse_numbers(item.substr(0, colon), "--opacity").at(0),
-                     parse_numbers(item.substr(colon + 1), "--opacity").at(0));
+    pts.emplace_back(parse_number(item.substr(0, colon), "--opacity"), parse_number(item.substr(colon + 1), "--opacity"));
   }
   return pts;
 }
@@ -133,8 +132,8 @@ std::string dataset_name(const Dataset& ds) { return ds.dir().string(); }
 void parse_size(const std::string& text, uint32_t& w, uint32_t& h) {
   const auto v = parse_numbers(text, "--size", 'x');
   if (v.size() != 2 || v[0] < 1 || v[1] < 1 || v[0] > 16384 || v[1] > 16384 || v[0] != std::floor(v[0]) ||
-      v[1] != std::floor(v[1]))
-    throw UsageError("--size expects WxH with 1 <= W, H <= 16384");
+      v[1] != std::floor(v[1]) || v[0] * v[1] > kMaxPixels)
+    throw UsageError("--size expects WxH with 1 <= W, H <= 16384 and W*H <= 67108864 (8192x8192)");
   w = uint32_t(v[0]);
   h = uint32_t(v[1]);
 }

@@ -64,7 +64,9 @@ RenderPlan make_render_plan(const RenderOptions& o, const Dataset& dataset, cons
 RenderPlan make_stream_render_plan(const RenderOptions& o, const Dataset& dataset);
 
 // The parts, for callers that need only one.
-void parse_size(const std::string& text, uint32_t& width, uint32_t& height);  // WxH, 1..16384
+// An image's float RGBA takes 16 bytes a pixel: 8192x8192 is 1 GiB, the most --size allows.
+inline constexpr double kMaxPixels = 8192.0 * 8192.0;
+void parse_size(const std::string& text, uint32_t& width, uint32_t& height);  // WxH, 1..16384, W*H <= kMaxPixels
 int render_field(const RenderOptions& o, const Dataset& dataset);  // --field, else see field_from_look
 IntegratorSettings make_integrator_settings(const RenderOptions& o);
 Camera make_camera(const RenderOptions& o, const Dataset& dataset, uint32_t width, uint32_t height);

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "fuzz_util.h"
+#include "volstream/frame/look.h"
 #include "volstream/render/optics/transfer_function.h"
 #include "volstream/stream/gantt.h"
 #include "volstream/stream/timeline.h"

@@ -5,11 +5,12 @@ WORK="$2"
 rm -rf "$WORK" && mkdir -p "$WORK"
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-# expect_bad_input DESCRIPTION ARGS...: exit status 2 and exactly one line "volstream: ...".
+# expect_bad_input DESCRIPTION ARGS...: exit status 2 and exactly one line "volstream: ...",
+# within a minute (a hang on hostile input is a failure too).
 expect_bad_input() {
   local what="$1"; shift
   local status=0
-  "$VS" "$@" >"$WORK/out.txt" 2>"$WORK/err.txt" || status=$?
+  timeout 60 "$VS" "$@" >"$WORK/out.txt" 2>"$WORK/err.txt" || status=$?
   [ "$status" = 2 ] || fail "$what: exit status $status, expected 2 (stderr: $(head -c 300 "$WORK/err.txt"))"
   [ "$(wc -l <"$WORK/err.txt")" = 1 ] || fail "$what: expected one line on stderr, got: $(cat "$WORK/err.txt")"
   grep -q '^volstream: ' "$WORK/err.txt" || fail "$what: message does not start with 'volstream: '"

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "volstream/core/error.h"
+#include "volstream/io/binary_file.h"
 #include "volstream/render/integrators/abr_renderer.h"
 
 namespace vs {
@@ -19,6 +20,10 @@ Look default_look(const DatasetManifest& m) {
 
 Camera default_view(const Dataset& ds, uint32_t width, uint32_t height) {
   return default_camera(world_bounds(ds.topology(), ds.manifest().transform), double(width) / height);
+}
+
+ParaviewColorMap load_paraview_color_map(const std::string& path) {
+  return parse_paraview_color_map(read_text_file(path, 64 << 20), path);
 }
 
 int field_or_throw(const DatasetManifest& m, const std::string& name, const std::string& dataset_name) {

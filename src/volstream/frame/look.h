@@ -28,6 +28,10 @@ Look default_look(const DatasetManifest& manifest);
 // image's aspect ratio.
 Camera default_view(const Dataset& dataset, uint32_t width, uint32_t height);
 
+// A ParaView colour map JSON file (render/optics/transfer_function.h): a regular file of at most
+// 64 MiB (not /dev/zero, a FIFO or a directory). InputError(path) on bad files.
+ParaviewColorMap load_paraview_color_map(const std::string& path);
+
 // The field index of `name`; UsageError naming the dataset when there is none.
 int field_or_throw(const DatasetManifest& manifest, const std::string& name, const std::string& dataset_name);
 

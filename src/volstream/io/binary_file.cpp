@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "volstream/core/error.h"
+#include "volstream/io/atomic_file.h"
 
 namespace vs {
 namespace {
@@ -19,11 +20,18 @@ FilePtr open_or_throw(const std::filesystem::path& path, const char* mode) {
 }
 }  // namespace
 
-uint64_t file_size_checked(const std::filesystem::path& path) {
+uint64_t file_size_checked(const std::filesystem::path& path, uint64_t max_bytes) {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) input_error(path.string(), "missing (or not a regular file)");
-  const auto size = std::filesystem::file_size(path, ec);
+  const fs::file_status st = fs::status(path, ec);  // follows links: a link to a regular file is fine
+  if (st.type() == fs::file_type::not_found) input_error(path.string(), "does not exist");
+  if (st.type() == fs::file_type::directory) input_error(path.string(), "is a directory, expected a file");
+  // A FIFO, socket or device would block or never end: refuse before opening it.
+  if (st.type() != fs::file_type::regular) input_error(path.string(), "is not a regular file");
+  const auto size = fs::file_size(path, ec);
   if (ec) input_error(path.string(), "cannot read its size");
+  if (uint64_t(size) > max_bytes)
+    input_error(path.string(), "too large (" + std::to_string(size) + " bytes, at most " + std::to_string(max_bytes) + ")");
   return uint64_t(size);
 }
 
@@ -39,24 +47,14 @@ void read_exact(const std::filesystem::path& path, uint64_t offset, void* dst, u
 }
 
 std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes) {
-  const uint64_t size = file_size_checked(path);
-  if (size > max_bytes) input_error(path.string(), "too large for a text file (" + std::to_string(size) + " bytes)");
+  const uint64_t size = file_size_checked(path, max_bytes);
   std::string text(size, '\0');
   if (size) read_exact(path, 0, text.data(), size);
   return text;
 }
 
 void write_file(const std::filesystem::path& path, const void* data, uint64_t bytes, uint64_t pad_to) {
-  FilePtr f = open_or_throw(path, "wb");
-  if (bytes && std::fwrite(data, 1, bytes, f.get()) != bytes) input_error(path.string(), "write failed (disk full?)");
-  const uint64_t padded = (bytes + pad_to - 1) / pad_to * pad_to;
-  static const char zeros[4096] = {};
-  for (uint64_t left = padded - bytes; left > 0;) {
-    const uint64_t chunk = left < sizeof(zeros) ? left : sizeof(zeros);
-    if (std::fwrite(zeros, 1, chunk, f.get()) != chunk) input_error(path.string(), "write failed (disk full?)");
-    left -= chunk;
-  }
-  if (std::fflush(f.get()) != 0) input_error(path.string(), "write failed (disk full?)");
+  write_file_atomic(path, data, bytes, pad_to);
 }
 
 }  // namespace vs

@@ -8,11 +8,16 @@
 
 namespace vs {
 
-uint64_t file_size_checked(const std::filesystem::path& path);  // InputError if missing
+// The size of a regular file (links followed); InputError for a missing file, a directory, a
+// FIFO, socket or device (which would block or never end), or a file over max_bytes. Every
+// reader checks its input with this before opening it.
+uint64_t file_size_checked(const std::filesystem::path& path, uint64_t max_bytes = UINT64_MAX);
 // Reads exactly `bytes` bytes from `offset`; InputError if the file is shorter.
 void read_exact(const std::filesystem::path& path, uint64_t offset, void* dst, uint64_t bytes);
+// A whole text file (manifest, colour map, points, trace, plotfile header), at most max_bytes.
 std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes = 64u << 20);
-// Writes `bytes` bytes, zero-padded to a multiple of `pad_to` (1 = no padding).
+// Writes `bytes` bytes, zero-padded to a multiple of `pad_to` (1 = no padding), atomically
+// (io/atomic_file.h: a temporary renamed into place, every write and the close checked).
 void write_file(const std::filesystem::path& path, const void* data, uint64_t bytes, uint64_t pad_to = 1);
 
 [[noreturn]] void throw_size_mismatch(const std::filesystem::path& path, uint64_t size, uint64_t expected);

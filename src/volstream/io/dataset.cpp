@@ -3,7 +3,9 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
+#include <cmath>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -15,6 +17,7 @@
 #include "volstream/core/error.h"
 #include "volstream/backend/parallel.h"
 #include "volstream/core/progress.h"
+#include "volstream/io/atomic_file.h"
 #include "volstream/io/binary_file.h"
 
 namespace vs {
@@ -107,16 +110,43 @@ DatasetManifest manifest_from_json(const json& j) {
   return m;
 }
 
+}  // namespace
+
+namespace {
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%g", v);
+  return text;
+}
+}  // namespace
+
+std::string transform_problem(const WorldTransform& t) {
+  for (int a = 0; a < 3; ++a) {
+    const double size = t.cell_size[a], origin = t.origin[a];
+    if (!(size > 0) || !std::isfinite(size) || !std::isfinite(origin)) return "transform must be finite with positive cell size";
+    // World positions are floats in the renderer: the grid (|coordinate| < 2^28) must map to
+    // normal floats, and the origin must not swamp a cell (else rays cannot resolve cells).
+    if (size < kMinCellSize || size > kMaxCellSize)
+      return "cell size " + number(size) + " outside [1e-15, 1e15] world units";
+    if (std::fabs(origin) > size * double(kMaxCoord) * 4)
+      return "origin " + number(origin) + " is too far from the grid for its cell size";
+  }
+  return {};
+}
+
+namespace {
 void validate_manifest(const DatasetManifest& m) {
   auto fail = [](const std::string& what) { throw std::runtime_error(what); };
-  for (int a = 0; a < 3; ++a)
-    if (!(m.transform.cell_size[a] > 0) || !std::isfinite(m.transform.cell_size[a]) || !std::isfinite(m.transform.origin[a]))
-      fail("transform must be finite with positive cell size");
+  if (const std::string problem = transform_problem(m.transform); !problem.empty()) fail(problem);
   if (m.step_times.empty()) fail("no time steps");
+  for (double t : m.step_times)
+    if (!std::isfinite(t)) fail("non-finite step time");
   if (m.step_times.size() > 1000000) fail("too many time steps");
   if (m.fields.empty()) fail("no fields");
   for (const auto& f : m.fields) {
     if (f.step_ranges.size() != m.step_times.size()) fail("field '" + f.name + "' has a range count unequal to the step count");
+    for (const Range& r : f.step_ranges)
+      if (!(std::isfinite(r.lo) && std::isfinite(r.hi) && r.lo <= r.hi)) fail("field '" + f.name + "' has a non-finite or empty step range");
     if (f.dir.empty() || f.dir.find('/') != std::string::npos || f.dir.find("..") != std::string::npos)
       fail("field '" + f.name + "' has a bad directory name");
   }
@@ -126,8 +156,31 @@ void validate_manifest(const DatasetManifest& m) {
     level_cells += l.cell_count;
   }
   if (level_cells != m.cell_count) fail("cells per level do not add up to cell_count");
+  // convert refuses input without cells, so an empty dataset is a damaged one.
+  if (m.cell_count == 0 || m.brick_count == 0 || m.abr_count == 0) fail("no cells, bricks or ABRs");
   if (m.cell_count >= UINT32_MAX || m.brick_count > m.cell_count || m.abr_brick_count >= UINT32_MAX)
     fail("counts out of range");
+}
+
+// An ABR lies inside the supports of the bricks it lists (it is a region where exactly those
+// supports overlap) and its step width is their finest cell width. Checking both refuses NaN,
+// infinite, inverted or stretched boxes (which the BVH build and the renderer cannot handle) and
+// bounds the samples of a ray segment by the listed bricks' own extent in cells.
+bool abr_geometry_ok(const AmrTopology& t, const Abr& a) {
+  box3i hull = box3i::make_empty();
+  int32_t finest = INT32_MAX;
+  for (uint32_t k = 0; k < a.brick_count; ++k) {
+    const Brick& b = t.bricks[t.abr_bricks[a.first_brick + k]];
+    hull.extend(b.support_x2());
+    finest = std::min(finest, b.width());
+  }
+  if (a.finest_width != float(finest)) return false;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float lo2 = a.box.lower[axis] * 2.f, hi2 = a.box.upper[axis] * 2.f;  // half-grid units
+    if (!(lo2 >= float(hull.lower[axis]) && hi2 <= float(hull.upper[axis]) && lo2 < hi2)) return false;  // also NaN
+    if (lo2 != std::floor(lo2) || hi2 != std::floor(hi2)) return false;
+  }
+  return true;
 }
 
 void validate_topology(const AmrTopology& t, const std::string& file) {
@@ -142,12 +195,12 @@ void validate_topology(const AmrTopology& t, const std::string& file) {
     if (next > t.cell_count) break;  // reported below; also keeps the sum from overflowing
   }
   if (next != t.cell_count) input_error(file, "bricks hold " + std::to_string(next) + " cells, manifest says " + std::to_string(t.cell_count));
-  for (const Abr& a : t.abrs) {
-    if (uint64_t(a.first_brick) + a.brick_count > t.abr_bricks.size() || a.brick_count == 0 || !(a.finest_width >= 1))
-      input_error(file, "ABR " + std::to_string(&a - t.abrs.data()) + " is invalid");
-  }
   for (uint32_t id : t.abr_bricks)
     if (id >= t.bricks.size()) input_error(file, "ABR brick index " + std::to_string(id) + " out of range");
+  for (const Abr& a : t.abrs) {
+    if (uint64_t(a.first_brick) + a.brick_count > t.abr_bricks.size() || a.brick_count == 0 || !abr_geometry_ok(t, a))
+      input_error(file, "ABR " + std::to_string(&a - t.abrs.data()) + " is invalid");
+  }
 }
 
 }  // namespace
@@ -304,7 +357,44 @@ std::vector<int> selected_fields(const AmrSource& source, const std::vector<std:
 }
 }  // namespace
 
-ConvertStats convert_to_dataset(AmrSource& source, const fs::path& out_dir, const ConvertOptions& options) {
+void check_free_space(const fs::path& out, uint64_t cells, uint64_t values_per_cell, bool file_order) {
+  const uint64_t bytes = cells * (sizeof(Cell) + sizeof(Brick) / 8 + (file_order ? 4 : 0)) + cells * values_per_cell * 4 +
+                         (uint64_t(1) << 20);
+  std::error_code ec;
+  const fs::path dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  const fs::space_info space = fs::space(dir, ec);
+  if (ec || bytes <= space.available) return;
+  char text[160];
+  std::snprintf(text, sizeof(text), "needs about %.2f GB of disk, only %.2f GB free", double(bytes) * 1e-9,
+                double(space.available) * 1e-9);
+  input_error(out.string(), text);
+}
+
+namespace {
+
+// The values of one (field, step) as the dataset stores them: NaN is "no data" (kept), an
+// infinite value (also a float64 beyond float range, converted) is refused, and some value must
+// be finite so that the step has a range (docs/formats.md, "Values").
+void check_values(const std::vector<float>& v, const std::string& origin, const std::string& field, int step) {
+  std::atomic<uint64_t> first_inf{UINT64_MAX};
+  parallel_for_ranges(int64_t(v.size()), [&](int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i)
+      if (std::isinf(v[size_t(i)])) {
+        uint64_t cur = first_inf.load();
+        while (uint64_t(i) < cur && !first_inf.compare_exchange_weak(cur, uint64_t(i))) {}
+        return;
+      }
+  }, 1 << 16);
+  const std::string where = "field '" + field + "' step " + std::to_string(step) + ": ";
+  if (first_inf.load() != UINT64_MAX)
+    input_error(origin, where + "value " + std::to_string(first_inf.load()) +
+                            " is infinite or beyond float32 range (|v| > 3.4e38); use NaN for no data");
+  const Range r = value_range(v.data(), v.size());
+  if (!(r.lo <= r.hi)) input_error(origin, where + "no finite value (every value is NaN)");
+}
+}  // namespace
+
+ConvertStats convert_to_dataset(AmrSource& source, const fs::path& target_dir, const ConvertOptions& options) {
   using clock = std::chrono::steady_clock;
   auto seconds_since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
   ConvertStats stats;
@@ -312,8 +402,16 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& out_dir, cons
   const std::string origin = source.origin();
   // file_index.bin holds uint32 positions (as does the brick builder's input index).
   if (options.file_order && source.cell_count() > uint64_t(UINT32_MAX))
-    input_error(out_dir.string(), "--file-order: " + std::to_string(source.cell_count()) +
+    input_error(target_dir.string(), "--file-order: " + std::to_string(source.cell_count()) +
                                       " cells; the file index holds 32-bit positions, so at most 2^32 - 1 cells");
+  if (const std::string problem = transform_problem(source.transform()); !problem.empty()) input_error(origin, problem);
+  // Built beside the target and swapped in at the end: all or nothing, also over an old dataset.
+  StagedDirectory staged(target_dir, dataset_files::kManifest);
+  const fs::path& out_dir = staged.path();
+  const uint64_t values_per_cell = uint64_t(source.step_count()) *
+                                   (options.fields.empty() ? source.field_names().size() : options.fields.size()) *
+                                   (options.file_order ? 2 : 1);
+  check_free_space(target_dir, source.cell_count(), values_per_cell, options.file_order);
   std::vector<Cell> cells = source.take_cells();
   if (cells.empty()) input_error(origin, "no cells");
   stats.cells_seconds = seconds_since(t0);
@@ -356,6 +454,7 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& out_dir, cons
     for (size_t field = 0; field < field_names.size(); ++field) {
       progress.set_detail(field_names[field] + " step " + std::to_string(step));
       source.read_values(fields[field], step, input.data());
+      check_values(input, origin, field_names[field], step);
       if (options.file_order) writer.write_file_order_values(int(field), step, input.data(), n);
       const uint32_t* index = built.input_index.data();
       parallel_for("reorder", int64_t(n), [&](int64_t i) { device[size_t(i)] = input[index[i]]; });
@@ -366,6 +465,7 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& out_dir, cons
   progress.finish();
   stats.values_seconds = seconds_since(t0);
   writer.finish();
+  staged.commit();
   return stats;
 }
 

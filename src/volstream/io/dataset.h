@@ -48,6 +48,12 @@ struct DatasetManifest {
   int field_index(const std::string& name) const;  // -1 if absent
 };
 
+// World cell sizes a dataset may have (the renderer works in float world coordinates).
+inline constexpr double kMinCellSize = 1e-15, kMaxCellSize = 1e15;
+// Empty if the transform can be rendered; else what is wrong (non-finite, non-positive or
+// out-of-range cell size, origin too far from the grid). Checked by the reader and at convert.
+std::string transform_problem(const WorldTransform& t);
+
 // Names of files inside a dataset directory.
 namespace dataset_files {
 inline constexpr const char* kManifest = "manifest.json";
@@ -126,6 +132,9 @@ struct ConvertStats {
   double cells_seconds = 0, bricks_seconds = 0, abrs_seconds = 0, values_seconds = 0;
   uint64_t topology_bytes = 0;  // bricks + ABRs + ABR brick lists
 };
+// InputError (naming `out`) unless about cells * (topology + values_per_cell floats) bytes fit on
+// the file system that will hold `out`: a demo or convert must not fill the disk and fail late.
+void check_free_space(const std::filesystem::path& out, uint64_t cells, uint64_t values_per_cell, bool file_order);
 ConvertStats convert_to_dataset(AmrSource& source, const std::filesystem::path& out_dir, const ConvertOptions& options = {});
 
 }  // namespace vs

@@ -13,6 +13,8 @@
 #include "volstream/core/error.h"
 #include "volstream/backend/parallel.h"
 #include "volstream/core/color.h"
+#include "volstream/io/atomic_file.h"
+#include "volstream/io/binary_file.h"
 
 namespace vs {
 namespace {
@@ -80,18 +82,13 @@ bool ends_with(const std::string& s, const std::string& suffix) {
                     [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
 }
 
-struct FileCloser {
-  void operator()(FILE* f) const { std::fclose(f); }
-};
-
 void write_pfm_channels(const std::string& path, uint32_t w, uint32_t h, int channels, const std::vector<float>& data) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw std::runtime_error("cannot write " + path);
-  out << (channels == 3 ? "PF" : "Pf") << "\n" << w << " " << h << "\n-1.0\n";  // negative scale: little-endian
+  AtomicFile out(path);
+  // Negative scale: little-endian.
+  out.write(std::string(channels == 3 ? "PF" : "Pf") + "\n" + std::to_string(w) + " " + std::to_string(h) + "\n-1.0\n");
   // PFM stores rows bottom to top.
-  for (uint32_t y = h; y-- > 0;)
-    out.write(reinterpret_cast<const char*>(data.data() + size_t(y) * w * channels), std::streamsize(sizeof(float) * w * channels));
-  if (!out) throw std::runtime_error("cannot write " + path);
+  for (uint32_t y = h; y-- > 0;) out.write(data.data() + size_t(y) * w * channels, sizeof(float) * w * channels);
+  out.commit();
 }
 
 }  // namespace
@@ -131,8 +128,7 @@ void write_png(const Image& img, const std::string& path, const ImageWriteOption
   } else {
     bytes = to_rgb8(img, opt.background);
   }
-  std::unique_ptr<FILE, FileCloser> f(std::fopen(path.c_str(), "wb"));
-  if (!f) throw std::runtime_error("cannot write " + path);
+  AtomicFile out(path);
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!info) {
@@ -141,9 +137,9 @@ void write_png(const Image& img, const std::string& path, const ImageWriteOption
   }
   if (setjmp(png_jmpbuf(png))) {
     png_destroy_write_struct(&png, &info);
-    throw std::runtime_error("libpng failed writing " + path);
+    input_error(path, "libpng failed writing it (disk full?)");
   }
-  png_init_io(png, f.get());
+  png_init_io(png, out.file());
   png_set_IHDR(png, info, img.width, img.height, 8, opt.alpha ? PNG_COLOR_TYPE_RGB_ALPHA : PNG_COLOR_TYPE_RGB,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
@@ -151,6 +147,7 @@ void write_png(const Image& img, const std::string& path, const ImageWriteOption
   for (uint32_t y = 0; y < img.height; ++y) png_write_row(png, bytes.data() + size_t(y) * img.width * channels);
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
+  out.commit();  // checks every buffered write and the close
 }
 
 void write_pfm(const Image& img, const std::string& path, const ImageWriteOptions& opt) {
@@ -168,6 +165,11 @@ void write_pfm(const Image& img, const std::string& path, const ImageWriteOption
   write_pfm_channels(stem + ".alpha.pfm", img.width, img.height, 1, alpha);
 }
 
+void check_image_output(const std::string& path) {
+  if (!ends_with(path, ".png") && !ends_with(path, ".pfm")) throw UsageError("output '" + path + "' must end in .png or .pfm");
+  check_output_directory(path);
+}
+
 void write_image(const Image& img, const std::string& path, const ImageWriteOptions& opt) {
   if (ends_with(path, ".png")) return write_png(img, path, opt);
   if (ends_with(path, ".pfm")) return write_pfm(img, path, opt);
@@ -175,6 +177,7 @@ void write_image(const Image& img, const std::string& path, const ImageWriteOpti
 }
 
 Image read_pfm(const std::string& path) {
+  file_size_checked(path);  // a FIFO or directory would block or mislead
   std::ifstream in(path, std::ios::binary);
   if (!in) input_error(path, "cannot open");
   std::string magic;

@@ -25,6 +25,7 @@ uint8_t linear_to_srgb8(float linear);
 // 8-bit sRGB RGB over the background, rows top to bottom: what PNG and ffmpeg's rgb24 take.
 std::vector<uint8_t> to_rgb8(const Image& image, const vec3f& background_srgb);
 
+// Every file is written atomically (io/atomic_file.h): it appears whole or not at all.
 // 8-bit sRGB PNG: RGB composited over the background, or RGBA with straight alpha.
 void write_png(const Image& image, const std::string& path, const ImageWriteOptions& options = {});
 // Little-endian colour PFM ("PF"), linear RGB composited over the background. With alpha, the
@@ -33,6 +34,9 @@ void write_png(const Image& image, const std::string& path, const ImageWriteOpti
 void write_pfm(const Image& image, const std::string& path, const ImageWriteOptions& options = {});
 // Picks the format from the extension (.png or .pfm); UsageError for anything else.
 void write_image(const Image& image, const std::string& path, const ImageWriteOptions& options = {});
+
+// UsageError unless the path ends in .png or .pfm; InputError unless its directory is writable.
+void check_image_output(const std::string& path);
 
 // Reads a colour or grey PFM (either byte order) into an image with alpha 1. InputError on bad files.
 Image read_pfm(const std::string& path);

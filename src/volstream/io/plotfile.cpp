@@ -444,14 +444,23 @@ StepFabs parse_step_fabs(const fs::path& dir, const PlotHeader& h) {
     const fs::path cell = dir / h.cell_paths[l];
     step.levels.push_back(parse_cell_header(fs::path(cell.string() + "_H"), int64_t(h.names.size()), h.ngrids[l], step));
   }
-  // A FAB must at least start inside its file; the rest is checked when it is read.
+  // A FAB must start inside its file and the file must hold the box's values at 4 bytes each
+  // at least (float32); checked before anything is allocated for the cells the boxes claim.
+  // Its header and exact value size are checked when it is read.
   std::vector<uint64_t> sizes;
   for (const auto& f : step.files) sizes.push_back(file_size_checked(f));
+  const uint64_t ncomp = h.names.size();
   for (const auto& lf : step.levels)
-    for (size_t b = 0; b < lf.boxes.size(); ++b)
-      if (lf.offset[b] >= sizes[lf.file[b]])
-        input_error(step.files[lf.file[b]].string(), "truncated: FAB offset " + str(lf.offset[b]) +
-                                                         " is beyond the end of the file (" + str(sizes[lf.file[b]]) + " bytes)");
+    for (size_t b = 0; b < lf.boxes.size(); ++b) {
+      const uint64_t size = sizes[lf.file[b]], offset = lf.offset[b];
+      const std::string file = step.files[lf.file[b]].string();
+      if (offset >= size)
+        input_error(file, "truncated: FAB offset " + str(offset) + " is beyond the end of the file (" + str(size) + " bytes)");
+      const uint64_t need = volume(grow(lf.boxes[b], lf.nghost)) * ncomp * 4;
+      if (need > size - offset)
+        input_error(file, "truncated: the FAB at offset " + str(offset) + " needs at least " + str(need) + " bytes, the file has " +
+                              str(size - offset) + " from there");
+    }
   return step;
 }
 

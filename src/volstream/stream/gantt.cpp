@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <tuple>
 
 #include "volstream/core/error.h"
@@ -15,12 +16,15 @@
 namespace vs::stream {
 namespace {
 using json = nlohmann::json;
+constexpr double kMaxTraceMicroseconds = 1e15;
+constexpr size_t kMaxRows = 10000;  // rows of a chart (lanes or stage names per process)
 
 double finite_number(const json& e, const char* key) {
   const auto it = e.find(key);
   if (it == e.end() || !it->is_number()) throw std::runtime_error(std::string("event without a numeric \"") + key + "\"");
   const double v = it->get<double>();
-  if (!std::isfinite(v)) throw std::runtime_error(std::string("non-finite \"") + key + "\"");
+  // Microseconds; 1e15 is 31 years. Beyond it spans overflow to inf and the axis never ends.
+  if (!(std::fabs(v) <= kMaxTraceMicroseconds)) throw std::runtime_error(std::string("\"") + key + "\" not a number within +-1e15");
   return v;
 }
 
@@ -141,6 +145,9 @@ std::vector<Row> make_rows(std::vector<TraceEvent>& events, GanttOptions::Rows b
     const Key k = by == GanttOptions::Rows::lane ? Key{e.pid, e.tid, e.thread} : Key{e.pid, stage_rank(e.name), e.name};
     index.emplace(k, 0);
   }
+  if (index.size() > kMaxRows)
+    throw UsageError("the trace has " + std::to_string(index.size()) + " rows (lanes or stage names); a chart shows at most " +
+                     std::to_string(kMaxRows));
   std::vector<Row> rows;
   for (auto& [key, i] : index) {
     i = rows.size();
@@ -211,7 +218,8 @@ std::string gantt_svg(const std::vector<TraceEvent>& input, const GanttOptions& 
 
   // Grid lines and tick labels (milliseconds since the first event).
   const double step_ms = tick_step(span_ms, 10);
-  for (double ms = 0; ms <= span_ms + 1e-9; ms += step_ms) {
+  for (int k = 0; k <= 1000 && k * step_ms <= span_ms + 1e-9; ++k) {  // counted: a float sum could stall
+    const double ms = k * step_ms;
     const double x = label_w + ms / span_ms * plot_w;
     svg += fmt("<line x1=\"%.1f\" y1=\"%d\" x2=\"%.1f\" y2=\"%d\" stroke=\"#ddd\"/>\n", x, top, x, axis_y);
     svg += fmt("<line x1=\"%.1f\" y1=\"%d\" x2=\"%.1f\" y2=\"%d\" stroke=\"black\"/>\n", x, axis_y, x, axis_y + 5);
@@ -242,9 +250,12 @@ std::string gantt_svg(const std::vector<TraceEvent>& input, const GanttOptions& 
   }
 
   // Legend: the stages that occur, in pipeline order.
-  std::vector<std::string> names;
-  for (const TraceEvent& e : events)
-    if (std::find(names.begin(), names.end(), e.name) == names.end()) names.push_back(e.name);
+  const std::set<std::string> distinct = [&] {
+    std::set<std::string> d;
+    for (const TraceEvent& e : events) d.insert(e.name);
+    return d;
+  }();
+  std::vector<std::string> names(distinct.begin(), distinct.end());
   std::stable_sort(names.begin(), names.end(), [](const std::string& a, const std::string& b) {
     Stage sa, sb;
     return (parse_stage(a, sa) ? int(sa) : kStageCount) < (parse_stage(b, sb) ? int(sb) : kStageCount);

@@ -2,7 +2,10 @@
 
 #include <sys/wait.h>
 
+#include <unistd.h>
+
 #include <cctype>
+#include <cstdlib>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
@@ -10,6 +13,8 @@
 
 #include "volstream/core/error.h"
 #include "volstream/cuda/backend.h"
+#include "volstream/io/atomic_file.h"
+#include "volstream/io/binary_file.h"
 
 namespace vs::stream {
 
@@ -61,17 +66,13 @@ std::string PngSequenceWriter::format(const std::string& pattern, int frame) {
 PngSequenceWriter::PngSequenceWriter(std::string pattern, vec3f background)
     : pattern_(std::move(pattern)), background_(background) {
   find_conversion(pattern_);  // reject a bad pattern before the first frame
+  check_output_directory(format(pattern_, 0));
 }
 
 void PngSequenceWriter::write(const Image& image, int frame, int) {
-  const std::string path = format(pattern_, frame);
-  const std::string tmp = path + ".part";
   ImageWriteOptions options;
   options.background = background_;
-  write_png(image, tmp, options);
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error("cannot write " + path + ": " + ec.message());
+  write_png(image, format(pattern_, frame), options);  // atomic: no partial frame
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -86,44 +87,99 @@ std::string shell_quote(const std::string& s) {
   for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return out + "'";
 }
+
+bool ffmpeg_on_path() {
+  const char* path = std::getenv("PATH");
+  std::string dirs = path ? path : "";
+  for (size_t begin = 0; begin <= dirs.size();) {
+    const size_t end = std::min(dirs.find(':', begin), dirs.size());
+    const std::string dir = end > begin ? dirs.substr(begin, end - begin) : ".";
+    if (::access((dir + "/ffmpeg").c_str(), X_OK) == 0) return true;
+    begin = end + 1;
+  }
+  return false;
+}
+
+// ffmpeg's muxer for an extension (the temporary name does not end in it).
+const char* muxer(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  return ext == ".mkv" ? "matroska" : ext == ".mov" ? "mov" : "mp4";
+}
+
+// The last non-empty line of a small text file ("" if none).
+std::string last_line(const std::filesystem::path& file) {
+  std::string text, line, last;
+  try {
+    text = read_text_file(file, 1 << 20);
+  } catch (const InputError&) {
+    return "";
+  }
+  for (size_t begin = 0; begin < text.size();) {
+    const size_t end = std::min(text.find('\n', begin), text.size());
+    if (end > begin) last = text.substr(begin, end - begin);
+    begin = end + 1;
+  }
+  return last;
+}
 }  // namespace
 
+// ffmpeg writes to a temporary name beside the video and its messages to another; finish()
+// renames the video into place only if ffmpeg took every frame, said nothing and exited 0.
 VideoWriter::VideoWriter(std::string path, uint32_t width, uint32_t height, double fps, vec3f background)
     : path_(std::move(path)), width_(width), height_(height), background_(background) {
   if (!(fps > 0 && fps <= 1000)) throw UsageError("--fps must be in (0, 1000]");
+  if (!ffmpeg_on_path()) input_error(path_, "ffmpeg not found on PATH (scripts/setup.sh installs it)");
+  check_output_directory(path_);
+  temp_ = make_temp_beside(path_);
+  log_ = make_temp_beside(temp_);
+  temp_on_signal_ = std::make_unique<RemoveOnSignal>(temp_);
+  log_on_signal_ = std::make_unique<RemoveOnSignal>(log_);
   // A dead ffmpeg must turn into an error from fwrite (EPIPE), not kill us with SIGPIPE.
   std::signal(SIGPIPE, SIG_IGN);
   char size[64], rate[32];
   std::snprintf(size, sizeof(size), "%ux%u", width, height);
   std::snprintf(rate, sizeof(rate), "%g", fps);
-  const std::string command = std::string("ffmpeg -hide_banner -loglevel error -y -f rawvideo -pix_fmt rgb24 -s ") + size +
-                              " -r " + rate + " -i - -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p " +
-                              shell_quote(path_);
+  const std::string command = std::string("ffmpeg -nostdin -hide_banner -loglevel error -y -f rawvideo -pix_fmt rgb24 -s ") +
+                              size + " -r " + rate + " -i - -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p -f " +
+                              muxer(path_) + " " + shell_quote(temp_.string()) + " 2>" + shell_quote(log_.string());
   pipe_ = ::popen(command.c_str(), "w");
-  if (!pipe_) throw std::runtime_error("cannot start ffmpeg: " + std::string(std::strerror(errno)));
+  if (!pipe_) input_error(path_, "cannot start ffmpeg: " + std::string(std::strerror(errno)));
 }
 
 VideoWriter::~VideoWriter() {
-  if (pipe_) ::pclose(pipe_);  // after an error: ffmpeg still closes the video on the frames it got
+  if (pipe_) ::pclose(pipe_);
+  std::error_code ec;
+  std::filesystem::remove(log_, ec);
+  std::filesystem::remove(temp_, ec);  // after finish() it is already renamed: nothing to remove
 }
 
 void VideoWriter::write(const Image& image, int, int step) {
   if (image.width != width_ || image.height != height_) throw std::logic_error("frame size changed during a video");
   const std::vector<uint8_t> rgb = to_rgb8(image, background_);
-  if (std::fwrite(rgb.data(), 1, rgb.size(), pipe_) != rgb.size())
-    throw std::runtime_error("ffmpeg stopped taking frames at step " + std::to_string(step) + " (see its message above)");
+  if (std::fwrite(rgb.data(), 1, rgb.size(), pipe_) != rgb.size()) {
+    ::pclose(pipe_);
+    pipe_ = nullptr;
+    const std::string said = last_line(log_);
+    input_error(path_, "ffmpeg stopped taking frames at step " + std::to_string(step) + (said.empty() ? "" : ": " + said));
+  }
+  ++frames_;
 }
 
 void VideoWriter::finish() {
   if (!pipe_) return;
+  const bool flushed = std::fflush(pipe_) == 0;
   const int status = ::pclose(pipe_);
   pipe_ = nullptr;
-  if (status == -1) throw std::runtime_error("ffmpeg: " + std::string(std::strerror(errno)));
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
-    throw std::runtime_error("ffmpeg not found (scripts/setup.sh installs it)");
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    throw std::runtime_error("ffmpeg failed writing " + path_ + " (exit status " +
-                             std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
+  const std::string said = last_line(log_);
+  if (status == -1) input_error(path_, "ffmpeg: " + std::string(std::strerror(errno)));
+  if (!flushed || !WIFEXITED(status) || WEXITSTATUS(status) != 0 || !said.empty())
+    input_error(path_, "ffmpeg failed (exit status " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")" +
+                           (said.empty() ? "" : ": " + said));
+  std::error_code ec;
+  if (frames_ == 0 || std::filesystem::file_size(temp_, ec) == 0 || ec)
+    input_error(path_, "ffmpeg wrote no video (" + std::to_string(frames_) + " frames given)");
+  if (std::rename(temp_.c_str(), path_.c_str()) != 0)
+    input_error(path_, "cannot rename the finished video into place: " + std::string(std::strerror(errno)));
 }
 
 // ---------------------------------------------------------------------------------------------

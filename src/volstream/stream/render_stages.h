@@ -3,12 +3,14 @@
 #pragma once
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "volstream/frame/frame_renderer.h"
+#include "volstream/io/cleanup.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/image.h"
 #include "volstream/stream/pipeline.h"
@@ -36,8 +38,10 @@ class PngSequenceWriter : public FrameWriter {
   vec3f background_;
 };
 
-// Pipes rgb24 frames into `ffmpeg ... -c:v libx264 -pix_fmt yuv420p OUT` (odd sizes are padded
-// to even ones, as yuv420p needs). finish() closes the pipe and checks ffmpeg's exit status.
+// Pipes rgb24 frames into `ffmpeg ... -c:v libx264 -pix_fmt yuv420p` (odd sizes are padded to
+// even ones, as yuv420p needs), writing a temporary beside OUT. finish() closes the pipe, checks
+// ffmpeg's exit status, its messages and the frame count, and only then renames the video to
+// OUT; otherwise (or when destroyed before finish) the temporary is removed.
 class VideoWriter : public FrameWriter {
  public:
   VideoWriter(std::string path, uint32_t width, uint32_t height, double fps, vec3f background);
@@ -50,6 +54,9 @@ class VideoWriter : public FrameWriter {
   uint32_t width_, height_;
   vec3f background_;
   FILE* pipe_ = nullptr;
+  std::filesystem::path temp_, log_;  // ffmpeg's output and messages until finish() (atomic_file.h)
+  std::unique_ptr<RemoveOnSignal> temp_on_signal_, log_on_signal_;
+  int frames_ = 0;
 };
 
 // True for outputs that go to ffmpeg (.mp4, .mkv, .mov).

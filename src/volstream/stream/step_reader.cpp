@@ -108,9 +108,18 @@ void StepReader::fall_back(const std::filesystem::path& file, int error) {
 
 int StepReader::open_file(const std::filesystem::path& file, int step) {
   const std::string where = "step " + std::to_string(step) + ": ";
+  // What the path is, before any O_DIRECT attempt: a directory would be refused O_DIRECT
+  // (a bogus warning) and a FIFO would block the open until someone writes to it.
+  struct stat st{};
+  if (::stat(file.c_str(), &st) != 0) {
+    if (errno == ENOENT) input_error(file.string(), where + "values file is missing");
+    input_error(file.string(), where + "cannot open: " + errno_text(errno));
+  }
+  if (!S_ISREG(st.st_mode)) input_error(file.string(), where + (S_ISDIR(st.st_mode) ? "is a directory" : "not a regular file"));
   for (;;) {
     const bool direct = direct_.load();
-    const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | (direct ? O_DIRECT : 0));
+    // O_NONBLOCK: should the path become a FIFO after the check, the open still returns.
+    const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | (direct ? O_DIRECT : 0));
     if (fd >= 0) return fd;
     const int e = errno;
     if (e == EINVAL && direct) {

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "volstream/core/error.h"
+#include "volstream/io/atomic_file.h"
 
 namespace vs::stream {
 
@@ -89,10 +90,9 @@ nlohmann::json to_chrome_trace(const std::vector<const Timeline*>& timelines) {
 }
 
 void write_chrome_trace(const std::filesystem::path& path, const std::vector<const Timeline*>& timelines) {
-  std::ofstream out(path);
-  if (!out) input_error(path.string(), "cannot open for writing");
-  out << to_chrome_trace(timelines).dump(1) << '\n';
-  if (!out.flush()) input_error(path.string(), "write failed (disk full?)");
+  AtomicFile out(path);
+  out.write(to_chrome_trace(timelines).dump(1) + "\n");
+  out.commit();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -91,18 +91,6 @@ ParaviewColorMap parse_paraview_color_map(const std::string& text, const std::st
   return cm;
 }
 
-ParaviewColorMap load_paraview_color_map(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) input_error(path, "cannot open");
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  input_check(size >= 0 && size < (64 << 20), path, "colour map file is larger than 64 MiB");
-  in.seekg(0);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_paraview_color_map(ss.str(), path);
-}
-
 TransferTable::TransferTable(const TransferFunctionSpec& spec, uint32_t size) : spec_(spec) {
   if (size < 2) size = 2;
   if (spec_.colors.empty()) spec_.colors = builtin_color_map("viridis");

@@ -96,13 +96,13 @@ std::vector<ColorPoint> builtin_color_map(const std::string& name);  // empty if
 
 // ParaView colour map JSON: an array of objects (or one object) with "RGBPoints" [x,r,g,b,...]
 // and optionally "Points" [x,alpha,mid,sharpness,...] for opacity. Positions are rescaled to
-// [0, 1] over the RGBPoints' own x range. Throws InputError(path) on malformed files.
+// [0, 1] over the RGBPoints' own x range. Throws InputError naming the file on malformed text
+// (files are read by frame/look.h).
 struct ParaviewColorMap {
   std::string name;
   std::vector<ColorPoint> colors;
   std::vector<OpacityPoint> opacity;  // empty when the file has none
 };
-ParaviewColorMap load_paraview_color_map(const std::string& path);
 ParaviewColorMap parse_paraview_color_map(const std::string& json_text, const std::string& name_for_errors);
 
 // The default opacity: transparent in the lower 10% of the range, then a ramp to `max_alpha`.

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Class 3, degenerate geometry: an ABR stretched far beyond its bricks, tiny or huge cells. The
+# reader refuses them so that render and play never see them (and never run for minutes).
+source "$(dirname "$0")/common.bash"
+cd "$WORK"
+"$VS" demo jet --cells 10000 --steps 2 -o ds -q >/dev/null
+poke() { printf "$3" | dd of="$1" bs=1 seek="$2" conv=notrunc status=none; }
+cp -r ds long && poke long/abrs.bin 12 '\x00\x24\x74\x49'  # upper.x = 1e6
+expect_bad_input "ABR stretched to 1e6" render long -o x.png --size 16x16
+cp -r ds inverted && poke inverted/abrs.bin 12 '\x00\x00\x10\xc1'  # upper.x = -9 < lower.x
+expect_bad_input "inverted ABR" play inverted --size 8x8 -q
+cp -r ds width && poke width/abrs.bin 32 '\x00\x00\x80\x3e'  # finest_width = 0.25
+expect_bad_input "ABR finer than its bricks" render width -o x.png --size 16x16
+/usr/bin/python3 -c "import struct,sys; sys.stdout.buffer.write(struct.pack('<8f', *range(8)))" >g.raw
+expect_bad_input "cells of 1e-25" convert g.raw --dims 2,2,2 --spacing 1e-25,1e-25,1e-25 -o tiny
+# A manifest edited to the same effect is refused by the reader.
+cp -r ds tiny_m && /usr/bin/python3 - tiny_m/manifest.json <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1])); m["transform"]["cell_size"] = [1e-25] * 3; json.dump(m, open(sys.argv[1], "w"))
+PY
+expect_bad_input "manifest with cells of 1e-25" render tiny_m -o x.png --size 16x16

@@ -8,6 +8,7 @@ export DEBIAN_FRONTEND=noninteractive
 PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   clang libclang-rt-dev            # libFuzzer targets and the sanitizer build
+  clang-format                     # the code style (.clang-format), checked by scripts/test.sh
   libcli11-dev nlohmann-json3-dev  # command line, manifests
   libtbb-dev                       # CPU threads (parallel_for)
   libpng-dev zlib1g-dev            # PNG output

@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
-# The whole test suite: installs dependencies, builds Release (with CUDA when nvcc is found) and
-# runs every test, then builds with clang + AddressSanitizer + UndefinedBehaviorSanitizer and
+# The whole test suite: installs dependencies, checks the formatting, builds Release with warnings
+# as errors (with CUDA when nvcc is found) and runs every test, then builds with clang + AddressSanitizer + UndefinedBehaviorSanitizer and
 # libFuzzer, and runs the suite again there, including a short run of every fuzz target.
 # Set VOLSTREAM_SKIP_SANITIZE=1 to run the Release suite only.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-BUILD_DIR=build bash scripts/build.sh
+bash scripts/format.sh --check  # the tree is formatted (.clang-format)
+BUILD_DIR=build bash scripts/build.sh -DVOLSTREAM_WERROR=ON
 ctest --test-dir build --output-on-failure -j2 --timeout 900
 if [ "${VOLSTREAM_SKIP_SANITIZE:-0}" != 1 ]; then
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-    -DVOLSTREAM_CUDA=OFF -DVOLSTREAM_SANITIZE=ON -DVOLSTREAM_FUZZ=ON >/dev/null
+    -DVOLSTREAM_CUDA=OFF -DVOLSTREAM_SANITIZE=ON -DVOLSTREAM_FUZZ=ON -DVOLSTREAM_WERROR=ON >/dev/null
   ninja -C build-asan
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j2 --timeout 1800

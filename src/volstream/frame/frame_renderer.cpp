@@ -95,6 +95,12 @@ struct FrameRenderer::Impl {
   bool block_vertices = false;
 
   CachedTable tf, color_tf;
+  std::unique_ptr<BlackbodyTable> blackbody;  // made on first use (a few Planck integrals per entry)
+
+  const BlackbodyTable& blackbody_table() {
+    if (!blackbody) blackbody = std::make_unique<BlackbodyTable>();
+    return *blackbody;
+  }
 
   Impl(const Dataset& ds, Device d) : dataset(ds), device(d), backend(d) {
     if (d == Device::cuda)
@@ -329,8 +335,7 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
     OpticsView optics;
     optics.kind = r.optics;
     optics.tf = table.view();
-    static const BlackbodyTable bb_table;  // immutable after construction: shared by every frame
-    if (r.optics == OpticsKind::blackbody) optics.bb = bb_table.view(r.blackbody);
+    if (r.optics == OpticsKind::blackbody) optics.bb = m.blackbody_table().view(r.blackbody);
     const FrameView<AmrVolume> view =
         abr.view({m.kernel_values(0), m.kernel_values(1)}, optics, color_iso ? &color_view : nullptr, r.camera,
                  frame_settings(r));

@@ -44,8 +44,8 @@ class HashingSink : public FrameWriter {
 };
 
 struct CacheState {
-  bool evicted = true;   // posix_fadvise succeeded on every file
-  double resident = 0;   // mean fraction of the files' pages still cached afterwards (-1: unknown)
+  bool evicted = true;  // posix_fadvise succeeded on every file
+  double resident = 0;  // mean fraction of the files' pages still cached afterwards (-1: unknown)
 };
 
 // Drops the files from the page cache (unprivileged, clean pages only) and checks with mincore.
@@ -116,8 +116,8 @@ LevelResult run_level(const Dataset& ds, const RenderPlan& r, const std::vector<
 }
 
 void print_table(const std::vector<LevelResult>& results) {
-  std::printf("\n%-11s %8s %8s %8s %8s %8s %8s %10s %9s %9s %10s\n", "level", "read", "upload", "ranges", "refit", "render",
-              "output", "frame ms", "frames/s", "speed-up", "read GB/s");
+  std::printf("\n%-11s %8s %8s %8s %8s %8s %8s %10s %9s %9s %10s\n", "level", "read", "upload", "ranges", "refit",
+              "render", "output", "frame ms", "frames/s", "speed-up", "read GB/s");
   const double base_frame = results.front().stats.seconds / std::max(results.front().stats.frames, 1);
   for (const LevelResult& r : results) {
     const double frame_ms = 1e3 * r.stats.seconds / std::max(r.stats.frames, 1);
@@ -126,8 +126,9 @@ void print_table(const std::vector<LevelResult>& results) {
     std::printf(" %10.2f %9.2f %8.2fx %10.2f\n", frame_ms, 1e3 / frame_ms, 1e3 * base_frame / frame_ms,
                 double(r.stats.bytes_read) / std::max(r.read_total_ms * 1e-3, 1e-12) * 1e-9);
   }
-  std::printf("(stage columns: mean ms per frame on any thread; from async-io on, read (and from overlap on, upload)\n"
-              " run on the loader thread, hidden behind the frame; frame ms = wall time / frames)\n");
+  std::printf(
+      "(stage columns: mean ms per frame on any thread; from async-io on, read (and from overlap on, upload)\n"
+      " run on the loader thread, hidden behind the frame; frame ms = wall time / frames)\n");
 }
 
 void run_bench_stream(const BenchStreamArgs& a) {
@@ -138,18 +139,20 @@ void run_bench_stream(const BenchStreamArgs& a) {
   std::vector<std::filesystem::path> files;
   for (int s : std::set<int>(steps.begin(), steps.end())) {
     files.push_back(ds.values_path(r.request.field, s));
-    if (ds.has_file_order()) files.push_back(ds.file_order_values_path(r.request.field, s));  // the baseline levels read these
+    if (ds.has_file_order())
+      files.push_back(ds.file_order_values_path(r.request.field, s));  // the baseline levels read these
   }
 
   const stream::RenderSetup setup = r.setup();
   const auto& fs = setup.settings;
   std::printf("bench stream: %s, field %s, %zu frames, %ux%u on %s, %.1f MiB per step\n", a.dir.c_str(),
-              ds.manifest().fields[size_t(r.request.field)].name.c_str(), steps.size(), fs.width, fs.height, to_string(setup.device),
-              double(ds.manifest().cell_count) * 4 / (1 << 20));
+              ds.manifest().fields[size_t(r.request.field)].name.c_str(), steps.size(), fs.width, fs.height,
+              to_string(setup.device), double(ds.manifest().cell_count) * 4 / (1 << 20));
   const CacheState before = drop_cache(files);
   bool direct = false;
   const double raw = raw_read_gbps(ds, files, direct);
-  std::printf("raw disk bandwidth (plain sequential %s read, cache dropped): %.2f GB/s\n", direct ? "O_DIRECT" : "buffered", raw);
+  std::printf("raw disk bandwidth (plain sequential %s read, cache dropped): %.2f GB/s\n",
+              direct ? "O_DIRECT" : "buffered", raw);
   if (a.keep_cache)
     std::printf("page cache: kept (--keep-cache)\n");
   else
@@ -170,7 +173,8 @@ void run_bench_stream(const BenchStreamArgs& a) {
   for (Level level : levels) {
     timelines.push_back(std::make_unique<Timeline>(level_name(level), int(level) + 1));
     results.push_back(run_level(ds, r, steps, level, *timelines.back(), files, a.keep_cache));
-    std::fprintf(stderr, "  %-11s %.2f frames/s\n", level_name(level), results.back().stats.frames / results.back().stats.seconds);
+    std::fprintf(stderr, "  %-11s %.2f frames/s\n", level_name(level),
+                 results.back().stats.frames / results.back().stats.seconds);
   }
   print_table(results);
   bool identical = true;

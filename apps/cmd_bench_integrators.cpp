@@ -8,11 +8,11 @@
 
 #include "commands.h"
 #include "volstream/backend/stopwatch.h"
-#include "volstream/io/image.h"
-#include "volstream/render/integrators/block_renderer.h"
 #include "volstream/core/error.h"
 #include "volstream/io/dataset.h"
+#include "volstream/io/image.h"
 #include "volstream/render/integrators/abr_renderer.h"
+#include "volstream/render/integrators/block_renderer.h"
 
 namespace vs::cli {
 namespace {
@@ -90,7 +90,8 @@ void run_bench_integrators(const BenchIntegratorsArgs& a) {
               blocks.kd().blocks.size(), blocks.kd().nodes.size(), blocks.build_seconds());
 
   Image ref;
-  const double t_abr = best_seconds(a.repeat, [&] { ref = abr.render(Device::cpu, values.data(), tf, nullptr, nullptr, camera, fs); });
+  const double t_abr =
+      best_seconds(a.repeat, [&] { ref = abr.render(Device::cpu, values.data(), tf, nullptr, nullptr, camera, fs); });
   std::printf("\n%-22s %10s %12s %12s\n", "integrator", "ms", "RMSE vs abr", "max vs abr");
   double coverage = 0;  // mean alpha: how much of the image the comparison covers
   for (size_t i = 3; i < ref.rgba.size(); i += 4) coverage += ref.rgba[i];
@@ -111,20 +112,25 @@ void run_bench_integrators(const BenchIntegratorsArgs& a) {
     std::printf("%-22s %10.1f %12.4f %12.4f\n", r == Reconstruction::nearest ? "blocks nearest" : "blocks trilinear",
                 1e3 * t, d.rmse, d.max);
   }
-  std::printf("%-22s %10.1f   (once per field values, not in the render times)\n", "blocks vertex values", 1e3 * t_vertex);
-  std::printf("(differences in linear RGB over black, per channel; the tent basis and the cell-centred\n"
-              " reconstructions differ by design, so small non-zero values are expected)\n");
+  std::printf("%-22s %10.1f   (once per field values, not in the render times)\n", "blocks vertex values",
+              1e3 * t_vertex);
+  std::printf(
+      "(differences in linear RGB over black, per channel; the tent basis and the cell-centred\n"
+      " reconstructions differ by design, so small non-zero values are expected)\n");
 }
 
 }  // namespace
 
 void add_bench_integrators(CLI::App& bench) {
   auto a = std::make_shared<BenchIntegratorsArgs>();
-  auto* cmd = bench.add_subcommand("integrators", "ABR tent integrator vs kd-tree block raycaster: time and image difference");
+  auto* cmd =
+      bench.add_subcommand("integrators", "ABR tent integrator vs kd-tree block raycaster: time and image difference");
   cmd->add_option("dataset", a->dir, "dataset directory")->required();
   cmd->add_option("--field", a->field, "field (default: the first)");
   cmd->add_option("--step", a->step, "time step")->capture_default_str();
-  cmd->add_option("--size", a->size, "image size (square, at most 8192)")->check(CLI::Range(1u, 8192u))->capture_default_str();
+  cmd->add_option("--size", a->size, "image size (square, at most 8192)")
+      ->check(CLI::Range(1u, 8192u))
+      ->capture_default_str();
   cmd->add_option("--rate", a->rate, "samples per cell width")->capture_default_str();
   cmd->add_option("--repeat", a->repeat, "renders per integrator (best time kept)")->capture_default_str();
   cmd->callback([a] { run_bench_integrators(*a); });

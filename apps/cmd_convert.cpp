@@ -64,16 +64,19 @@ std::unique_ptr<AmrSource> open_source(const ConvertArgs& a) {
 
 void add_convert_command(CLI::App& app) {
   auto a = std::make_shared<ConvertArgs>();
-  auto* cmd = app.add_subcommand("convert", "Convert AMReX plotfiles, ExaBrick cells+scalars or raw grids to a volstream dataset");
+  auto* cmd = app.add_subcommand("convert",
+                                 "Convert AMReX plotfiles, ExaBrick cells+scalars or raw grids to a volstream dataset");
   cmd->add_option("inputs", a->inputs,
-                  "plotfile directories (several = time steps) | FILE.cells SCALARS... | raw files (several = fields, or steps with --series)")
+                  "plotfile directories (several = time steps) | FILE.cells SCALARS... | raw files (several = fields, "
+                  "or steps with --series)")
       ->required();
   cmd->add_option("-o,--output", a->out, "output dataset directory")->required();
   cmd->add_option("--format", a->format, "auto | plotfile | exabrick | raw")
       ->check(CLI::IsMember({"auto", "plotfile", "exabrick", "raw"}))
       ->capture_default_str();
   cmd->add_option("--dims", a->dims, "raw grid dimensions X,Y,Z")->delimiter(',')->expected(3);
-  cmd->add_option("--type", a->raw_type, "raw value type: uint8 uint16 int16 uint32 int32 float32 float64")->capture_default_str();
+  cmd->add_option("--type", a->raw_type, "raw value type: uint8 uint16 int16 uint32 int32 float32 float64")
+      ->capture_default_str();
   cmd->add_flag("--big-endian", a->big_endian, "raw values are big-endian");
   cmd->add_option("--origin", a->origin, "raw grid world origin X,Y,Z")->delimiter(',')->expected(3);
   cmd->add_option("--spacing", a->spacing, "raw grid cell size X,Y,Z")->delimiter(',')->expected(3);
@@ -89,7 +92,8 @@ void add_convert_command(CLI::App& app) {
     const ConvertStats stats = convert_to_dataset(*source, a->out, {a->quiet, a->file_order, a->fields});
     std::printf("wrote %s from %s: %llu cells%s (bricks %.2fs, ABRs %.2fs, values %.2fs)\n", a->out.c_str(),
                 source->description().c_str(), (unsigned long long)source->cell_count(),
-                a->file_order ? " + file-order copies" : "", stats.bricks_seconds, stats.abrs_seconds, stats.values_seconds);
+                a->file_order ? " + file-order copies" : "", stats.bricks_seconds, stats.abrs_seconds,
+                stats.values_seconds);
   });
 }
 

@@ -20,7 +20,8 @@ void add_demo_command(CLI::App& app) {
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("demo", "Write a built-in procedural dataset (jet or cosmo)");
   cmd->add_option("name", args->name, "jet | cosmo")->required()->check(CLI::IsMember({"jet", "cosmo"}));
-  cmd->add_option("--cells", args->cells, "approximate number of leaf cells (1e5 .. 5e8 and more)")->capture_default_str();
+  cmd->add_option("--cells", args->cells, "approximate number of leaf cells (1e5 .. 5e8 and more)")
+      ->capture_default_str();
   cmd->add_option("--steps", args->steps, "number of time steps")->capture_default_str()->check(CLI::Range(1, 100000));
   cmd->add_option("-o,--output", args->out, "output dataset directory")->required();
   cmd->add_flag("--file-order", args->file_order,
@@ -31,14 +32,14 @@ void add_demo_command(CLI::App& app) {
   cmd->callback([args] {
     // Before the demo is generated (minutes for billions of cells); at least one field.
     const uint64_t fields = std::max<uint64_t>(1, args->fields.size());
-    check_free_space(args->out, uint64_t(std::clamp(args->cells, 0.0, 1e12)), uint64_t(args->steps) * fields * (args->file_order ? 2 : 1),
-                     args->file_order);
+    check_free_space(args->out, uint64_t(std::clamp(args->cells, 0.0, 1e12)),
+                     uint64_t(args->steps) * fields * (args->file_order ? 2 : 1), args->file_order);
     auto source = make_demo({args->name, uint64_t(args->cells), args->steps});
     const ConvertStats stats = convert_to_dataset(*source, args->out, {args->quiet, args->file_order, args->fields});
     std::printf("wrote %s: %s, %llu cells, %d steps%s (cells %.2fs, bricks %.2fs, ABRs %.2fs, values %.2fs)\n",
                 args->out.c_str(), source->description().c_str(), (unsigned long long)source->cell_count(), args->steps,
-                args->file_order ? " + file-order copies" : "",
-                stats.cells_seconds, stats.bricks_seconds, stats.abrs_seconds, stats.values_seconds);
+                args->file_order ? " + file-order copies" : "", stats.cells_seconds, stats.bricks_seconds,
+                stats.abrs_seconds, stats.values_seconds);
   });
 }
 

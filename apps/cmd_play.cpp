@@ -62,8 +62,9 @@ void print_report(const Pipeline& p, const Timeline& timeline, const PlayStats& 
   std::printf("peak memory: %.1f MiB resident\n", peak_rss_mib());
   std::printf("memory: %s\n", format_memory(memory_ledger().snapshot()).c_str());
   if (!p.pin_failure().empty()) std::printf("staging not page-locked: %s\n", p.pin_failure().c_str());
-  std::printf("reads: %.1f MiB%s\n", double(stats.bytes_read) / (1 << 20),
-              p.flags().direct_io ? (p.direct_io_active() ? ", O_DIRECT" : ", buffered (O_DIRECT refused)") : ", buffered");
+  std::printf(
+      "reads: %.1f MiB%s\n", double(stats.bytes_read) / (1 << 20),
+      p.flags().direct_io ? (p.direct_io_active() ? ", O_DIRECT" : ", buffered (O_DIRECT refused)") : ", buffered");
   std::fputs(format_summary(summarize(timeline.events())).c_str(), stdout);
 }
 
@@ -71,7 +72,8 @@ void run_play(const PlayArgs& a) {
   if (!a.timeline.empty()) check_output_directory(a.timeline);  // before the frames, not after
   const Dataset ds(a.dir);
   Level level;
-  if (!parse_level(a.pipeline, level)) throw UsageError("--pipeline: unknown level '" + a.pipeline + "' (" + level_names() + ")");
+  if (!parse_level(a.pipeline, level))
+    throw UsageError("--pipeline: unknown level '" + a.pipeline + "' (" + level_names() + ")");
   if (a.loop < 1) throw UsageError("--loop must be at least 1");
   const std::vector<int> once = parse_steps(a.steps, ds.manifest().step_count());
   std::vector<int> steps;

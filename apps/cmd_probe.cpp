@@ -6,8 +6,8 @@
 
 #include "commands.h"
 #include "volstream/amr/probe.h"
-#include "volstream/core/error.h"
 #include "volstream/backend/parallel.h"
+#include "volstream/core/error.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/io/dataset.h"
 
@@ -62,7 +62,8 @@ void add_probe_command(CLI::App& app) {
     bool brute = false;
   };
   auto a = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("probe", "Print the field's value at points 'x y z' (world coordinates), one per line");
+  auto* cmd =
+      app.add_subcommand("probe", "Print the field's value at points 'x y z' (world coordinates), one per line");
   cmd->add_option("dataset", a->dir, "dataset directory")->required();
   cmd->add_option("--field", a->field, "field name (default: the first)");
   cmd->add_option("--step", a->step, "time step")->capture_default_str();
@@ -85,7 +86,8 @@ void add_probe_command(CLI::App& app) {
     if (a->brute) {
       const std::vector<Cell> cells = ds.load_cells();
       parallel_for("probe_brute", int64_t(world.size()), [&](int64_t i) {
-        out[size_t(i)] = sample_brute_force(cells.data(), values.data(), cells.size(), m.transform.to_grid(world[size_t(i)]));
+        out[size_t(i)] =
+            sample_brute_force(cells.data(), values.data(), cells.size(), m.transform.to_grid(world[size_t(i)]));
       });
     } else {
       std::vector<vec3f> grid(world.size());
@@ -97,8 +99,10 @@ void add_probe_command(CLI::App& app) {
     std::string text;
     char buf[32];
     for (double v : out) {
-      if (std::isnan(v)) text += "nan\n";
-      else text += std::string(buf, size_t(std::snprintf(buf, sizeof(buf), "%.9g\n", v)));
+      if (std::isnan(v))
+        text += "nan\n";
+      else
+        text += std::string(buf, size_t(std::snprintf(buf, sizeof(buf), "%.9g\n", v)));
     }
     std::fputs(text.c_str(), stdout);
   });

@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 
@@ -38,7 +38,8 @@ struct TempDemo {
   std::unique_ptr<RemoveOnSignal> on_signal;
   TempDemo(const std::string& name, double cells) {
     std::string path = (std::filesystem::temp_directory_path() / ("volstream_render_" + name + "_XXXXXX")).string();
-    if (!::mkdtemp(path.data())) input_error(path, std::string("cannot create a temporary directory: ") + std::strerror(errno));
+    if (!::mkdtemp(path.data()))
+      input_error(path, std::string("cannot create a temporary directory: ") + std::strerror(errno));
     root = path;
     on_signal = std::make_unique<RemoveOnSignal>(root);
     dir = root / "dataset";
@@ -63,9 +64,9 @@ void print_report(const Dataset& ds, const FrameRequest& r, const FrameReport& r
   std::printf("device: %s\n", describe(rep.device).c_str());
   const bool abr = r.kind == IntegratorKind::abr;
   std::printf("field %s step %d, range [%g, %g]%s, %llu of %llu %s visible%s\n",
-              ds.manifest().fields[size_t(r.field)].name.c_str(), r.step, spec.lo, spec.hi, spec.log_scale ? " (log)" : "",
-              (unsigned long long)rep.visible_regions, (unsigned long long)rep.region_count, abr ? "ABRs" : "blocks",
-              abr && !r.skip ? " (no skipping)" : "");
+              ds.manifest().fields[size_t(r.field)].name.c_str(), r.step, spec.lo, spec.hi,
+              spec.log_scale ? " (log)" : "", (unsigned long long)rep.visible_regions,
+              (unsigned long long)rep.region_count, abr ? "ABRs" : "blocks", abr && !r.skip ? " (no skipping)" : "");
   std::printf("integrator %s%s, %s optics\n", abr ? "abr" : "blocks",
               abr ? "" : (r.reconstruction == Reconstruction::nearest ? " (nearest)" : " (trilinear)"),
               r.optics == OpticsKind::blackbody ? "blackbody" : "tf");
@@ -108,7 +109,8 @@ void run_render(RenderArgs a) {
 
 void add_render_command(CLI::App& app) {
   auto a = std::make_shared<RenderArgs>();
-  auto* cmd = app.add_subcommand("render", "Render a dataset (or a built-in demo) to PNG or PFM: volume rendering and isosurfaces");
+  auto* cmd = app.add_subcommand(
+      "render", "Render a dataset (or a built-in demo) to PNG or PFM: volume rendering and isosurfaces");
   cmd->add_option("dataset", a->dir, "dataset directory (or use --demo)");
   cmd->add_option("--demo", a->demo, "render a built-in demo instead (written to a temporary directory)")
       ->check(CLI::IsMember({"jet", "cosmo"}));

@@ -19,7 +19,9 @@ void add_timeline_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("timeline", "Draw a timeline JSON (play/bench --timeline) as an SVG Gantt chart");
   cmd->add_option("trace", a->input, "Chrome-trace JSON file")->required();
   cmd->add_option("-o,--output", a->output, "SVG file")->required();
-  cmd->add_option("--rows", a->rows, "one row per lane (thread) or per stage")->check(CLI::IsMember({"lane", "stage"}))->capture_default_str();
+  cmd->add_option("--rows", a->rows, "one row per lane (thread) or per stage")
+      ->check(CLI::IsMember({"lane", "stage"}))
+      ->capture_default_str();
   cmd->add_option("--width", a->width, "width in pixels")->check(CLI::Range(400, 20000))->capture_default_str();
   cmd->add_option("--title", a->title, "chart title (default: the file name)");
   cmd->add_flag("--absolute", a->absolute, "one time axis for all runs instead of starting each run at 0");

@@ -19,7 +19,8 @@ std::vector<double> parse_numbers(const std::string& text, const std::string& wh
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used == 0 || used != item.size() || !std::isfinite(v)) throw UsageError(what + ": '" + item + "' is not a number");
+    if (used == 0 || used != item.size() || !std::isfinite(v))
+      throw UsageError(what + ": '" + item + "' is not a number");
     out.push_back(v);
   }
   return out;
@@ -76,7 +77,8 @@ std::vector<int> parse_steps(const std::string& text, int step_count) {
     return steps;
   }
   if (text.find(':') == std::string::npos) {
-    for (const std::string& item : split(text, ',')) steps.push_back(checked_step(parse_int(item, "--steps"), step_count));
+    for (const std::string& item : split(text, ','))
+      steps.push_back(checked_step(parse_int(item, "--steps"), step_count));
     return steps;
   }
   const auto parts = split(text, ':');

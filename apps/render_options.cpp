@@ -47,22 +47,29 @@ void add_render_options(CLI::App* cmd, RenderOptions& o, RenderContext context) 
   cmd->add_option("--camera-at", o.camera_at, "X,Y,Z point looked at (default: the domain's centre)");
   cmd->add_option("--camera-up", o.camera_up, "X,Y,Z up direction")->default_str("0,1,0");
   cmd->add_option("--fov", o.fov, "vertical field of view, degrees")->capture_default_str();
-  cmd->add_flag("--ortho", o.ortho, "orthographic projection (same framing as the perspective view at the look-at point)");
-  cmd->add_option("--size", o.size, "image size WxH (each at most 16384, at most 8192x8192 pixels in all)")->capture_default_str();
+  cmd->add_flag("--ortho", o.ortho,
+                "orthographic projection (same framing as the perspective view at the look-at point)");
+  cmd->add_option("--size", o.size, "image size WxH (each at most 16384, at most 8192x8192 pixels in all)")
+      ->capture_default_str();
   cmd->add_option("--spp", o.spp, "rays per pixel")->capture_default_str();
   cmd->add_option("--rate", o.rate, "samples per cell width (of each ABR's finest level)")->capture_default_str();
   cmd->add_flag("--no-skip", o.no_skip, "no empty-space skipping (march every ABR)");
-  cmd->add_flag("--brick-ranges", o.brick_ranges,
-                "CPU: cull by per-brick value ranges (cheaper to compute per frame, culls less; the GPU always uses tight ones)");
+  cmd->add_flag(
+      "--brick-ranges", o.brick_ranges,
+      "CPU: cull by per-brick value ranges (cheaper to compute per frame, culls less; the GPU always uses tight ones)");
   cmd->add_flag("--no-adaptive", o.no_adaptive, "step at the dataset's finest cell width everywhere");
   cmd->add_flag("--no-jitter", o.no_jitter, "start every ray's samples at the same offset");
   cmd->add_flag("--shade", o.shade, "gradient shading of the volume (headlight)");
   cmd->add_flag("--stored-ranges", o.stored_ranges,
-                "classify with the dataset's stored per-ABR ranges instead of computing them (the same for datasets converted since 2026-11-22, per brick and looser before)" + not_streamed);
+                "classify with the dataset's stored per-ABR ranges instead of computing them (the same for datasets "
+                "converted since 2026-11-22, per brick and looser before)" +
+                    not_streamed);
   cmd->add_option("--background", o.background, "R,G,B background in [0,1] (sRGB)")->capture_default_str();
-  cmd->add_flag("--alpha", o.alpha, "keep transparency (PNG RGBA; PFM: premultiplied RGB + OUT.alpha.pfm)" + not_streamed);
-  cmd->add_option("--device", o.device, stream ? "auto | cpu | cuda (cuda: each step is uploaded; ranges, refit and render run on the GPU)"
-                                         : "auto | cpu | cuda")
+  cmd->add_flag("--alpha", o.alpha,
+                "keep transparency (PNG RGBA; PFM: premultiplied RGB + OUT.alpha.pfm)" + not_streamed);
+  cmd->add_option("--device", o.device,
+                  stream ? "auto | cpu | cuda (cuda: each step is uploaded; ranges, refit and render run on the GPU)"
+                         : "auto | cpu | cuda")
       ->capture_default_str();
   if (!stream) add_integrator_options(cmd, o);
 }
@@ -83,18 +90,22 @@ void add_integrator_options(CLI::App* cmd, RenderOptions& o) {
                   "R,V,B filters scaled by density, Rayleigh absorption (paper 004; either integrator)")
       ->check(CLI::IsMember({"tf", "blackbody"}))
       ->capture_default_str();
-  cmd->add_option("--temperature-field", o.temperature_field, "blackbody: temperature field (K)")->capture_default_str();
-  cmd->add_option("--absorption", o.absorption, "blackbody: Rayleigh extinction (V band) per unit distance at max density")
+  cmd->add_option("--temperature-field", o.temperature_field, "blackbody: temperature field (K)")
       ->capture_default_str();
-  cmd->add_option("--emission", o.emission, "blackbody: emission per unit distance at max density")->capture_default_str();
+  cmd->add_option("--absorption", o.absorption,
+                  "blackbody: Rayleigh extinction (V band) per unit distance at max density")
+      ->capture_default_str();
+  cmd->add_option("--emission", o.emission, "blackbody: emission per unit distance at max density")
+      ->capture_default_str();
   cmd->add_option("--density-scale", o.density_scale,
                   "blackbody: how density is normalised: linear (rho / max rho, paper 004), log (its log10 position "
                   "over the value range, 7 decades below the max unless --range/--log give one) or auto (the transfer "
                   "function's scale: log for the cosmo demo's look and --log, else linear)")
       ->check(CLI::IsMember({"auto", "linear", "log"}))
       ->capture_default_str();
-  cmd->add_option("--emission-power", o.emission_power,
-                  "blackbody: emission ~ normalised density^P (default: 1 for a linear density scale, 4 for a log one)");
+  cmd->add_option(
+      "--emission-power", o.emission_power,
+      "blackbody: emission ~ normalised density^P (default: 1 for a linear density scale, 4 for a log one)");
 }
 
 namespace {
@@ -107,7 +118,8 @@ std::vector<std::pair<double, double>> parse_opacity(const std::string& text) {
   while (std::getline(ss, item, ',')) {
     const auto colon = item.find(':');
     if (colon == std::string::npos) throw UsageError("--opacity expects VALUE:ALPHA pairs, got '" + item + "'");
-    pts.emplace_back(parse_number(item.substr(0, colon), "--opacity"), parse_number(item.substr(colon + 1), "--opacity"));
+    pts.emplace_back(parse_number(item.substr(0, colon), "--opacity"),
+                     parse_number(item.substr(colon + 1), "--opacity"));
   }
   return pts;
 }
@@ -180,17 +192,20 @@ namespace {
 
 void apply_integrator_options(const RenderOptions& o, const Dataset& ds, FrameRequest& r) {
   const bool blackbody = o.optics == "blackbody";
-  r.kind = o.integrator == "blocks" || (o.integrator == "auto" && blackbody) ? IntegratorKind::blocks : IntegratorKind::abr;
+  r.kind =
+      o.integrator == "blocks" || (o.integrator == "auto" && blackbody) ? IntegratorKind::blocks : IntegratorKind::abr;
   r.reconstruction = o.reconstruction == "nearest" ? Reconstruction::nearest : Reconstruction::trilinear;
   if (r.kind == IntegratorKind::blocks && r.reconstruction == Reconstruction::nearest && r.integrator.iso_count > 0)
-    throw UsageError("--iso with --integrator blocks needs --reconstruction trilinear (nearest has no surface between cells)");
+    throw UsageError(
+        "--iso with --integrator blocks needs --reconstruction trilinear (nearest has no surface between cells)");
   if (!blackbody) return;
-  if (!o.color_field.empty()) throw UsageError("--color-field: not with --optics blackbody (the second field is the temperature)");
+  if (!o.color_field.empty())
+    throw UsageError("--color-field: not with --optics blackbody (the second field is the temperature)");
   r.optics = OpticsKind::blackbody;
   r.second_field = ds.manifest().field_index(o.temperature_field);
   if (r.second_field < 0) throw UsageError("no temperature field '" + o.temperature_field + "' (--temperature-field)");
-  r.blackbody = make_blackbody_params(r.tf, parse_density_scale(o.density_scale), o.emission,
-                                      o.absorption, o.emission_power);
+  r.blackbody =
+      make_blackbody_params(r.tf, parse_density_scale(o.density_scale), o.emission, o.absorption, o.emission_power);
 }
 
 }  // namespace
@@ -220,8 +235,10 @@ RenderPlan make_render_plan(const RenderOptions& o, const Dataset& ds, const std
 RenderPlan make_stream_render_plan(const RenderOptions& o, const Dataset& ds) {
   // The pipeline reads one field per step, computes the ABR ranges in its own stage and
   // composites every frame over the background (PNG sequence, video, benchmark hash).
-  if (!o.color_field.empty()) throw UsageError("--color-field: not available when streaming (one field per step); use render");
-  if (o.stored_ranges) throw UsageError("--stored-ranges: not available when streaming (the ranges stage computes them)");
+  if (!o.color_field.empty())
+    throw UsageError("--color-field: not available when streaming (one field per step); use render");
+  if (o.stored_ranges)
+    throw UsageError("--stored-ranges: not available when streaming (the ranges stage computes them)");
   if (o.alpha) throw UsageError("--alpha: not available when streaming (frames are composited over --background)");
   std::vector<int> all(size_t(ds.manifest().step_count()));
   for (size_t s = 0; s < all.size(); ++s) all[s] = int(s);

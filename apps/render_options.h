@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "volstream/io/dataset.h"
 #include "volstream/frame/frame_renderer.h"
+#include "volstream/io/dataset.h"
 #include "volstream/stream/render_stages.h"
 
 namespace vs::cli {
@@ -26,7 +26,7 @@ struct RenderOptions {
   bool stored_ranges = false, alpha = false, brick_ranges = false;
   // Integrator and optics (render only; paper 004's block raycaster and blackbody model).
   std::string integrator = "auto", reconstruction = "trilinear", optics = "tf", temperature_field = "temperature";
-  std::string density_scale = "auto";  // auto (the transfer function's scale), linear or log
+  std::string density_scale = "auto";                          // auto (the transfer function's scale), linear or log
   double absorption = 0.25, emission = 4, emission_power = 0;  // power 0: 1 linear, 4 log
   // Not an option: with no --field, render the built-in demo's look field (vorticity, density:
   // render) or the dataset's first field (play, bench: their frames stay what they were).
@@ -50,8 +50,8 @@ void add_integrator_options(CLI::App* cmd, RenderOptions& o);
 // needs.
 struct RenderPlan {
   FrameRequest request;
-  vec3f background;  // --background (sRGB, as the image writers take it)
-  Device device = Device::cpu;  // --device
+  vec3f background;                   // --background (sRGB, as the image writers take it)
+  Device device = Device::cpu;        // --device
   stream::RenderSetup setup() const;  // what the streaming stages take
 };
 
@@ -67,7 +67,7 @@ RenderPlan make_stream_render_plan(const RenderOptions& o, const Dataset& datase
 // An image's float RGBA takes 16 bytes a pixel: 8192x8192 is 1 GiB, the most --size allows.
 inline constexpr double kMaxPixels = 8192.0 * 8192.0;
 void parse_size(const std::string& text, uint32_t& width, uint32_t& height);  // WxH, 1..16384, W*H <= kMaxPixels
-int render_field(const RenderOptions& o, const Dataset& dataset);  // --field, else see field_from_look
+int render_field(const RenderOptions& o, const Dataset& dataset);             // --field, else see field_from_look
 IntegratorSettings make_integrator_settings(const RenderOptions& o);
 Camera make_camera(const RenderOptions& o, const Dataset& dataset, uint32_t width, uint32_t height);
 

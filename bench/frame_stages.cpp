@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "volstream/backend/stopwatch.h"
 #include "volstream/accel/bvh_sah.h"
 #include "volstream/accel/refit.h"
 #include "volstream/amr/ranges.h"
+#include "volstream/backend/stopwatch.h"
 #include "volstream/io/dataset.h"
 #include "volstream/render/integrators/abr_renderer.h"
 #include "volstream/render/optics/transfer_function.h"
@@ -39,14 +39,21 @@ Args parse(int argc, char** argv) {
       if (i + 1 >= argc) throw std::runtime_error(s + " needs a value");
       return argv[++i];
     };
-    if (s == "--field") a.field = next();
-    else if (s == "--step") a.step = std::stoi(next());
-    else if (s == "--repeat") a.repeat = std::max(1, std::stoi(next()));
-    else if (s == "--linear") a.linear = true;
-    else if (a.dir.empty()) a.dir = s;
-    else throw std::runtime_error("unexpected argument " + s);
+    if (s == "--field")
+      a.field = next();
+    else if (s == "--step")
+      a.step = std::stoi(next());
+    else if (s == "--repeat")
+      a.repeat = std::max(1, std::stoi(next()));
+    else if (s == "--linear")
+      a.linear = true;
+    else if (a.dir.empty())
+      a.dir = s;
+    else
+      throw std::runtime_error("unexpected argument " + s);
   }
-  if (a.dir.empty()) throw std::runtime_error("usage: volstream_bench_stages DIR [--field NAME] [--step N] [--repeat N] [--linear]");
+  if (a.dir.empty())
+    throw std::runtime_error("usage: volstream_bench_stages DIR [--field NAME] [--step N] [--repeat N] [--linear]");
   return a;
 }
 

@@ -12,7 +12,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const char* kTypes[] = {"uint8", "uint16", "int16", "uint32", "int32", "float32", "float64"};
   RawGridInput in;
   in.dims = {data[0] % 9, data[1] % 9, data[2] % 9};
-  std::ofstream(dir / "g.raw", std::ios::binary | std::ios::trunc).write((const char*)data + 4, std::streamsize(size - 4));
+  std::ofstream(dir / "g.raw", std::ios::binary | std::ios::trunc)
+      .write((const char*)data + 4, std::streamsize(size - 4));
   in.files = {dir / "g.raw"};
   in.big_endian = data[3] & 0x80;
   fuzz::expect_clean([&] {

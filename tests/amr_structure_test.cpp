@@ -8,9 +8,9 @@
 
 #include "test_util.h"
 #include "volstream/amr/abrs.h"
-#include "volstream/amr/ranges.h"
 #include "volstream/amr/bricks.h"
 #include "volstream/amr/probe.h"
+#include "volstream/amr/ranges.h"
 #include "volstream/core/error.h"
 
 namespace vs {
@@ -72,9 +72,11 @@ TEST_P(AmrStructure, AbrsAreDisjointAndListExactlyTheOverlappingBricks) {
   const auto& t = built_.topology;
   ASSERT_FALSE(t.abrs.empty());
   for (size_t i = 0; i < t.abrs.size(); ++i)
-    for (size_t j = i + 1; j < t.abrs.size(); ++j) ASSERT_FALSE(t.abrs[i].box.overlaps_open(t.abrs[j].box)) << i << " " << j;
+    for (size_t j = i + 1; j < t.abrs.size(); ++j)
+      ASSERT_FALSE(t.abrs[i].box.overlaps_open(t.abrs[j].box)) << i << " " << j;
   for (const Abr& a : t.abrs) {
-    std::vector<uint32_t> listed(t.abr_bricks.begin() + a.first_brick, t.abr_bricks.begin() + a.first_brick + a.brick_count);
+    std::vector<uint32_t> listed(t.abr_bricks.begin() + a.first_brick,
+                                 t.abr_bricks.begin() + a.first_brick + a.brick_count);
     std::sort(listed.begin(), listed.end());
     std::vector<uint32_t> expected;
     int32_t finest = INT32_MAX;
@@ -126,7 +128,8 @@ TEST_P(AmrStructure, SamplerEqualsBruteForceAndRangesBoundSamples) {
   box3i bounds = box3i::make_empty();
   for (const Brick& b : t.bricks) bounds.extend(b.cell_box());
   std::uniform_real_distribution<float> ux(float(bounds.lower.x) - 1, float(bounds.upper.x) + 1),
-      uy(float(bounds.lower.y) - 1, float(bounds.upper.y) + 1), uz(float(bounds.lower.z) - 1, float(bounds.upper.z) + 1);
+      uy(float(bounds.lower.y) - 1, float(bounds.upper.y) + 1),
+      uz(float(bounds.lower.z) - 1, float(bounds.upper.z) + 1);
   std::vector<vec3f> points(10000);
   for (auto& p : points) p = {ux(rng), uy(rng), uz(rng)};
   const auto sampled = probe_points(t, bvh, values.data(), points);
@@ -140,7 +143,8 @@ TEST_P(AmrStructure, SamplerEqualsBruteForceAndRangesBoundSamples) {
     }
     ++inside;
     ASSERT_NEAR(sampled[i], ref, 1e-5 * std::abs(ref)) << "point " << i;
-    const int64_t abr = bvh_locate(bvh.nodes.data(), uint32_t(bvh.nodes.size()), [&](uint32_t k) { return t.abrs[k].box; }, points[i]);
+    const int64_t abr = bvh_locate(
+        bvh.nodes.data(), uint32_t(bvh.nodes.size()), [&](uint32_t k) { return t.abrs[k].box; }, points[i]);
     ASSERT_GE(abr, 0);
     EXPECT_GE(sample_abr(view, uint32_t(abr), points[i]), ranges[size_t(abr)].lo);
     EXPECT_LE(sample_abr(view, uint32_t(abr), points[i]), ranges[size_t(abr)].hi);
@@ -149,8 +153,9 @@ TEST_P(AmrStructure, SamplerEqualsBruteForceAndRangesBoundSamples) {
 }
 
 INSTANTIATE_TEST_SUITE_P(RandomOctrees, AmrStructure,
-                         ::testing::Values(std::make_tuple(1u, 3, 0.4), std::make_tuple(2u, 4, 0.35), std::make_tuple(3u, 5, 0.3),
-                                           std::make_tuple(4u, 2, 0.0), std::make_tuple(5u, 4, 0.9)));
+                         ::testing::Values(std::make_tuple(1u, 3, 0.4), std::make_tuple(2u, 4, 0.35),
+                                           std::make_tuple(3u, 5, 0.3), std::make_tuple(4u, 2, 0.0),
+                                           std::make_tuple(5u, 4, 0.9)));
 
 TEST(AmrBricks, RejectsDuplicateMisalignedAndOverlappingCells) {
   EXPECT_THROW(build_bricks({{vec3i(0, 0, 0), 0}, {vec3i(0, 0, 0), 0}}, "x"), InputError);

@@ -12,10 +12,10 @@
 
 #include "test_util.h"
 #include "volstream/amr/bricks.h"
-#include "volstream/render/optics/blackbody.h"
-#include "volstream/render/integrators/block_renderer.h"
 #include "volstream/amr/kd_blocks.h"
 #include "volstream/cuda/backend.h"
+#include "volstream/render/integrators/block_renderer.h"
+#include "volstream/render/optics/blackbody.h"
 
 namespace vs {
 namespace {
@@ -97,7 +97,8 @@ TEST(KdBlocks, TraversalIsFrontToBack) {
   int visited_total = 0;
   for (int i = 0; i < 3000; ++i) {
     const vec3f org = view.bounds.lower + vec3f(u(rng), u(rng), u(rng)) * size;
-    const vec3f target = view.bounds.lower + vec3f(0.5f + 0.4f * d(rng), 0.5f + 0.4f * d(rng), 0.5f + 0.4f * d(rng)) * size;
+    const vec3f target =
+        view.bounds.lower + vec3f(0.5f + 0.4f * d(rng), 0.5f + 0.4f * d(rng), 0.5f + 0.4f * d(rng)) * size;
     const vec3f dir = normalize(target - org);
     float last_t0 = -INFINITY, last_t1 = -INFINITY, covered = 0;
     kd_traverse(view, org, dir, 0.f, INFINITY, [&](uint32_t, float t0, float t1) {
@@ -339,7 +340,8 @@ TEST(VertexField, MatchesBruteForceDefinition) {
             bool d = false;
             const double want = ref.vertex(b.box.lower + vec3i(x, y, z) * w, b.level, &d);
             dangling += d;
-            ASSERT_NEAR(*got, want, 1e-5) << "seed " << seed << " block " << i << " vertex " << x << "," << y << "," << z;
+            ASSERT_NEAR(*got, want, 1e-5)
+                << "seed " << seed << " block " << i << " vertex " << x << "," << y << "," << z;
           }
     }
     EXPECT_EQ(uint64_t(checked), vf.values.size());

@@ -9,8 +9,8 @@
 #include <cstring>
 #include <unordered_set>
 
-#include "volstream/backend/stopwatch.h"
 #include "volstream/amr/demo.h"
+#include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
 
 namespace vs {
@@ -148,8 +148,8 @@ TEST_P(DemoSmall, ValuesFiniteAndChanging) {
     for (size_t i = 0; i < n; ++i) changed += a[i] != b[i];
     EXPECT_GT(changed, n / 100) << name;
     const auto [lo, hi] = std::minmax_element(a.begin(), a.end());
-    std::printf("  %s %s: %zu cells, step 0 range [%g, %g], %zu changed at step 1\n", GetParam().c_str(),
-                name.c_str(), n, double(*lo), double(*hi), changed);
+    std::printf("  %s %s: %zu cells, step 0 range [%g, %g], %zu changed at step 1\n", GetParam().c_str(), name.c_str(),
+                n, double(*lo), double(*hi), changed);
   }
 }
 
@@ -212,8 +212,8 @@ void check_large(const std::string& name, uint64_t target) {
     source->read_values(f, 1, v.data());
     const double s = watch.lap();
     const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-    std::printf("    %s: read_values %.2fs, range [%g, %g]\n", source->field_names()[size_t(f)].c_str(), s,
-                double(*lo), double(*hi));
+    std::printf("    %s: read_values %.2fs, range [%g, %g]\n", source->field_names()[size_t(f)].c_str(), s, double(*lo),
+                double(*hi));
   }
 }
 

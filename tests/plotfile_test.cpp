@@ -22,7 +22,9 @@ using ValueFn = std::function<double(int, int, int, int, int)>;
 
 box3i ibox(int x0, int y0, int z0, int x1, int y1, int z1) { return {vec3i(x0, y0, z0), vec3i(x1, y1, z1)}; }
 
-double smooth_value(int c, int l, int i, int j, int k) { return 1000.0 * c + 100.0 * l + 1.37 * i - 0.71 * j + 0.113 * k + 0.5; }
+double smooth_value(int c, int l, int i, int j, int k) {
+  return 1000.0 * c + 100.0 * l + 1.37 * i - 0.71 * j + 0.113 * k + 0.5;
+}
 
 // (a) 3 levels, ratio 2, several boxes per level (a level-1 box spans two level-0 boxes and a
 // level-2 box spans two level-1 boxes), float64.
@@ -33,7 +35,8 @@ PlotfileSpec three_level_spec() {
   s.level0_domain = ibox(0, 0, 0, 15, 15, 7);
   s.ref_ratios = {2, 2};
   s.levels = {
-      PlotfileLevel{{ibox(0, 0, 0, 7, 7, 7), ibox(8, 0, 0, 15, 7, 7), ibox(0, 8, 0, 7, 15, 7), ibox(8, 8, 0, 15, 15, 7)}},
+      PlotfileLevel{
+          {ibox(0, 0, 0, 7, 7, 7), ibox(8, 0, 0, 15, 7, 7), ibox(0, 8, 0, 7, 15, 7), ibox(8, 8, 0, 15, 15, 7)}},
       PlotfileLevel{{ibox(4, 4, 2, 13, 11, 9), ibox(16, 16, 4, 27, 23, 11), ibox(14, 4, 2, 19, 9, 7)}},
       PlotfileLevel{{ibox(8, 8, 4, 15, 15, 11), ibox(16, 8, 4, 23, 13, 9), ibox(24, 8, 4, 31, 19, 15),
                      ibox(36, 34, 10, 47, 45, 21)}},
@@ -234,8 +237,10 @@ TEST(Plotfile, BigEndianGhostCellsAndNonFiniteValues) {
       const double want = value(f, e.level, e.i, e.j, e.k);
       nan += std::isnan(v[n]);
       inf += std::isinf(v[n]);
-      if (std::isnan(want)) EXPECT_TRUE(std::isnan(v[n]));
-      else EXPECT_EQ(v[n], want > 1e39 ? INFINITY : float(want));  // beyond float range: inf, like the reader
+      if (std::isnan(want))
+        EXPECT_TRUE(std::isnan(v[n]));
+      else
+        EXPECT_EQ(v[n], want > 1e39 ? INFINITY : float(want));  // beyond float range: inf, like the reader
     }
     EXPECT_EQ(nan, 1);
     EXPECT_EQ(inf, 1);
@@ -250,7 +255,8 @@ TEST(Plotfile, SeriesOfThreeSteps) {
     PlotfileSpec spec = base;
     spec.time = 0.5 + s;
     dirs.push_back(root / ("plt0000" + std::to_string(s)));
-    write_plotfile(dirs.back(), spec, [s](int c, int l, int i, int j, int k) { return smooth_value(c, l, i, j, k) + 10000.0 * s; });
+    write_plotfile(dirs.back(), spec,
+                   [s](int c, int l, int i, int j, int k) { return smooth_value(c, l, i, j, k) + 10000.0 * s; });
   }
   auto src = open_plotfile_series(dirs);
   ASSERT_EQ(src->step_count(), 3);
@@ -259,7 +265,8 @@ TEST(Plotfile, SeriesOfThreeSteps) {
   // Out of order on purpose: every step must come from its own files.
   for (int s : {2, 0, 1}) {
     auto fresh = open_plotfile_series(dirs);
-    check_source(*fresh, base, [s](int c, int l, int i, int j, int k) { return smooth_value(c, l, i, j, k) + 10000.0 * s; }, s);
+    check_source(
+        *fresh, base, [s](int c, int l, int i, int j, int k) { return smooth_value(c, l, i, j, k) + 10000.0 * s; }, s);
   }
 }
 
@@ -304,7 +311,9 @@ TEST(PlotfileBad, GarbageHeader) {
   const auto dir = write_small("garbage");
   write_file_text(dir / "Header", "HyperCLaw-V1.1\n2\ndensity\npressure\n3\nbanana\n");
   EXPECT_THROW(read_everything({dir}), InputError);
-  write_file_text(dir / "Header", std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10));
+  write_file_text(dir / "Header", std::string("\x7f"
+                                              "ELF\x02\x01\x01\0\0\0",
+                                              10));
   EXPECT_THROW(read_everything({dir}), InputError);
   write_file_text(dir / "Header", "");
   EXPECT_THROW(read_everything({dir}), InputError);
@@ -316,7 +325,8 @@ TEST(PlotfileBad, RaggedHeader) {
   std::istringstream in(read_file_text(dir / "Header"));
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);) lines.push_back(line);
-  const auto level1 = std::find_if(lines.begin(), lines.end(), [](const std::string& l) { return l.rfind("1 3 ", 0) == 0; });
+  const auto level1 =
+      std::find_if(lines.begin(), lines.end(), [](const std::string& l) { return l.rfind("1 3 ", 0) == 0; });
   ASSERT_NE(level1, lines.end());
   lines.erase(level1 + 2);  // after "1 3 time" and the step line
   std::string out;

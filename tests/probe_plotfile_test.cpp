@@ -33,8 +33,9 @@ PlotfileSpec spec_for_ratio(int ratio) {
                    PlotfileLevel{{box3i{vec3i(12, 6, 6), vec3i(23, 15, 15)}}}};
   } else {
     spec.ref_ratios = {4};
-    spec.levels = {PlotfileLevel{{box3i{vec3i(0, 0, 0), vec3i(15, 7, 7)}}},
-                   PlotfileLevel{{box3i{vec3i(8, 4, 4), vec3i(23, 19, 19)}, box3i{vec3i(24, 8, 8), vec3i(39, 15, 15)}}}};
+    spec.levels = {
+        PlotfileLevel{{box3i{vec3i(0, 0, 0), vec3i(15, 7, 7)}}},
+        PlotfileLevel{{box3i{vec3i(8, 4, 4), vec3i(23, 19, 19)}, box3i{vec3i(24, 8, 8), vec3i(39, 15, 15)}}}};
   }
   return spec;
 }
@@ -68,8 +69,8 @@ TEST_P(PlotfileProbe, AbrProbeEqualsBruteForce) {
       }
       ++inside;
       ASSERT_NEAR(sampled[i], ref, 1e-5 * std::abs(ref) + 1e-6) << "point " << i;
-      const int64_t abr = bvh_locate(bvh.nodes.data(), uint32_t(bvh.nodes.size()),
-                                     [&](uint32_t k) { return ds.topology().abrs[k].box; }, grid[i]);
+      const int64_t abr = bvh_locate(
+          bvh.nodes.data(), uint32_t(bvh.nodes.size()), [&](uint32_t k) { return ds.topology().abrs[k].box; }, grid[i]);
       ASSERT_GE(abr, 0);
       EXPECT_GE(sampled[i], ranges[size_t(abr)].lo);
       EXPECT_LE(sampled[i], ranges[size_t(abr)].hi);

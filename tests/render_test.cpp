@@ -17,10 +17,10 @@
 #include "volstream/accel/refit.h"
 #include "volstream/amr/abrs.h"
 #include "volstream/amr/bricks.h"
+#include "volstream/amr/ranges.h"
 #include "volstream/core/error.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/io/image.h"
-#include "volstream/amr/ranges.h"
 #include "volstream/render/integrators/abr_renderer.h"
 
 namespace vs {
@@ -498,13 +498,15 @@ ReferenceRanges reference_ranges(const Volume& vol, uint32_t abr) {
   for (uint32_t k = 0; k < a.brick_count; ++k) {
     const Brick& b = vol.topology.bricks[vol.topology.abr_bricks[a.first_brick + k]];
     for (int64_t c = 0; c < b.cell_count(); ++c) {
-      const vec3i i{int32_t(c % b.dims.x), int32_t(c / b.dims.x % b.dims.y), int32_t(c / (int64_t(b.dims.x) * b.dims.y))};
+      const vec3i i{int32_t(c % b.dims.x), int32_t(c / b.dims.x % b.dims.y),
+                    int32_t(c / (int64_t(b.dims.x) * b.dims.y))};
       const float w = float(b.width());
       const vec3f centre = vec3f(b.lower) + (vec3f(i) + vec3f(0.5f)) * w;
       const float v = vol.values[b.value_offset + uint64_t(c)];
       extend_range(ref.per_brick, v);
       bool meets = true;
-      for (int ax = 0; ax < 3; ++ax) meets = meets && centre[ax] > a.box.lower[ax] - w && centre[ax] < a.box.upper[ax] + w;
+      for (int ax = 0; ax < 3; ++ax)
+        meets = meets && centre[ax] > a.box.lower[ax] - w && centre[ax] < a.box.upper[ax] + w;
       if (meets) extend_range(ref.needed, v);
     }
   }
@@ -512,11 +514,11 @@ ReferenceRanges reference_ranges(const Volume& vol, uint32_t abr) {
 }
 
 TEST(Ranges, AbrRangesHoldTheNeededCellsAndNarrowPerBrickRanges) {
-  const Volume vol = make_volume(test::random_octree_cells(9, {3, 3, 2}, 4, 0.5), [](const vec3d& p) {
-    return std::sin(0.3 * p.x) * std::cos(0.2 * p.y) + 0.1 * p.z;
-  });
+  const Volume vol = make_volume(test::random_octree_cells(9, {3, 3, 2}, 4, 0.5),
+                                 [](const vec3d& p) { return std::sin(0.3 * p.x) * std::cos(0.2 * p.y) + 0.1 * p.z; });
   const std::vector<Range>& tight = vol.abr_ranges;
-  const std::vector<Range> per_brick = compute_abr_ranges(vol.topology, vol.values.data(), nullptr, RangeMode::per_brick);
+  const std::vector<Range> per_brick =
+      compute_abr_ranges(vol.topology, vol.values.data(), nullptr, RangeMode::per_brick);
   size_t narrower = 0;
   for (uint32_t i = 0; i < vol.topology.abrs.size(); ++i) {
     const ReferenceRanges ref = reference_ranges(vol, i);
@@ -535,9 +537,8 @@ TEST(Ranges, AbrRangesHoldTheNeededCellsAndNarrowPerBrickRanges) {
 }
 
 TEST(Ranges, AbrRangesBoundEverySample) {
-  const Volume vol = make_volume(test::random_octree_cells(9, {3, 3, 2}, 4, 0.5), [](const vec3d& p) {
-    return std::sin(0.3 * p.x) * std::cos(0.2 * p.y) + 0.1 * p.z;
-  });
+  const Volume vol = make_volume(test::random_octree_cells(9, {3, 3, 2}, 4, 0.5),
+                                 [](const vec3d& p) { return std::sin(0.3 * p.x) * std::cos(0.2 * p.y) + 0.1 * p.z; });
   const AmrView view = make_view(vol.topology, vol.values.data());
   std::mt19937 rng(1);
   std::uniform_real_distribution<float> u(0.f, 1.f);
@@ -709,8 +710,8 @@ TEST(TransferFunction, ValueShortcutsAnswerAsTheTableCount) {
           return std::pow(10.f, l0 + (l1 - l0) * t);
         };
         const float lo = value(x), hi = value(x + w);
-        ASSERT_EQ(fast.any(lo, hi), plain.any(lo, hi))
-            << "opacity " << o << " scale [" << spec.lo << ", " << spec.hi << "] log " << log << " range [" << lo << ", " << hi << "]";
+        ASSERT_EQ(fast.any(lo, hi), plain.any(lo, hi)) << "opacity " << o << " scale [" << spec.lo << ", " << spec.hi
+                                                       << "] log " << log << " range [" << lo << ", " << hi << "]";
         decided += (hi < fast.transparent_below || lo > fast.transparent_above ||
                     (lo <= fast.opaque_hi && hi >= fast.opaque_lo));
       }
@@ -739,7 +740,8 @@ TEST(Image, Srgb8TableEqualsTheDefinition) {
     ASSERT_EQ(int(linear_to_srgb8(x)), definition(x)) << x;
     if (bits > 0 && definition(from_bits(bits - 61)) != definition(x)) {  // a code changes in here
       ++boundaries;
-      for (uint32_t b = bits - 61; b <= bits + 64; ++b) ASSERT_EQ(int(linear_to_srgb8(from_bits(b))), definition(from_bits(b)));
+      for (uint32_t b = bits - 61; b <= bits + 64; ++b)
+        ASSERT_EQ(int(linear_to_srgb8(from_bits(b))), definition(from_bits(b)));
     }
   }
   EXPECT_EQ(boundaries, 255);
@@ -782,7 +784,8 @@ TEST(Camera, DefaultCameraSeesTheWholeBox) {
   const CameraView v = make_camera_view(cam, 150, 100);
   const vec3d fwd = normalize(cam.look_at - cam.position);
   for (int k = 0; k < 8; ++k) {
-    const vec3d c((k & 1 ? box.upper : box.lower).x, (k & 2 ? box.upper : box.lower).y, (k & 4 ? box.upper : box.lower).z);
+    const vec3d c((k & 1 ? box.upper : box.lower).x, (k & 2 ? box.upper : box.lower).y,
+                  (k & 4 ? box.upper : box.lower).z);
     // Project the corner: its offset from the eye, divided by depth, in pixel units.
     const vec3d q = c - cam.position;
     const double depth = dot(q, fwd);

@@ -180,14 +180,16 @@ TEST(Timeline, WritesAValidChromeTrace) {
 
 TEST(Gantt, DrawsOneBarPerEventWithAxisAndLegend) {
   std::vector<TraceEvent> events;
-  for (int i = 0; i < kStageCount; ++i) events.push_back({stage_name(Stage(i)), i, 1, i % 2, "run", "lane", 1000.0 * i, 900});
+  for (int i = 0; i < kStageCount; ++i)
+    events.push_back({stage_name(Stage(i)), i, 1, i % 2, "run", "lane", 1000.0 * i, 900});
   const std::string svg = gantt_svg(events, {});
   EXPECT_EQ(svg.rfind("<svg", 0), 0u);
   EXPECT_NE(svg.find("</svg>"), std::string::npos);
   size_t bars = 0;
   for (size_t p = svg.find("<title>"); p != std::string::npos; p = svg.find("<title>", p + 1)) ++bars;
   EXPECT_EQ(bars, events.size());
-  for (int i = 0; i < kStageCount; ++i) EXPECT_NE(svg.find(std::string(">") + stage_name(Stage(i)) + "<"), std::string::npos);
+  for (int i = 0; i < kStageCount; ++i)
+    EXPECT_NE(svg.find(std::string(">") + stage_name(Stage(i)) + "<"), std::string::npos);
   EXPECT_NE(svg.find("time [ms]"), std::string::npos);
 }
 
@@ -444,7 +446,8 @@ TEST(Pipeline, JumpsCostOneLoadAndMatchSequentialPlay) {
       EXPECT_EQ(jumps.frames[i].second, by_step.at(order[i])) << "step " << order[i];
     }
     const auto events = timeline.events();
-    const auto reads = std::count_if(events.begin(), events.end(), [](const TimelineEvent& e) { return e.stage == Stage::read; });
+    const auto reads =
+        std::count_if(events.begin(), events.end(), [](const TimelineEvent& e) { return e.stage == Stage::read; });
     EXPECT_EQ(size_t(reads), order.size());
   }
 }
@@ -502,7 +505,7 @@ TEST(FileOrder, IndexIsAPermutationAndNotTheIdentity) {
   size_t moved = 0;
   for (size_t i = 0; i < index.size(); ++i) moved += index[i] != i;
   EXPECT_GT(moved, index.size() / 2) << "the demo's cell order is almost the device order: " << moved << " of "
-                                      << index.size() << " cells move";
+                                     << index.size() << " cells move";
 }
 
 TEST(FileOrder, FileOrderFilesAreTheDeviceOrderFilesPermuted) {
@@ -528,7 +531,8 @@ TEST(FileOrder, FileOrderFilesAreTheDeviceOrderFilesPermuted) {
       // device[i] == file[index[i]], bit for bit; and the device-order files are those of a
       // dataset converted without file order.
       for (uint64_t i = 0; i < n; ++i)
-        ASSERT_EQ(std::memcmp(&device[i], &file[index[i]], 4), 0) << "field " << field << " step " << step << " cell " << i;
+        ASSERT_EQ(std::memcmp(&device[i], &file[index[i]], 4), 0)
+            << "field " << field << " step " << step << " cell " << i;
       const std::vector<float> without = plain.load_values(field, step);
       ASSERT_EQ(std::memcmp(device.data(), without.data(), n * 4), 0) << "field " << field << " step " << step;
     }
@@ -563,10 +567,11 @@ TEST(FileOrder, DamagedFileOrderStepsNameTheStepBeforePreordered) {
   for (const auto& entry : damages) {
     const std::string& what = entry.first;  // not a structured binding: clang's lambdas cannot capture those
     const auto& damage = entry.second;
-    const fs::path dir = edited_copy(file_order_series_dir(), "file_order_" + what.substr(0, 5), [&](const fs::path& d) {
-      const Dataset ds(d);
-      damage(ds.file_order_values_path(0, 2), ds.manifest().cell_count * 4);
-    });
+    const fs::path dir =
+        edited_copy(file_order_series_dir(), "file_order_" + what.substr(0, 5), [&](const fs::path& d) {
+          const Dataset ds(d);
+          damage(ds.file_order_values_path(0, 2), ds.manifest().cell_count * 4);
+        });
     const Dataset ds(dir);
     for (int l = 0; l < kLevelCount; ++l) {
       ChecksumStages stages(ds.topology());
@@ -604,9 +609,8 @@ TEST(FileOrder, OldManifestsAndBadIndexFiles) {
   EXPECT_TRUE(Pipeline(ds, 0, PipelineFlags::at(Level::baseline), stages, nullptr).flatten_is_identity());
 
   // An index that is missing, of the wrong size or not a permutation is an InputError naming it.
-  const fs::path missing = edited_copy(file_order_series_dir(), "file_order_noindex", [](const fs::path& d) {
-    fs::remove(d / dataset_files::kFileIndex);
-  });
+  const fs::path missing = edited_copy(file_order_series_dir(), "file_order_noindex",
+                                       [](const fs::path& d) { fs::remove(d / dataset_files::kFileIndex); });
   try {
     const Dataset bad(missing);
     ADD_FAILURE() << "dataset without its file index opened";

@@ -51,7 +51,8 @@ FrameRequest blackbody(const Dataset& ds, IntegratorKind kind) {
 double max_difference(const Image& a, const Image& b) {
   EXPECT_EQ(a.rgba.size(), b.rgba.size());
   double d = 0;
-  for (size_t i = 0; i < a.rgba.size() && i < b.rgba.size(); ++i) d = std::max(d, std::fabs(double(a.rgba[i]) - b.rgba[i]));
+  for (size_t i = 0; i < a.rgba.size() && i < b.rgba.size(); ++i)
+    d = std::max(d, std::fabs(double(a.rgba[i]) - b.rgba[i]));
   return d;
 }
 

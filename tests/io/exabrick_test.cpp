@@ -83,7 +83,8 @@ TEST(ExaBrick, RoundTripSameCellsAndValues) {
     const Files f = write_dataset(test::scratch_dir(library_writers ? "lib" : "raw"), cells, library_writers);
     // The writers produce exactly the documented format.
     EXPECT_EQ(read_bytes(f.cells), cell_bytes(cells));
-    for (int n = 0; n < int(kFields.size()); ++n) EXPECT_EQ(read_bytes(f.scalars[size_t(n)]), float_bytes(field_values(n, cells)));
+    for (int n = 0; n < int(kFields.size()); ++n)
+      EXPECT_EQ(read_bytes(f.scalars[size_t(n)]), float_bytes(field_values(n, cells)));
 
     auto src = open_exabrick({f.cells, f.scalars});
     EXPECT_EQ(src->cell_count(), cells.size());
@@ -107,7 +108,8 @@ TEST(ExaBrick, RoundTripSameCellsAndValues) {
     for (int n : {2, 0, 1}) {
       std::vector<float> v(cells.size(), -1.f);
       src->read_values(n, 0, v.data());
-      for (size_t i = 0; i < cells.size(); ++i) ASSERT_EQ(v[i], value_of(n, cells[i])) << kFields[size_t(n)] << " cell " << i;
+      for (size_t i = 0; i < cells.size(); ++i)
+        ASSERT_EQ(v[i], value_of(n, cells[i])) << kFields[size_t(n)] << " cell " << i;
     }
   }
 }
@@ -178,22 +180,65 @@ fs::path set_level(Files& f, const std::vector<Cell>& cells, int32_t level) {
 }
 
 const BadCase kBadCases[] = {
-    {"scalars one short", [](Files& f, auto&) { fs::resize_file(f.scalars[1], fs::file_size(f.scalars[1]) - 4); return f.scalars[1]; }},
-    {"scalars one extra", [](Files& f, auto&) { fs::resize_file(f.scalars[2], fs::file_size(f.scalars[2]) + 4); return f.scalars[2]; }},
-    {"scalars not whole floats", [](Files& f, auto&) { fs::resize_file(f.scalars[0], fs::file_size(f.scalars[0]) - 1); return f.scalars[0]; }},
-    {"cells truncated", [](Files& f, auto&) { fs::resize_file(f.cells, fs::file_size(f.cells) - 5); return f.cells; }},
-    {"cells one extra byte", [](Files& f, auto&) { fs::resize_file(f.cells, fs::file_size(f.cells) + 1); return f.cells; }},
-    {"cells empty", [](Files& f, auto&) { fs::resize_file(f.cells, 0); return f.cells; }},
-    {"cells missing", [](Files& f, auto&) { fs::remove(f.cells); return f.cells; }},
-    {"scalar file empty", [](Files& f, auto&) { fs::resize_file(f.scalars[1], 0); return f.scalars[1]; }},
-    {"scalar file missing", [](Files& f, auto&) { fs::remove(f.scalars[2]); return f.scalars[2]; }},
-    {"no scalar files", [](Files& f, auto&) { f.scalars.clear(); return f.cells; }},
+    {"scalars one short",
+     [](Files& f, auto&) {
+       fs::resize_file(f.scalars[1], fs::file_size(f.scalars[1]) - 4);
+       return f.scalars[1];
+     }},
+    {"scalars one extra",
+     [](Files& f, auto&) {
+       fs::resize_file(f.scalars[2], fs::file_size(f.scalars[2]) + 4);
+       return f.scalars[2];
+     }},
+    {"scalars not whole floats",
+     [](Files& f, auto&) {
+       fs::resize_file(f.scalars[0], fs::file_size(f.scalars[0]) - 1);
+       return f.scalars[0];
+     }},
+    {"cells truncated",
+     [](Files& f, auto&) {
+       fs::resize_file(f.cells, fs::file_size(f.cells) - 5);
+       return f.cells;
+     }},
+    {"cells one extra byte",
+     [](Files& f, auto&) {
+       fs::resize_file(f.cells, fs::file_size(f.cells) + 1);
+       return f.cells;
+     }},
+    {"cells empty",
+     [](Files& f, auto&) {
+       fs::resize_file(f.cells, 0);
+       return f.cells;
+     }},
+    {"cells missing",
+     [](Files& f, auto&) {
+       fs::remove(f.cells);
+       return f.cells;
+     }},
+    {"scalar file empty",
+     [](Files& f, auto&) {
+       fs::resize_file(f.scalars[1], 0);
+       return f.scalars[1];
+     }},
+    {"scalar file missing",
+     [](Files& f, auto&) {
+       fs::remove(f.scalars[2]);
+       return f.scalars[2];
+     }},
+    {"no scalar files",
+     [](Files& f, auto&) {
+       f.scalars.clear();
+       return f.cells;
+     }},
     {"negative level", [](Files& f, auto& c) { return set_level(f, c, -1); }},
     {"level too large", [](Files& f, auto& c) { return set_level(f, c, kMaxLevel + 1); }},
     {"huge level", [](Files& f, auto& c) { return set_level(f, c, 1 << 30); }},
     {"duplicate cell", [](Files& f, auto& c) { return rewrite_cells(f, c, [](auto& v) { v[1] = v[0]; }); }},
-    {"misaligned cell", [](Files& f, auto& c) {
-       return rewrite_cells(f, c, [](auto& v) { std::find_if(v.begin(), v.end(), [](const Cell& x) { return x.level > 0; })->lower.x += 1; });
+    {"misaligned cell",
+     [](Files& f, auto& c) {
+       return rewrite_cells(f, c, [](auto& v) {
+         std::find_if(v.begin(), v.end(), [](const Cell& x) { return x.level > 0; })->lower.x += 1;
+       });
      }},
 };
 

@@ -24,9 +24,9 @@ struct TypeCase {
   bool is_float;
 };
 const TypeCase kTypes[] = {
-    {RawType::u8, "uint8", 1, 0, 1, false},        {RawType::u16, "uint16", 2, 60000, 1, false},
-    {RawType::i16, "int16", 2, -1000, 1, false},   {RawType::u32, "uint32", 4, 70000, 1, false},
-    {RawType::i32, "int32", 4, -100000, 1, false}, {RawType::f32, "float32", 4, -60.25, 0.5, true},
+    {RawType::u8, "uint8", 1, 0, 1, false},          {RawType::u16, "uint16", 2, 60000, 1, false},
+    {RawType::i16, "int16", 2, -1000, 1, false},     {RawType::u32, "uint32", 4, 70000, 1, false},
+    {RawType::i32, "int32", 4, -100000, 1, false},   {RawType::f32, "float32", 4, -60.25, 0.5, true},
     {RawType::f64, "float64", 8, -1e-3, -2.5, true},
 };
 
@@ -75,7 +75,9 @@ TEST(RawGrid, EveryTypeAndByteOrderDecodes) {
             negative += want < 0;
             EXPECT_EQ(v[size_t(i)], float(want)) << "at " << x << "," << y << "," << z;
           }
-      if (t.offset < 0) EXPECT_GT(negative, 0);
+      if (t.offset < 0) {
+        EXPECT_GT(negative, 0);
+      }
     }
 }
 
@@ -115,7 +117,8 @@ TEST(RawGrid, FilesAsStepsOrAsFields) {
     SCOPED_TRACE(as_fields ? "fields" : "steps");
     auto src = open_raw_grid({.files = files, .dims = kDims, .type = t.type, .files_are_fields = as_fields});
     EXPECT_EQ(src->step_count(), as_fields ? 1 : 3);
-    const std::vector<std::string> names = as_fields ? std::vector<std::string>{"f0", "f1", "f2"} : std::vector<std::string>{"scalar"};
+    const std::vector<std::string> names =
+        as_fields ? std::vector<std::string>{"f0", "f1", "f2"} : std::vector<std::string>{"scalar"};
     EXPECT_EQ(src->field_names(), names);
     std::vector<float> v(24);
     for (int n : {2, 0, 1}) {

@@ -31,7 +31,8 @@ void expect_every_pixel(const Image& img, const vec3d& rgb, double alpha, double
   for (uint32_t y = 0; y < img.height; ++y)
     for (uint32_t x = 0; x < img.width; ++x) {
       const float* p = img.pixel(x, y);
-      for (int c = 0; c < 3; ++c) ASSERT_NEAR(p[c], rgb[c], tol) << what << " pixel " << x << "," << y << " channel " << c;
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(p[c], rgb[c], tol) << what << " pixel " << x << "," << y << " channel " << c;
       ASSERT_NEAR(p[3], alpha, tol) << what << " pixel " << x << "," << y;
     }
 }
@@ -39,7 +40,8 @@ void expect_every_pixel(const Image& img, const vec3d& rgb, double alpha, double
 // Constant density rho_max and temperature T along a path of L reference steps: per channel
 // I = E (1 - exp(-k L)) / k with E = emission * colour(T), k = absorption * rayleigh weight.
 TEST(Integrators, BlackbodySlabMatchesClosedFormOnAbrsAndBlocks) {
-  const test::TestVolume vol = test::make_test_volume(test::uniform_cells({kN, kN, kN}), [](const vec3d&) { return 1.0; });
+  const test::TestVolume vol =
+      test::make_test_volume(test::uniform_cells({kN, kN, kN}), [](const vec3d&) { return 1.0; });
   const std::vector<float> temperature = test::test_values(vol, [](const vec3d&) { return 6000.0; });
   BlackbodyParams p;
   p.emission = 0.3f;
@@ -64,7 +66,8 @@ TEST(Integrators, BlackbodySlabMatchesClosedFormOnAbrsAndBlocks) {
   OpticsView optics;
   optics.kind = OpticsKind::blackbody;
   optics.bb = bb;
-  const Image a = abr.render(Device::cpu, abr.view({vol.values.data(), temperature.data()}, optics, nullptr, head_on(2), fs));
+  const Image a =
+      abr.render(Device::cpu, abr.view({vol.values.data(), temperature.data()}, optics, nullptr, head_on(2), fs));
   const auto [rgb_abr, alpha_abr] = expected(kN + 1.0);
   expect_every_pixel(a, rgb_abr, alpha_abr, 2e-4, "abr");
   // Blocks are the cells' boxes.
@@ -84,7 +87,8 @@ TEST(Integrators, BlackbodySlabMatchesClosedFormOnAbrsAndBlocks) {
 // (|n . view| = 1): colour * (ambient + (1 - ambient)) + specular, opaque. The transfer
 // function is transparent, so nothing else shows.
 TEST(Integrators, IsosurfaceOfLinearFieldIsThePlaneOnAbrsAndBlocks) {
-  const test::TestVolume vol = test::make_test_volume(test::uniform_cells({kN, kN, kN}), [](const vec3d& c) { return c.x; });
+  const test::TestVolume vol =
+      test::make_test_volume(test::uniform_cells({kN, kN, kN}), [](const vec3d& c) { return c.x; });
   TransferFunctionSpec spec;
   spec.colors = builtin_color_map("viridis");
   spec.opacity = {{0.f, 0.f}, {1.f, 0.f}};
@@ -103,7 +107,8 @@ TEST(Integrators, IsosurfaceOfLinearFieldIsThePlaneOnAbrsAndBlocks) {
   FrameSettings fs;
   fs.width = fs.height = 6;
   fs.integrator = iso;
-  expect_every_pixel(abr.render(Device::cpu, vol.values.data(), tf, nullptr, nullptr, head_on(0), fs), lit, 1.0, 1e-3, "abr");
+  expect_every_pixel(abr.render(Device::cpu, vol.values.data(), tf, nullptr, nullptr, head_on(0), fs), lit, 1.0, 1e-3,
+                     "abr");
 
   BlockRenderer blocks(vol.topology, vol.transform);
   blocks.set_fields(vol.values.data());

@@ -11,7 +11,7 @@ namespace vs {
 
 struct BvhNode {
   box3f box;
-  uint32_t index;    // inner node: first child; leaf: item index
+  uint32_t index;  // inner node: first child; leaf: item index
   uint32_t is_leaf;
 };
 

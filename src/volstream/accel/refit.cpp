@@ -23,9 +23,12 @@ size_t run_end(const std::vector<BvhNode>& nodes, uint32_t n, size_t first, int 
 size_t descendants_end(const std::vector<BvhNode>& nodes, uint32_t n) {
   for (;;) {
     const uint32_t left = nodes[n].index;
-    if (!nodes[left + 1].is_leaf) n = left + 1;
-    else if (!nodes[left].is_leaf) n = left;
-    else return size_t(left) + 2;
+    if (!nodes[left + 1].is_leaf)
+      n = left + 1;
+    else if (!nodes[left].is_leaf)
+      n = left;
+    else
+      return size_t(left) + 2;
   }
 }
 

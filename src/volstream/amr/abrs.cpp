@@ -8,8 +8,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "volstream/core/error.h"
 #include "volstream/backend/parallel.h"
+#include "volstream/core/error.h"
 
 namespace vs {
 namespace {
@@ -59,7 +59,8 @@ class AbrBuilder {
         const double n_left = double(std::lower_bound(lows.begin(), lows.end(), plane) - lows.begin());
         const double n_right = double(highs.end() - std::upper_bound(highs.begin(), highs.end(), plane));
         const double cost = (n_left + n_right - double(n)) + kBalanceWeight * std::abs(n_left - n_right);
-        if (cost < best_cost || (cost == best_cost && (axis < best_axis || (axis == best_axis && plane < best_plane)))) {
+        if (cost < best_cost ||
+            (cost == best_cost && (axis < best_axis || (axis == best_axis && plane < best_plane)))) {
           best_cost = cost;
           best_axis = axis;
           best_plane = plane;
@@ -195,7 +196,8 @@ void build_abrs(AmrTopology& topology, const std::string& source_name) {
   }
   std::vector<Region> frontier = expand_frontier(builder, std::move(root), 256);
   std::vector<AbrOutput> outputs(frontier.size());
-  parallel_for("abr_build", int64_t(frontier.size()), [&](int64_t i) { builder.build_subtree(frontier[size_t(i)], outputs[size_t(i)]); });
+  parallel_for("abr_build", int64_t(frontier.size()),
+               [&](int64_t i) { builder.build_subtree(frontier[size_t(i)], outputs[size_t(i)]); });
   for (AbrOutput& out : outputs) {
     const uint32_t base = uint32_t(topology.abr_bricks.size());
     if (topology.abr_bricks.size() + out.abr_bricks.size() >= UINT32_MAX)

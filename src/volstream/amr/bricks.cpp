@@ -61,7 +61,8 @@ class LevelBuilder {
     }
     const int axis = split.axis;
     const int32_t plane = split.plane;
-    BuildCell* mid = std::partition(cells_ + begin, cells_ + end, [&](const BuildCell& c) { return c.pos[axis] < plane; });
+    BuildCell* mid =
+        std::partition(cells_ + begin, cells_ + end, [&](const BuildCell& c) { return c.pos[axis] < plane; });
     const uint64_t m = uint64_t(mid - cells_);
     if (count >= kParallelThreshold) {
       tasks.run([this, begin, m, &tasks] { build_node(begin, m, tasks); });
@@ -115,7 +116,7 @@ class LevelBuilder {
         if (score == 0) continue;
       }
       const double centred = 1.0 - std::abs(double(i) / double(n) - 0.5);  // 0.5 .. 1
-      score = score + centred * 1e-3 * big;  // tie-break towards the middle
+      score = score + centred * 1e-3 * big;                                // tie-break towards the middle
       if (score > best_score) {
         best_score = score;
         best = {axis, lower + int32_t(i)};
@@ -166,13 +167,15 @@ void check_cell(const Cell& c, const std::string& source) {
     if (c.lower[a] <= -kMaxCoord || c.lower[a] >= kMaxCoord - w)
       input_error(source, "cell coordinate " + std::to_string(c.lower[a]) + " out of range");
     if (c.lower[a] % w != 0)
-      input_error(source, "cell at " + std::to_string(c.lower[a]) + " is not aligned to its width " + std::to_string(w));
+      input_error(source,
+                  "cell at " + std::to_string(c.lower[a]) + " is not aligned to its width " + std::to_string(w));
   }
 }
 
 }  // namespace
 
-BrickBuildResult build_bricks(std::vector<Cell>&& cells, const std::string& source_name, const BrickBuildOptions& options) {
+BrickBuildResult build_bricks(std::vector<Cell>&& cells, const std::string& source_name,
+                              const BrickBuildOptions& options) {
   const uint64_t n = cells.size();
   if (n >= uint64_t(UINT32_MAX)) input_error(source_name, "more than 2^32-1 cells are not supported");
   // Validate and count cells per level.
@@ -182,7 +185,8 @@ BrickBuildResult build_bricks(std::vector<Cell>&& cells, const std::string& sour
     ++level_count[size_t(c.level)];
   }
   std::vector<uint64_t> level_begin(kMaxLevel + 2, 0);
-  for (int l = 1; l <= kMaxLevel + 1; ++l) level_begin[size_t(l)] = level_begin[size_t(l - 1)] + level_count[size_t(l - 1)];
+  for (int l = 1; l <= kMaxLevel + 1; ++l)
+    level_begin[size_t(l)] = level_begin[size_t(l - 1)] + level_count[size_t(l - 1)];
 
   // Bucket by level (stable, so the build is deterministic).
   std::vector<BuildCell> build(n);
@@ -190,7 +194,8 @@ BrickBuildResult build_bricks(std::vector<Cell>&& cells, const std::string& sour
     std::vector<uint64_t> next(level_begin.begin(), level_begin.end());
     for (uint64_t i = 0; i < n; ++i) {
       const Cell& c = cells[i];
-      build[next[size_t(c.level)]++] = {vec3i(c.lower.x >> c.level, c.lower.y >> c.level, c.lower.z >> c.level), uint32_t(i)};
+      build[next[size_t(c.level)]++] = {vec3i(c.lower.x >> c.level, c.lower.y >> c.level, c.lower.z >> c.level),
+                                        uint32_t(i)};
     }
   }
   std::vector<Cell>().swap(cells);  // free the input

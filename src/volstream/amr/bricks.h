@@ -13,8 +13,8 @@ struct BrickBuildOptions {
 };
 
 struct BrickBuildResult {
-  std::vector<Brick> bricks;      // sorted by value_offset
-  std::vector<Cell> device_cells; // cells in device order (brick by brick, x fastest)
+  std::vector<Brick> bricks;          // sorted by value_offset
+  std::vector<Cell> device_cells;     // cells in device order (brick by brick, x fastest)
   std::vector<uint32_t> input_index;  // input_index[device position] = position in the input
 };
 

@@ -13,8 +13,8 @@
 #include <stdexcept>
 #include <utility>
 
-#include "volstream/core/error.h"
 #include "volstream/backend/parallel.h"
+#include "volstream/core/error.h"
 
 namespace vs {
 namespace {
@@ -69,7 +69,7 @@ class DemoModel {
   virtual ~DemoModel() = default;
   virtual std::string name() const = 0;
   virtual vec3d domain_center() const = 0;
-  virtual vec3d domain_extent() const = 0;  // nominal; the root grid rounds it up to whole root cells
+  virtual vec3d domain_extent() const = 0;      // nominal; the root grid rounds it up to whole root cells
   virtual double trial_root_width() const = 0;  // gives a few 10^4 cells: the size search starts here
   virtual double max_root_width() const = 0;    // the coarsest root grid the size search may use
   // Split this node (level > 0) into 8 children? Must depend only on the node.
@@ -247,9 +247,9 @@ constexpr Fuselage kFuselage[] = {
     {{3, 0, 0}, {7.2, 0, 0.5}, 1.1, 0.3},  // tail cone
 };
 struct Surface {
-  vec3d center, half;  // half extents before rounding: chord/2, span/2, thickness/2
-  double round;        // rounding radius (leading and trailing edges, tips)
-  double taper;        // the chord shrinks by this fraction towards the tips
+  vec3d center, half;       // half extents before rounding: chord/2, span/2, thickness/2
+  double round;             // rounding radius (leading and trailing edges, tips)
+  double taper;             // the chord shrinks by this fraction towards the tips
   double sweep_y, sweep_z;  // x shifted back by sweep_y * |y| (wings) and sweep_z * z (fin)
 };
 constexpr Surface kSurfaces[] = {
@@ -259,10 +259,10 @@ constexpr Surface kSurfaces[] = {
 };
 
 // Lifting line and tip vortices.
-constexpr double kCirculation = 120;  // m^2/s: lift = rho U Gamma span, about 100 kN
+constexpr double kCirculation = 120;                        // m^2/s: lift = rho U Gamma span, about 100 kN
 constexpr double kTipX = 1.8, kTipY = 7.3, kWingZ = -0.35;  // trailing edge at the right tip
-constexpr double kTipCore2 = 0.04;     // initial core radius^2 (0.2 m)
-constexpr double kEddyViscosity = 0.05;  // m^2/s, grows the tip cores downstream
+constexpr double kTipCore2 = 0.04;                          // initial core radius^2 (0.2 m)
+constexpr double kEddyViscosity = 0.05;                     // m^2/s, grows the tip cores downstream
 constexpr double kMeanderWavenumber = 2 * kPi / 10;
 
 // Fuselage as a Rankine body: a source at the nose and a sink at the tail (strength U pi R^2).
@@ -314,7 +314,7 @@ struct TipLine {
 };
 double tip_meander_amplitude(double x) { return 0.04 * std::max(0.0, x - kTipX); }
 double tip_mean_y(double x) { return 5.9 + 1.4 * std::exp(-std::max(0.0, x - kTipX) / 4); }  // rolls up inboard
-double tip_mean_z(double x) { return kWingZ - 0.03 * std::max(0.0, x - kTipX); }              // the pair descends
+double tip_mean_z(double x) { return kWingZ - 0.03 * std::max(0.0, x - kTipX); }             // the pair descends
 TipLine tip_line(double x, double t) {
   const double strength = smoothstep((x - kTipX + 1) / 2);
   if (strength == 0) return {0, 0, 1, 0};
@@ -780,9 +780,12 @@ std::vector<std::string> demo_names() { return {"jet", "cosmo"}; }
 
 std::unique_ptr<AmrSource> make_demo(const DemoOptions& options) {
   std::unique_ptr<DemoModel> model;
-  if (options.name == "jet") model = std::make_unique<jet::JetModel>();
-  else if (options.name == "cosmo") model = std::make_unique<cosmo::CosmoModel>(options.steps);
-  else throw UsageError("unknown demo '" + options.name + "' (jet, cosmo)");
+  if (options.name == "jet")
+    model = std::make_unique<jet::JetModel>();
+  else if (options.name == "cosmo")
+    model = std::make_unique<cosmo::CosmoModel>(options.steps);
+  else
+    throw UsageError("unknown demo '" + options.name + "' (jet, cosmo)");
   if (options.target_cells < 10'000 || options.target_cells > 2'000'000'000)
     throw UsageError("demo cell count must be between 1e4 and 2e9");
   if (options.steps < 1) throw UsageError("demo needs at least 1 step");

@@ -20,8 +20,8 @@
 namespace vs {
 
 struct DemoOptions {
-  std::string name;                    // "jet" or "cosmo"
-  uint64_t target_cells = 1'000'000;   // the result lands within a few percent of this
+  std::string name;                   // "jet" or "cosmo"
+  uint64_t target_cells = 1'000'000;  // the result lands within a few percent of this
   int steps = 4;
 };
 

@@ -31,9 +31,12 @@ double plane_score(const std::vector<Block>& blocks, int axis, int32_t c) {
   int64_t left = 0, right = 0, crossed = 0;
   for (const Block& b : blocks) {
     if (cuts_cells(b, axis, c)) return -1;
-    if (b.box.upper[axis] <= c) ++left;
-    else if (b.box.lower[axis] >= c) ++right;
-    else ++crossed;
+    if (b.box.upper[axis] <= c)
+      ++left;
+    else if (b.box.lower[axis] >= c)
+      ++right;
+    else
+      ++crossed;
   }
   return double(crossed) + 0.25 * double(std::llabs(left - right));
 }
@@ -109,8 +112,7 @@ void build(KdBlocks& out, uint32_t node, std::vector<Block>&& blocks, int depth)
 KdBlocks build_kd_blocks(const std::vector<Brick>& bricks) {
   KdBlocks out;
   std::vector<Block> blocks;
-  for (uint32_t i = 0; i < bricks.size(); ++i)
-    blocks.push_back({bricks[i].cell_box(), vec3i(0), i, bricks[i].level});
+  for (uint32_t i = 0; i < bricks.size(); ++i) blocks.push_back({bricks[i].cell_box(), vec3i(0), i, bricks[i].level});
   if (blocks.empty()) return out;
   out.bounds = bounds_of(blocks);
   out.nodes.resize(1);

@@ -15,9 +15,9 @@
 namespace vs {
 
 struct Block {
-  box3i box;          // grid units
-  vec3i cell_lo;      // first cell of the block inside its brick (cells)
-  uint32_t brick;     // index into the topology's bricks
+  box3i box;       // grid units
+  vec3i cell_lo;   // first cell of the block inside its brick (cells)
+  uint32_t brick;  // index into the topology's bricks
   int32_t level;
 };
 
@@ -44,15 +44,23 @@ struct KdView {
 
 KdBlocks build_kd_blocks(const std::vector<Brick>& bricks);
 inline KdView make_kd_view(const KdBlocks& kd) {
-  return {kd.nodes.data(), kd.blocks.data(), {vec3f(kd.bounds.lower), vec3f(kd.bounds.upper)}, uint32_t(kd.nodes.size()),
+  return {kd.nodes.data(),
+          kd.blocks.data(),
+          {vec3f(kd.bounds.lower), vec3f(kd.bounds.upper)},
+          uint32_t(kd.nodes.size()),
           uint32_t(kd.blocks.size())};
 }
 
 // Ray [t_lo, t_hi] against a box: returns false when it misses. dir components may be zero.
-VS_HOST_DEVICE inline bool clip_ray_box(const vec3f& org, const vec3f& inv_dir, const box3f& b, float& t_lo, float& t_hi) {
+VS_HOST_DEVICE inline bool clip_ray_box(const vec3f& org, const vec3f& inv_dir, const box3f& b, float& t_lo,
+                                        float& t_hi) {
   for (int a = 0; a < 3; ++a) {
     float t0 = (b.lower[a] - org[a]) * inv_dir[a], t1 = (b.upper[a] - org[a]) * inv_dir[a];
-    if (t0 > t1) { const float s = t0; t0 = t1; t1 = s; }
+    if (t0 > t1) {
+      const float s = t0;
+      t0 = t1;
+      t1 = s;
+    }
     if (t0 != t0) t0 = -INFINITY;  // 0 * inf: the ray lies in the slab's plane
     if (t1 != t1) t1 = INFINITY;
     t_lo = t0 > t_lo ? t0 : t_lo;
@@ -69,7 +77,10 @@ VS_HOST_DEVICE inline void kd_traverse(const KdView& kd, const vec3f& org, const
                                        Visit&& visit) {
   const vec3f inv{1.f / dir.x, 1.f / dir.y, 1.f / dir.z};
   if (!clip_ray_box(org, inv, kd.bounds, t_min, t_max)) return;
-  struct Entry { uint32_t node; float t0, t1; };
+  struct Entry {
+    uint32_t node;
+    float t0, t1;
+  };
   Entry stack[kMaxKdDepth];
   int top = 0;
   Entry e{0, t_min, t_max};

@@ -11,7 +11,7 @@
 
 namespace vs {
 
-inline constexpr int kMaxLevel = 24;     // widths up to 2^24 finest cells
+inline constexpr int kMaxLevel = 24;           // widths up to 2^24 finest cells
 inline constexpr int32_t kMaxCoord = 1 << 28;  // |grid coordinate| bound, keeps 2*coord in int32
 
 struct Cell {
@@ -24,9 +24,9 @@ VS_HOST_DEVICE constexpr int32_t level_width(int32_t level) { return int32_t(1) 
 
 // A box of same-level cells, stored x fastest, starting at value_offset in every field array.
 struct Brick {
-  vec3i lower;            // grid units
+  vec3i lower;  // grid units
   int32_t level;
-  vec3i dims;             // cells per axis
+  vec3i dims;  // cells per axis
   uint32_t reserved = 0;
   uint64_t value_offset;  // index of the brick's first cell in device order
   VS_HOST_DEVICE constexpr int32_t width() const { return level_width(level); }
@@ -44,10 +44,10 @@ static_assert(sizeof(Brick) == 40);
 // An active brick region: a box of space (in grid units) in which the same set of bricks has
 // non-zero support. ABRs are disjoint and cover the union of all brick supports.
 struct Abr {
-  box3f box;                 // grid units (multiples of 1/2)
-  uint32_t first_brick;      // into AmrTopology::abr_bricks
+  box3f box;             // grid units (multiples of 1/2)
+  uint32_t first_brick;  // into AmrTopology::abr_bricks
   uint32_t brick_count;
-  float finest_width;        // smallest cell width among its bricks (grid units)
+  float finest_width;  // smallest cell width among its bricks (grid units)
 };
 static_assert(sizeof(Abr) == 36);
 
@@ -57,9 +57,9 @@ struct Range {
 };
 
 struct AmrTopology {
-  std::vector<Brick> bricks;        // in device order (sorted by value_offset)
+  std::vector<Brick> bricks;  // in device order (sorted by value_offset)
   std::vector<Abr> abrs;
-  std::vector<uint32_t> abr_bricks; // concatenated brick lists of all ABRs
+  std::vector<uint32_t> abr_bricks;  // concatenated brick lists of all ABRs
   uint64_t cell_count = 0;
 };
 
@@ -73,8 +73,8 @@ struct AmrView {
 };
 
 inline AmrView make_view(const AmrTopology& t, const float* values) {
-  return {t.bricks.data(), t.abrs.data(), t.abr_bricks.data(), values, uint32_t(t.bricks.size()),
-          uint32_t(t.abrs.size())};
+  return {t.bricks.data(),           t.abrs.data(),          t.abr_bricks.data(), values,
+          uint32_t(t.bricks.size()), uint32_t(t.abrs.size())};
 }
 
 }  // namespace vs

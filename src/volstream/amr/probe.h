@@ -11,7 +11,8 @@ namespace vs {
 
 // Value at p (grid units), NaN outside every ABR.
 VS_HOST_DEVICE inline float sample_point(const AmrView& v, const BvhNode* nodes, uint32_t node_count, const vec3f& p) {
-  const int64_t abr = bvh_locate(nodes, node_count, [&](uint32_t i) { return v.abrs[i].box; }, p);
+  const int64_t abr = bvh_locate(
+      nodes, node_count, [&](uint32_t i) { return v.abrs[i].box; }, p);
   return abr < 0 ? NAN : sample_abr(v, uint32_t(abr), p);
 }
 

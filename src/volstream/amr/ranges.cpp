@@ -38,7 +38,8 @@ std::vector<Range> compute_abr_ranges(const AmrTopology& topology, const float* 
   }
   std::vector<Range> brick_ranges(topology.bricks.size(), Range{INFINITY, -INFINITY});
   parallel_for("brick_ranges", int64_t(brick_ranges.size()), [&](int64_t b) {
-    for (uint64_t m = offsets[size_t(b)]; m < offsets[size_t(b) + 1]; ++m) extend_range(brick_ranges[size_t(b)], macro[m]);
+    for (uint64_t m = offsets[size_t(b)]; m < offsets[size_t(b) + 1]; ++m)
+      extend_range(brick_ranges[size_t(b)], macro[m]);
   });
   parallel_for("abr_ranges", int64_t(ranges.size()), [&](int64_t i) {
     const Abr& a = topology.abrs[size_t(i)];
@@ -52,12 +53,15 @@ std::vector<Range> compute_abr_ranges(const AmrTopology& topology, const float* 
 Range value_range(const float* values, uint64_t count) {
   Range total{INFINITY, -INFINITY};
   std::mutex m;
-  parallel_for_ranges(int64_t(count), [&](int64_t begin, int64_t end) {
-    Range r{INFINITY, -INFINITY};
-    for (int64_t i = begin; i < end; ++i) extend_range(r, values[i]);
-    const std::lock_guard lock(m);
-    total = {std::min(total.lo, r.lo), std::max(total.hi, r.hi)};
-  }, 1 << 16);
+  parallel_for_ranges(
+      int64_t(count),
+      [&](int64_t begin, int64_t end) {
+        Range r{INFINITY, -INFINITY};
+        for (int64_t i = begin; i < end; ++i) extend_range(r, values[i]);
+        const std::lock_guard lock(m);
+        total = {std::min(total.lo, r.lo), std::max(total.hi, r.hi)};
+      },
+      1 << 16);
   return total;
 }
 

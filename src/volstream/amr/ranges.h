@@ -85,7 +85,8 @@ VS_HOST_DEVICE inline Range macrocell_range(const Brick& b, const float* values,
   const int32_t hz = lo.z + kMacrocell < b.dims.z ? lo.z + kMacrocell : b.dims.z;
   for (int32_t z = lo.z; z < hz; ++z)
     for (int32_t y = lo.y; y < hy; ++y) {
-      const float* row = values + b.value_offset + (uint64_t(z) * uint32_t(b.dims.y) + uint32_t(y)) * uint32_t(b.dims.x);
+      const float* row =
+          values + b.value_offset + (uint64_t(z) * uint32_t(b.dims.y) + uint32_t(y)) * uint32_t(b.dims.x);
       for (int32_t x = lo.x; x < hx; ++x) extend_range(r, row[x]);
     }
   return r;
@@ -96,8 +97,10 @@ VS_HOST_DEVICE inline void compute_macrocell(const RangeView& v, uint64_t i) {
   uint32_t lo = 0, hi = v.amr.brick_count;  // the brick k with offset[k] <= i < offset[k + 1]
   while (hi - lo > 1) {
     const uint32_t mid = (lo + hi) / 2;
-    if (v.macro_offset[mid] <= i) lo = mid;
-    else hi = mid;
+    if (v.macro_offset[mid] <= i)
+      lo = mid;
+    else
+      hi = mid;
   }
   const Brick& b = v.amr.bricks[lo];
   const vec3i n = macrocell_dims(b);
@@ -125,7 +128,8 @@ VS_HOST_DEVICE inline void brick_range_near(const RangeView& v, uint32_t brick, 
   while (x >= nx) x -= nx, ++y;
   while (y >= ny) y -= ny, ++z;
   while (z < nz) {
-    extend_range(r, macro[(uint64_t(lo.z + z) * uint32_t(n.y) + uint32_t(lo.y + y)) * uint32_t(n.x) + uint32_t(lo.x + x)]);
+    extend_range(r,
+                 macro[(uint64_t(lo.z + z) * uint32_t(n.y) + uint32_t(lo.y + y)) * uint32_t(n.x) + uint32_t(lo.x + x)]);
     x += int32_t(lanes);
     while (x >= nx) x -= nx, ++y;
     while (y >= ny) y -= ny, ++z;
@@ -136,7 +140,8 @@ VS_HOST_DEVICE inline void brick_range_near(const RangeView& v, uint32_t brick, 
 VS_HOST_DEVICE inline Range abr_lane_range(const RangeView& v, uint32_t abr, uint32_t lane, uint32_t lanes) {
   const Abr& a = v.amr.abrs[abr];
   Range r{INFINITY, -INFINITY};
-  for (uint32_t k = 0; k < a.brick_count; ++k) brick_range_near(v, v.amr.abr_bricks[a.first_brick + k], a.box, lane, lanes, r);
+  for (uint32_t k = 0; k < a.brick_count; ++k)
+    brick_range_near(v, v.amr.abr_bricks[a.first_brick + k], a.box, lane, lanes, r);
   return r;
 }
 

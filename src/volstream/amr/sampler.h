@@ -56,7 +56,8 @@ VS_HOST_DEVICE inline void accumulate_brick(const Brick& b, const float* values,
 VS_HOST_DEVICE inline float sample_abr(const AmrView& v, uint32_t abr, const vec3f& p) {
   const Abr& a = v.abrs[abr];
   TentSum sum;
-  for (uint32_t i = 0; i < a.brick_count; ++i) accumulate_brick(v.bricks[v.abr_bricks[a.first_brick + i]], v.values, p, sum);
+  for (uint32_t i = 0; i < a.brick_count; ++i)
+    accumulate_brick(v.bricks[v.abr_bricks[a.first_brick + i]], v.values, p, sum);
   return sum.value();
 }
 

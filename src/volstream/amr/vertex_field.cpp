@@ -41,7 +41,7 @@ int32_t probe_offset(int k, int axis) { return (k >> axis & 1) ? 1 : -1; }
 void fill_probe_table(const KdBlocks& kd, uint32_t self, const std::vector<uint32_t>& candidates,
                       std::vector<int32_t>& table) {
   const Block& b = kd.blocks[self];
-  const int32_t shift = b.level + 1;  // 2w = 1 << shift
+  const int32_t shift = b.level + 1;                                              // 2w = 1 << shift
   const vec3i n = (b.box.upper - b.box.lower) / level_width(b.level) + vec3i(1);  // vertices per axis
   table.assign(size_t(n.x) * n.y * n.z * 8, -1);
   for (uint32_t c : candidates) {
@@ -174,7 +174,8 @@ VertexField build_vertex_field(const KdBlocks& kd, const std::vector<Brick>& bri
   // Coarse levels first: dangling nodes read the finished values of coarser blocks.
   std::vector<uint32_t> order(kd.blocks.size());
   std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return kd.blocks[a].level > kd.blocks[b].level; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](uint32_t a, uint32_t b) { return kd.blocks[a].level > kd.blocks[b].level; });
   for (size_t first = 0; first < order.size();) {
     size_t last = first;
     while (last < order.size() && kd.blocks[order[last]].level == kd.blocks[order[first]].level) ++last;

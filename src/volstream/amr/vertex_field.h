@@ -22,7 +22,8 @@ struct VertexField {
 VertexField build_vertex_field(const KdBlocks& kd, const std::vector<Brick>& bricks, const float* cell_values);
 
 // Trilinear interpolation of a block's vertex values at p (grid units, inside the block).
-VS_HOST_DEVICE inline float sample_vertices(const float* vertex_values, uint64_t offset, const Block& b, const vec3f& p) {
+VS_HOST_DEVICE inline float sample_vertices(const float* vertex_values, uint64_t offset, const Block& b,
+                                            const vec3f& p) {
   const float inv_w = 1.f / float(level_width(b.level));
   int32_t n[3], i0[3];
   float f[3];

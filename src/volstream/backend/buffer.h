@@ -19,7 +19,10 @@ class Buffer {
   Buffer(Device device, const char* structure)
       : device_(device), counted_(structure, device == Device::cuda ? MemorySpace::device : MemorySpace::host) {}
   Buffer(Buffer&& o) noexcept
-      : device_(o.device_), ptr_(std::exchange(o.ptr_, nullptr)), n_(std::exchange(o.n_, 0)), counted_(std::move(o.counted_)) {}
+      : device_(o.device_),
+        ptr_(std::exchange(o.ptr_, nullptr)),
+        n_(std::exchange(o.n_, 0)),
+        counted_(std::move(o.counted_)) {}
   Buffer(const Buffer&) = delete;
   Buffer& operator=(const Buffer&) = delete;
   ~Buffer() { release(); }
@@ -28,7 +31,9 @@ class Buffer {
   void resize(size_t n) {
     if (n == n_) return;
     release();
-    if (n) ptr_ = static_cast<T*>(device_ == Device::cuda ? cuda::device_malloc(n * sizeof(T)) : ::operator new(n * sizeof(T)));
+    if (n)
+      ptr_ =
+          static_cast<T*>(device_ == Device::cuda ? cuda::device_malloc(n * sizeof(T)) : ::operator new(n * sizeof(T)));
     n_ = n;
     counted_.set(int64_t(n * sizeof(T)));
   }

@@ -47,7 +47,8 @@ LaunchTimes& launch_times() {
 
 std::string format_launch_times(const std::vector<LaunchTime>& times) {
   std::vector<LaunchTime> sorted = times;
-  std::sort(sorted.begin(), sorted.end(), [](const LaunchTime& a, const LaunchTime& b) { return a.seconds > b.seconds; });
+  std::sort(sorted.begin(), sorted.end(),
+            [](const LaunchTime& a, const LaunchTime& b) { return a.seconds > b.seconds; });
   std::string out;
   for (const LaunchTime& t : sorted) {
     char part[160];

@@ -9,9 +9,12 @@ namespace vs {
 
 const char* to_string(MemorySpace space) {
   switch (space) {
-    case MemorySpace::host: return "host";
-    case MemorySpace::pinned: return "pinned host";
-    case MemorySpace::device: return "device";
+    case MemorySpace::host:
+      return "host";
+    case MemorySpace::pinned:
+      return "pinned host";
+    case MemorySpace::device:
+      return "device";
   }
   return "?";
 }
@@ -67,7 +70,8 @@ std::string format_memory(const std::vector<MemoryEntry>& entries) {
       if (e.bytes[i] <= 0) continue;
       total += e.bytes[i];
       char part[160];
-      std::snprintf(part, sizeof(part), "%s%s %.1f", parts.empty() ? "" : ", ", e.structure.c_str(), e.bytes[i] / 1048576.0);
+      std::snprintf(part, sizeof(part), "%s%s %.1f", parts.empty() ? "" : ", ", e.structure.c_str(),
+                    e.bytes[i] / 1048576.0);
       parts += part;
     }
     if (total == 0) continue;

@@ -28,14 +28,14 @@ using vec3f = Vec3<float>;
 using vec3d = Vec3<double>;
 using vec3i = Vec3<int32_t>;
 
-#define VS_VEC_BINOP(op)                                                                     \
-  template <typename T>                                                                      \
-  VS_HOST_DEVICE constexpr Vec3<T> operator op(const Vec3<T>& a, const Vec3<T>& b) {         \
-    return {a.x op b.x, a.y op b.y, a.z op b.z};                                             \
-  }                                                                                          \
-  template <typename T>                                                                      \
-  VS_HOST_DEVICE constexpr Vec3<T> operator op(const Vec3<T>& a, T s) {                      \
-    return {a.x op s, a.y op s, a.z op s};                                                   \
+#define VS_VEC_BINOP(op)                                                             \
+  template <typename T>                                                              \
+  VS_HOST_DEVICE constexpr Vec3<T> operator op(const Vec3<T>& a, const Vec3<T>& b) { \
+    return {a.x op b.x, a.y op b.y, a.z op b.z};                                     \
+  }                                                                                  \
+  template <typename T>                                                              \
+  VS_HOST_DEVICE constexpr Vec3<T> operator op(const Vec3<T>& a, T s) {              \
+    return {a.x op s, a.y op s, a.z op s};                                           \
   }
 VS_VEC_BINOP(+)
 VS_VEC_BINOP(-)
@@ -44,23 +44,33 @@ VS_VEC_BINOP(/)
 #undef VS_VEC_BINOP
 
 template <typename T>
-VS_HOST_DEVICE constexpr Vec3<T> operator-(const Vec3<T>& a) { return {-a.x, -a.y, -a.z}; }
+VS_HOST_DEVICE constexpr Vec3<T> operator-(const Vec3<T>& a) {
+  return {-a.x, -a.y, -a.z};
+}
 template <typename T>
-VS_HOST_DEVICE constexpr Vec3<T> operator*(T s, const Vec3<T>& a) { return a * s; }
+VS_HOST_DEVICE constexpr Vec3<T> operator*(T s, const Vec3<T>& a) {
+  return a * s;
+}
 template <typename T>
 VS_HOST_DEVICE constexpr bool operator==(const Vec3<T>& a, const Vec3<T>& b) {
   return a.x == b.x && a.y == b.y && a.z == b.z;
 }
 template <typename T>
-VS_HOST_DEVICE constexpr T dot(const Vec3<T>& a, const Vec3<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+VS_HOST_DEVICE constexpr T dot(const Vec3<T>& a, const Vec3<T>& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 template <typename T>
 VS_HOST_DEVICE constexpr Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 template <typename T>
-VS_HOST_DEVICE inline T length(const Vec3<T>& a) { return std::sqrt(dot(a, a)); }
+VS_HOST_DEVICE inline T length(const Vec3<T>& a) {
+  return std::sqrt(dot(a, a));
+}
 template <typename T>
-VS_HOST_DEVICE inline Vec3<T> normalize(const Vec3<T>& a) { return a / length(a); }
+VS_HOST_DEVICE inline Vec3<T> normalize(const Vec3<T>& a) {
+  return a / length(a);
+}
 template <typename T>
 VS_HOST_DEVICE constexpr Vec3<T> vmin(const Vec3<T>& a, const Vec3<T>& b) {
   return {a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z};
@@ -70,9 +80,13 @@ VS_HOST_DEVICE constexpr Vec3<T> vmax(const Vec3<T>& a, const Vec3<T>& b) {
   return {a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z};
 }
 template <typename T>
-VS_HOST_DEVICE constexpr T reduce_min(const Vec3<T>& a) { return a.x < a.y ? (a.x < a.z ? a.x : a.z) : (a.y < a.z ? a.y : a.z); }
+VS_HOST_DEVICE constexpr T reduce_min(const Vec3<T>& a) {
+  return a.x < a.y ? (a.x < a.z ? a.x : a.z) : (a.y < a.z ? a.y : a.z);
+}
 template <typename T>
-VS_HOST_DEVICE constexpr T reduce_max(const Vec3<T>& a) { return a.x > a.y ? (a.x > a.z ? a.x : a.z) : (a.y > a.z ? a.y : a.z); }
+VS_HOST_DEVICE constexpr T reduce_max(const Vec3<T>& a) {
+  return a.x > a.y ? (a.x > a.z ? a.x : a.z) : (a.y > a.z ? a.y : a.z);
+}
 
 // Axis-aligned box [lower, upper]. An empty box has lower > upper.
 template <typename T>
@@ -81,8 +95,14 @@ struct Box3 {
   VS_HOST_DEVICE constexpr bool empty() const { return lower.x > upper.x || lower.y > upper.y || lower.z > upper.z; }
   VS_HOST_DEVICE constexpr Vec3<T> size() const { return upper - lower; }
   VS_HOST_DEVICE constexpr Vec3<T> center() const { return (lower + upper) / T(2); }
-  VS_HOST_DEVICE constexpr void extend(const Vec3<T>& p) { lower = vmin(lower, p); upper = vmax(upper, p); }
-  VS_HOST_DEVICE constexpr void extend(const Box3& b) { lower = vmin(lower, b.lower); upper = vmax(upper, b.upper); }
+  VS_HOST_DEVICE constexpr void extend(const Vec3<T>& p) {
+    lower = vmin(lower, p);
+    upper = vmax(upper, p);
+  }
+  VS_HOST_DEVICE constexpr void extend(const Box3& b) {
+    lower = vmin(lower, b.lower);
+    upper = vmax(upper, b.upper);
+  }
   VS_HOST_DEVICE constexpr bool contains(const Vec3<T>& p) const {
     return p.x >= lower.x && p.y >= lower.y && p.z >= lower.z && p.x <= upper.x && p.y <= upper.y && p.z <= upper.z;
   }

@@ -25,8 +25,11 @@ std::string bar_of(uint64_t done, uint64_t total) {
 }  // namespace
 
 Progress::Progress(std::string label, uint64_t total, bool enabled, std::string unit)
-    : label_(std::move(label)), unit_(std::move(unit)), total_(total),
-      enabled_(enabled && (isatty(STDERR_FILENO) || forced())), uncaught_(std::uncaught_exceptions()) {
+    : label_(std::move(label)),
+      unit_(std::move(unit)),
+      total_(total),
+      enabled_(enabled && (isatty(STDERR_FILENO) || forced())),
+      uncaught_(std::uncaught_exceptions()) {
   start_ = last_draw_ = std::chrono::steady_clock::now();
 }
 

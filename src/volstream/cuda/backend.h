@@ -22,8 +22,8 @@ class TransferTable;
 
 namespace vs::cuda {
 
-bool cuda_available();        // compiled with CUDA and a device is present
-std::string device_name();    // e.g. "NVIDIA H100 80GB HBM3"; empty without a device
+bool cuda_available();      // compiled with CUDA and a device is present
+std::string device_name();  // e.g. "NVIDIA H100 80GB HBM3"; empty without a device
 
 // The same computation as vs::probe_points, on the GPU.
 std::vector<float> probe_points(const AmrTopology& topology, const Bvh& bvh, const float* values,

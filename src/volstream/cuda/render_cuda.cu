@@ -4,14 +4,14 @@
 // render/integrators/integrator.h); only memory handling lives here.
 #include <chrono>
 
-#include "volstream/backend/stopwatch.h"
 #include "volstream/accel/refit.h"
 #include "volstream/amr/probe.h"
 #include "volstream/amr/ranges.h"
+#include "volstream/backend/stopwatch.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/cuda/launch.cuh"
-#include "volstream/render/classify.h"
 #include "volstream/cuda/render_frame.cuh"
+#include "volstream/render/classify.h"
 #include "volstream/render/optics/transfer_function.h"
 #include "volstream/volume/amr_volume.h"
 #include "volstream/volume/block_volume.h"
@@ -61,9 +61,9 @@ struct DeviceScene::Impl {
   DeviceBuffer<Abr> abrs{"ABRs"};
   DeviceBuffer<uint32_t> abr_bricks{"ABR brick lists"};
   DeviceBuffer<BvhNode> template_nodes{"BVH"}, refit_nodes{"BVH (refit)"};
-  DeviceBuffer<uint32_t> schedule{"BVH (refit)"};       // RefitSchedule::nodes
-  std::vector<uint32_t> group_begin;                    // RefitSchedule::group_begin (host: launch bounds)
-  DeviceBuffer<uint64_t> macro_offset{"ABR ranges"};    // macrocell_offsets(bricks)
+  DeviceBuffer<uint32_t> schedule{"BVH (refit)"};     // RefitSchedule::nodes
+  std::vector<uint32_t> group_begin;                  // RefitSchedule::group_begin (host: launch bounds)
+  DeviceBuffer<uint64_t> macro_offset{"ABR ranges"};  // macrocell_offsets(bricks)
   DeviceBuffer<Range> macro{"ABR ranges"}, ranges{"ABR ranges"};
   DeviceBuffer<uint8_t> keep{"ABR ranges"};
   DeviceBuffer<uint32_t> opaque_prefix{"transfer tables"};
@@ -73,7 +73,8 @@ struct DeviceScene::Impl {
   DeviceBuffer<KdNode> kd_nodes{"kd-tree blocks"};
   DeviceBuffer<Block> blocks{"kd-tree blocks"};
   DeviceBuffer<uint64_t> vertex_offsets{"vertex values"};
-  DeviceBuffer<float> vertex_fields[kVolumeFields] = {DeviceBuffer<float>{"vertex values"}, DeviceBuffer<float>{"vertex values"}};
+  DeviceBuffer<float> vertex_fields[kVolumeFields] = {DeviceBuffer<float>{"vertex values"},
+                                                      DeviceBuffer<float>{"vertex values"}};
   DeviceBuffer<float> rgba{"image"};
   DeviceBuffer<uint32_t> counts{"image"};
   Stream stream;
@@ -110,7 +111,8 @@ struct DeviceScene::Impl {
     times.kernel_seconds = render_frame(d, stream.s);
     VS_CUDA_CHECK(cudaMemcpyAsync(h.rgba, d.rgba, 4 * pixels * sizeof(float), cudaMemcpyDeviceToHost, stream.s));
     if (h.sample_counts)
-      VS_CUDA_CHECK(cudaMemcpyAsync(h.sample_counts, d.sample_counts, pixels * sizeof(uint32_t), cudaMemcpyDeviceToHost, stream.s));
+      VS_CUDA_CHECK(cudaMemcpyAsync(h.sample_counts, d.sample_counts, pixels * sizeof(uint32_t), cudaMemcpyDeviceToHost,
+                                    stream.s));
     sync();
     return times;
   }
@@ -151,8 +153,9 @@ void DeviceScene::set_bvh(const std::vector<BvhNode>& template_nodes) {
 void DeviceScene::compute_ranges(const float* device_values) {
   Impl& m = *impl_;
   const RangeView view{m.view(device_values), m.macro_offset.data(), m.macro.data()};
-  parallel_for("macrocells", int64_t(m.macro.size()), [=] __device__(int64_t i) { compute_macrocell(view, uint64_t(i)); },
-               m.stream.s);
+  parallel_for(
+      "macrocells", int64_t(m.macro.size()), [=] __device__(int64_t i) { compute_macrocell(view, uint64_t(i)); },
+      m.stream.s);
   constexpr unsigned kBlock = 128;  // 4 warps, 4 ABRs per block
   const uint64_t threads = uint64_t(m.abr_count) * 32u;
   if (threads > 0) {
@@ -182,11 +185,14 @@ uint64_t DeviceScene::classify_and_refit(const TransferTable& table, const Integ
     const Range* ranges = m.ranges.data();
     unsigned long long* counter = m.counter.data();
     const IntegratorSettings settings = iso;
-    parallel_for("classify", int64_t(m.abr_count), [=] __device__(int64_t i) {
-      const bool v = abr_visible(ranges[i], opacity, settings);
-      keep[i] = v ? 1 : 0;
-      count_per_warp(v, counter);
-    }, m.stream.s);
+    parallel_for(
+        "classify", int64_t(m.abr_count),
+        [=] __device__(int64_t i) {
+          const bool v = abr_visible(ranges[i], opacity, settings);
+          keep[i] = v ? 1 : 0;
+          count_per_warp(v, counter);
+        },
+        m.stream.s);
   }
   BvhNode* nodes = m.refit_nodes.data();
   const uint32_t* order = m.schedule.data();
@@ -194,13 +200,16 @@ uint64_t DeviceScene::classify_and_refit(const TransferTable& table, const Integ
   const uint8_t* kept = keep;
   for (size_t g = 0; g + 1 < m.group_begin.size(); ++g) {
     const uint32_t begin = m.group_begin[g];
-    parallel_for("refit", int64_t(m.group_begin[g + 1] - begin), [=] __device__(int64_t k) {
-      refit_node(nodes, order[begin + k], [=](uint32_t i) { return abrs[i].box; }, kept);
-    }, m.stream.s);
+    parallel_for(
+        "refit", int64_t(m.group_begin[g + 1] - begin),
+        [=] __device__(int64_t k) {
+          refit_node(
+              nodes, order[begin + k], [=](uint32_t i) { return abrs[i].box; }, kept);
+        },
+        m.stream.s);
   }
   unsigned long long count = 0;
-  if (skip)
-    VS_CUDA_CHECK(cudaMemcpyAsync(&count, m.counter.data(), sizeof(count), cudaMemcpyDeviceToHost, m.stream.s));
+  if (skip) VS_CUDA_CHECK(cudaMemcpyAsync(&count, m.counter.data(), sizeof(count), cudaMemcpyDeviceToHost, m.stream.s));
   m.sync();
   if (skip) visible = count;  // read after the stream is done, not when cudaMemcpyAsync returns
   return visible;
@@ -235,12 +244,15 @@ void DeviceScene::set_vertex_fields(const VertexField* primary, const VertexFiel
   Impl& m = *impl_;
   const VertexField* fields[kVolumeFields] = {primary, second};
   m.vertex_offsets.upload(primary ? primary->offsets : std::vector<uint64_t>{});
-  for (int f = 0; f < kVolumeFields; ++f) m.vertex_fields[f].upload(fields[f] ? fields[f]->values : std::vector<float>{});
+  for (int f = 0; f < kVolumeFields; ++f)
+    m.vertex_fields[f].upload(fields[f] ? fields[f]->values : std::vector<float>{});
 }
 
-RenderTimes DeviceScene::render(const FrameView<BlockVolume>& h, const float* device_values, const float* device_second) {
+RenderTimes DeviceScene::render(const FrameView<BlockVolume>& h, const float* device_values,
+                                const float* device_second) {
   Impl& m = *impl_;
-  if (m.blocks.size() != h.volume.kd.block_count) throw std::logic_error("DeviceScene: set_blocks() before rendering blocks");
+  if (m.blocks.size() != h.volume.kd.block_count)
+    throw std::logic_error("DeviceScene: set_blocks() before rendering blocks");
   const Stopwatch watch;
   FrameView<BlockVolume> d = m.device_view(h);
   m.sync();
@@ -267,8 +279,9 @@ std::vector<float> DeviceScene::probe(const float* device_values, const std::vec
   const uint32_t node_count = uint32_t(m.template_nodes.size());
   const vec3f* p = points.data();
   float* o = out.data();
-  parallel_for("probe", int64_t(grid_points.size()),
-               [=] __device__(int64_t i) { o[i] = sample_point(view, n, node_count, p[i]); }, m.stream.s);
+  parallel_for(
+      "probe", int64_t(grid_points.size()),
+      [=] __device__(int64_t i) { o[i] = sample_point(view, n, node_count, p[i]); }, m.stream.s);
   m.sync();
   return out.download();
 }

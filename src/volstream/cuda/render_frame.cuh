@@ -26,8 +26,9 @@ double render_frame(const FrameView<V>& d, cudaStream_t stream) {
   const Event start, stop;
   VS_CUDA_CHECK(cudaEventRecord(start.e, stream));
   const uint32_t width = d.width;
-  parallel_for("render", int64_t(d.width) * d.height,
-               [=] __device__(int64_t i) { render_pixel(d, uint32_t(i % width), uint32_t(i / width)); }, stream);
+  parallel_for(
+      "render", int64_t(d.width) * d.height,
+      [=] __device__(int64_t i) { render_pixel(d, uint32_t(i % width), uint32_t(i / width)); }, stream);
   VS_CUDA_CHECK(cudaEventRecord(stop.e, stream));
   VS_CUDA_CHECK(cudaEventSynchronize(stop.e));
   float ms = 0.f;

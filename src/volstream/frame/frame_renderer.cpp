@@ -73,10 +73,10 @@ struct FrameRenderer::Impl {
   uint64_t next_generation = 1;
 
   std::unique_ptr<AmrRenderer> abr;
-  std::unique_ptr<cuda::DeviceScene> scene;                // CUDA: topology, BVHs, ranges, image
-  std::vector<Buffer<float>> device_slots;                 // CUDA: the slots' values on the device
-  std::vector<uint64_t> macro_offset;                      // CPU ranges (amr/ranges.h)
-  std::vector<Range> ranges;                               // CPU (and stored ranges)
+  std::unique_ptr<cuda::DeviceScene> scene;  // CUDA: topology, BVHs, ranges, image
+  std::vector<Buffer<float>> device_slots;   // CUDA: the slots' values on the device
+  std::vector<uint64_t> macro_offset;        // CPU ranges (amr/ranges.h)
+  std::vector<Range> ranges;                 // CPU (and stored ranges)
   CountedBytes ranges_bytes{"ABR ranges", MemorySpace::host};
 
   // What the current ranges and classification were made from (0: nothing yet).
@@ -336,9 +336,8 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
     optics.kind = r.optics;
     optics.tf = table.view();
     if (r.optics == OpticsKind::blackbody) optics.bb = m.blackbody_table().view(r.blackbody);
-    const FrameView<AmrVolume> view =
-        abr.view({m.kernel_values(0), m.kernel_values(1)}, optics, color_iso ? &color_view : nullptr, r.camera,
-                 frame_settings(r));
+    const FrameView<AmrVolume> view = abr.view({m.kernel_values(0), m.kernel_values(1)}, optics,
+                                               color_iso ? &color_view : nullptr, r.camera, frame_settings(r));
     if (m.device == Device::cuda) {
       img = Image(r.width, r.height);
       std::vector<uint32_t> counts(size_t(r.width) * r.height);
@@ -375,7 +374,8 @@ Image FrameRenderer::render(const FrameRequest& r, FrameReport* report) {
   Impl& m = *impl_;
   const DatasetManifest& manifest = dataset_.manifest();
   if (r.step < 0 || r.step >= manifest.step_count())
-    throw UsageError("step " + std::to_string(r.step) + " out of range 0.." + std::to_string(manifest.step_count() - 1));
+    throw UsageError("step " + std::to_string(r.step) + " out of range 0.." +
+                     std::to_string(manifest.step_count() - 1));
   if (r.optics == OpticsKind::blackbody && r.second_field < 0)
     throw UsageError("blackbody optics needs a temperature field");
   FrameReport local;

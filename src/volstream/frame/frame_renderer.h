@@ -59,11 +59,11 @@ struct FrameTimes {
 
 struct FrameReport {
   Device device = Device::cpu;
-  FrameTimes seconds;               // this frame's stages (0 for those that were cached)
-  uint64_t visible_regions = 0;     // abr: visible ABRs; blocks: every block
+  FrameTimes seconds;            // this frame's stages (0 for those that were cached)
+  uint64_t visible_regions = 0;  // abr: visible ABRs; blocks: every block
   uint64_t region_count = 0;
   uint64_t samples = 0;
-  double vertex_seconds = 0;        // blocks: vertex values for trilinear (part of `ranges`)
+  double vertex_seconds = 0;  // blocks: vertex values for trilinear (part of `ranges`)
 };
 
 class FrameRenderer {

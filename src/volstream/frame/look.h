@@ -46,7 +46,8 @@ struct TransferFunctionRequest {
 // The union of a field's stored per-step ranges over `steps`.
 Range union_range(const FieldInfo& field, const std::vector<int>& steps);
 
-TransferFunctionSpec make_transfer_function(const DatasetManifest& manifest, int field, const std::vector<int>& range_steps,
+TransferFunctionSpec make_transfer_function(const DatasetManifest& manifest, int field,
+                                            const std::vector<int>& range_steps,
                                             const TransferFunctionRequest& request);
 
 // A colour field's table: the main table's colours over the colour field's own range.

@@ -98,7 +98,8 @@ void AtomicFile::commit() {
 StagedDirectory::StagedDirectory(fs::path target, const std::string& marker) : target_(std::move(target)) {
   std::error_code ec;
   const fs::file_status st = fs::symlink_status(target_, ec);
-  if (st.type() == fs::file_type::symlink) input_error(target_.string(), "is a symbolic link; give the directory itself");
+  if (st.type() == fs::file_type::symlink)
+    input_error(target_.string(), "is a symbolic link; give the directory itself");
   if (st.type() != fs::file_type::not_found) {
     if (st.type() != fs::file_type::directory) input_error(target_.string(), "exists and is not a directory");
     if (!fs::is_empty(target_, ec) && !fs::exists(target_ / marker, ec))
@@ -106,7 +107,8 @@ StagedDirectory::StagedDirectory(fs::path target, const std::string& marker) : t
   }
   check_parent_writable(target_);
   std::string name = temp_template(target_);
-  if (!::mkdtemp(name.data())) input_error(target_.string(), std::string("cannot create a directory beside it: ") + std::strerror(errno));
+  if (!::mkdtemp(name.data()))
+    input_error(target_.string(), std::string("cannot create a directory beside it: ") + std::strerror(errno));
   temp_ = name;
   on_signal_ = std::make_unique<RemoveOnSignal>(temp_);
   ::chmod(temp_.c_str(), 0755);  // mkdtemp makes 0700; a dataset is meant to be shared
@@ -124,7 +126,8 @@ void StagedDirectory::commit() {
   // RENAME_EXCHANGE swaps the two names in one step: readers see the old or the new dataset.
   if (replace ? ::renameat2(AT_FDCWD, temp_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0
               : std::rename(temp_.c_str(), target_.c_str()) != 0)
-    input_error(target_.string(), std::string("cannot move the finished directory into place: ") + std::strerror(errno));
+    input_error(target_.string(),
+                std::string("cannot move the finished directory into place: ") + std::strerror(errno));
   committed_ = true;
   if (replace) fs::remove_all(temp_, ec);  // now the old contents
 }

@@ -31,7 +31,8 @@ uint64_t file_size_checked(const std::filesystem::path& path, uint64_t max_bytes
   const auto size = fs::file_size(path, ec);
   if (ec) input_error(path.string(), "cannot read its size");
   if (uint64_t(size) > max_bytes)
-    input_error(path.string(), "too large (" + std::to_string(size) + " bytes, at most " + std::to_string(max_bytes) + ")");
+    input_error(path.string(),
+                "too large (" + std::to_string(size) + " bytes, at most " + std::to_string(max_bytes) + ")");
   return uint64_t(size);
 }
 
@@ -41,9 +42,11 @@ void throw_size_mismatch(const std::filesystem::path& path, uint64_t size, uint6
 
 void read_exact(const std::filesystem::path& path, uint64_t offset, void* dst, uint64_t bytes) {
   FilePtr f = open_or_throw(path, "rb");
-  if (fseeko(f.get(), off_t(offset), SEEK_SET) != 0) input_error(path.string(), "cannot seek to " + std::to_string(offset));
+  if (fseeko(f.get(), off_t(offset), SEEK_SET) != 0)
+    input_error(path.string(), "cannot seek to " + std::to_string(offset));
   if (std::fread(dst, 1, bytes, f.get()) != bytes)
-    input_error(path.string(), "truncated: expected " + std::to_string(bytes) + " bytes at offset " + std::to_string(offset));
+    input_error(path.string(),
+                "truncated: expected " + std::to_string(bytes) + " bytes at offset " + std::to_string(offset));
 }
 
 std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes) {

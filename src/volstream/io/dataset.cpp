@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <stdexcept>
@@ -14,8 +14,8 @@
 #include "volstream/amr/abrs.h"
 #include "volstream/amr/bricks.h"
 #include "volstream/amr/ranges.h"
-#include "volstream/core/error.h"
 #include "volstream/backend/parallel.h"
+#include "volstream/core/error.h"
 #include "volstream/core/progress.h"
 #include "volstream/io/atomic_file.h"
 #include "volstream/io/binary_file.h"
@@ -37,7 +37,9 @@ static std::string step_name(int step) {
   return buf;
 }
 std::string field_values(const FieldInfo& f, int step) { return "fields/" + f.dir + "/" + step_name(step) + ".f32"; }
-std::string field_ranges(const FieldInfo& f, int step) { return "fields/" + f.dir + "/" + step_name(step) + ".abr_ranges"; }
+std::string field_ranges(const FieldInfo& f, int step) {
+  return "fields/" + f.dir + "/" + step_name(step) + ".abr_ranges";
+}
 std::string field_file_order_values(const FieldInfo& f, int step) {
   return "fields/" + f.dir + "/" + step_name(step) + ".file_order.f32";
 }
@@ -100,7 +102,8 @@ DatasetManifest manifest_from_json(const json& j) {
   m.abr_count = j.at("abr_count").get<uint64_t>();
   m.abr_brick_count = j.at("abr_brick_count").get<uint64_t>();
   m.file_order = j.value("file_order", false);  // absent in datasets written before it existed
-  for (const auto& l : j.at("levels")) m.levels.push_back({l.at("level").get<int32_t>(), l.at("cells").get<uint64_t>()});
+  for (const auto& l : j.at("levels"))
+    m.levels.push_back({l.at("level").get<int32_t>(), l.at("cells").get<uint64_t>()});
   m.step_times = j.at("step_times").get<std::vector<double>>();
   for (const auto& f : j.at("fields")) {
     FieldInfo info{f.at("name").get<std::string>(), f.at("dir").get<std::string>(), {}};
@@ -123,7 +126,8 @@ std::string number(double v) {
 std::string transform_problem(const WorldTransform& t) {
   for (int a = 0; a < 3; ++a) {
     const double size = t.cell_size[a], origin = t.origin[a];
-    if (!(size > 0) || !std::isfinite(size) || !std::isfinite(origin)) return "transform must be finite with positive cell size";
+    if (!(size > 0) || !std::isfinite(size) || !std::isfinite(origin))
+      return "transform must be finite with positive cell size";
     // World positions are floats in the renderer: the grid (|coordinate| < 2^28) must map to
     // normal floats, and the origin must not swamp a cell (else rays cannot resolve cells).
     if (size < kMinCellSize || size > kMaxCellSize)
@@ -144,9 +148,11 @@ void validate_manifest(const DatasetManifest& m) {
   if (m.step_times.size() > 1000000) fail("too many time steps");
   if (m.fields.empty()) fail("no fields");
   for (const auto& f : m.fields) {
-    if (f.step_ranges.size() != m.step_times.size()) fail("field '" + f.name + "' has a range count unequal to the step count");
+    if (f.step_ranges.size() != m.step_times.size())
+      fail("field '" + f.name + "' has a range count unequal to the step count");
     for (const Range& r : f.step_ranges)
-      if (!(std::isfinite(r.lo) && std::isfinite(r.hi) && r.lo <= r.hi)) fail("field '" + f.name + "' has a non-finite or empty step range");
+      if (!(std::isfinite(r.lo) && std::isfinite(r.hi) && r.lo <= r.hi))
+        fail("field '" + f.name + "' has a non-finite or empty step range");
     if (f.dir.empty() || f.dir.find('/') != std::string::npos || f.dir.find("..") != std::string::npos)
       fail("field '" + f.name + "' has a bad directory name");
   }
@@ -194,7 +200,8 @@ void validate_topology(const AmrTopology& t, const std::string& file) {
     next += uint64_t(b.cell_count());
     if (next > t.cell_count) break;  // reported below; also keeps the sum from overflowing
   }
-  if (next != t.cell_count) input_error(file, "bricks hold " + std::to_string(next) + " cells, manifest says " + std::to_string(t.cell_count));
+  if (next != t.cell_count)
+    input_error(file, "bricks hold " + std::to_string(next) + " cells, manifest says " + std::to_string(t.cell_count));
   for (uint32_t id : t.abr_bricks)
     if (id >= t.bricks.size()) input_error(file, "ABR brick index " + std::to_string(id) + " out of range");
   for (const Abr& a : t.abrs) {
@@ -278,15 +285,19 @@ Dataset::Dataset(const fs::path& dir) : dir_(dir) {
   validate_topology(topology_, (dir / dataset_files::kBricks).string());
   brick_bytes_ = CountedBytes("bricks", MemorySpace::host, int64_t(topology_.bricks.size() * sizeof(Brick)));
   abr_bytes_ = CountedBytes("ABRs", MemorySpace::host, int64_t(topology_.abrs.size() * sizeof(Abr)));
-  abr_list_bytes_ = CountedBytes("ABR brick lists", MemorySpace::host, int64_t(topology_.abr_bricks.size() * sizeof(uint32_t)));
+  abr_list_bytes_ =
+      CountedBytes("ABR brick lists", MemorySpace::host, int64_t(topology_.abr_bricks.size() * sizeof(uint32_t)));
   if (manifest_.file_order) {  // the index itself is read (and checked) by whoever needs it
     const fs::path index = dir / dataset_files::kFileIndex;
     const uint64_t size = file_size_checked(index);
-    if (size != manifest_.cell_count * sizeof(uint32_t)) throw_size_mismatch(index, size, manifest_.cell_count * sizeof(uint32_t));
+    if (size != manifest_.cell_count * sizeof(uint32_t))
+      throw_size_mismatch(index, size, manifest_.cell_count * sizeof(uint32_t));
   }
 }
 
-std::vector<Cell> Dataset::load_cells() const { return read_records<Cell>(dir_ / dataset_files::kCells, manifest_.cell_count); }
+std::vector<Cell> Dataset::load_cells() const {
+  return read_records<Cell>(dir_ / dataset_files::kCells, manifest_.cell_count);
+}
 
 fs::path Dataset::values_path(int field, int step) const {
   return dir_ / dataset_files::field_values(manifest_.fields.at(size_t(field)), step);
@@ -298,7 +309,8 @@ fs::path Dataset::file_order_values_path(int field, int step) const {
 
 std::vector<uint32_t> Dataset::load_file_index() const {
   const fs::path path = dir_ / dataset_files::kFileIndex;
-  if (!manifest_.file_order) input_error(path.string(), "the dataset has no file-order copies (convert with --file-order)");
+  if (!manifest_.file_order)
+    input_error(path.string(), "the dataset has no file-order copies (convert with --file-order)");
   std::vector<uint32_t> index = read_records<uint32_t>(path, manifest_.cell_count);
   std::vector<bool> seen(index.size(), false);
   for (size_t i = 0; i < index.size(); ++i) {
@@ -320,7 +332,8 @@ std::vector<float> Dataset::load_values(int field, int step) const {
 }
 
 std::vector<Range> Dataset::load_abr_ranges(int field, int step) const {
-  return read_records<Range>(dir_ / dataset_files::field_ranges(manifest_.fields.at(size_t(field)), step), manifest_.abr_count);
+  return read_records<Range>(dir_ / dataset_files::field_ranges(manifest_.fields.at(size_t(field)), step),
+                             manifest_.abr_count);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -358,8 +371,8 @@ std::vector<int> selected_fields(const AmrSource& source, const std::vector<std:
 }  // namespace
 
 void check_free_space(const fs::path& out, uint64_t cells, uint64_t values_per_cell, bool file_order) {
-  const uint64_t bytes = cells * (sizeof(Cell) + sizeof(Brick) / 8 + (file_order ? 4 : 0)) + cells * values_per_cell * 4 +
-                         (uint64_t(1) << 20);
+  const uint64_t bytes = cells * (sizeof(Cell) + sizeof(Brick) / 8 + (file_order ? 4 : 0)) +
+                         cells * values_per_cell * 4 + (uint64_t(1) << 20);
   std::error_code ec;
   const fs::path dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
   const fs::space_info space = fs::space(dir, ec);
@@ -377,14 +390,18 @@ namespace {
 // be finite so that the step has a range (docs/formats.md, "Values").
 void check_values(const std::vector<float>& v, const std::string& origin, const std::string& field, int step) {
   std::atomic<uint64_t> first_inf{UINT64_MAX};
-  parallel_for_ranges(int64_t(v.size()), [&](int64_t begin, int64_t end) {
-    for (int64_t i = begin; i < end; ++i)
-      if (std::isinf(v[size_t(i)])) {
-        uint64_t cur = first_inf.load();
-        while (uint64_t(i) < cur && !first_inf.compare_exchange_weak(cur, uint64_t(i))) {}
-        return;
-      }
-  }, 1 << 16);
+  parallel_for_ranges(
+      int64_t(v.size()),
+      [&](int64_t begin, int64_t end) {
+        for (int64_t i = begin; i < end; ++i)
+          if (std::isinf(v[size_t(i)])) {
+            uint64_t cur = first_inf.load();
+            while (uint64_t(i) < cur && !first_inf.compare_exchange_weak(cur, uint64_t(i))) {
+            }
+            return;
+          }
+      },
+      1 << 16);
   const std::string where = "field '" + field + "' step " + std::to_string(step) + ": ";
   if (first_inf.load() != UINT64_MAX)
     input_error(origin, where + "value " + std::to_string(first_inf.load()) +
@@ -403,7 +420,7 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& target_dir, c
   // file_index.bin holds uint32 positions (as does the brick builder's input index).
   if (options.file_order && source.cell_count() > uint64_t(UINT32_MAX))
     input_error(target_dir.string(), "--file-order: " + std::to_string(source.cell_count()) +
-                                      " cells; the file index holds 32-bit positions, so at most 2^32 - 1 cells");
+                                         " cells; the file index holds 32-bit positions, so at most 2^32 - 1 cells");
   if (const std::string problem = transform_problem(source.transform()); !problem.empty()) input_error(origin, problem);
   // Built beside the target and swapped in at the end: all or nothing, also over an old dataset.
   StagedDirectory staged(target_dir, dataset_files::kManifest);

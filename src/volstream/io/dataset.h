@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "volstream/amr/model.h"
-#include "volstream/backend/memory.h"
 #include "volstream/amr/source.h"
+#include "volstream/backend/memory.h"
 
 namespace vs {
 
@@ -27,15 +27,15 @@ struct FieldInfo {
 };
 
 struct LevelInfo {
-  int32_t level;        // log2 width
+  int32_t level;  // log2 width
   uint64_t cell_count;
 };
 
 struct DatasetManifest {
   int format_version = kDatasetFormatVersion;
-  std::string source;              // what it was converted from
+  std::string source;  // what it was converted from
   WorldTransform transform;
-  box3i grid_bounds;               // bounding box of all cells, grid units
+  box3i grid_bounds;  // bounding box of all cells, grid units
   uint64_t cell_count = 0;
   std::vector<LevelInfo> levels;
   std::vector<FieldInfo> fields;
@@ -61,10 +61,10 @@ inline constexpr const char* kCells = "cells.bin";
 inline constexpr const char* kBricks = "bricks.bin";
 inline constexpr const char* kAbrs = "abrs.bin";
 inline constexpr const char* kAbrBricks = "abr_bricks.bin";
-inline constexpr const char* kFileIndex = "file_index.bin";  // only with file-order copies
-std::string field_values(const FieldInfo& f, int step);  // relative path
+inline constexpr const char* kFileIndex = "file_index.bin";         // only with file-order copies
+std::string field_values(const FieldInfo& f, int step);             // relative path
 std::string field_file_order_values(const FieldInfo& f, int step);  // relative path (file-order copy)
-std::string field_ranges(const FieldInfo& f, int step);  // relative path
+std::string field_ranges(const FieldInfo& f, int step);             // relative path
 }  // namespace dataset_files
 
 // Writes a dataset: topology first, then values step by step (any order), manifest last.
@@ -119,10 +119,10 @@ class Dataset {
 
 // Converts any source into a dataset directory, reading one (field, step) at a time.
 struct ConvertOptions {
-  bool quiet = false;       // no progress bar
-  bool file_order = false;  // also write every step in file (source) order + file_index.bin
+  bool quiet = false;               // no progress bar
+  bool file_order = false;          // also write every step in file (source) order + file_index.bin
   std::vector<std::string> fields;  // the source's fields to keep (empty: all); InputError for an unknown name
-  static ConvertOptions silent() {     // everything, no progress bar
+  static ConvertOptions silent() {  // everything, no progress bar
     ConvertOptions o;
     o.quiet = true;
     return o;
@@ -135,6 +135,7 @@ struct ConvertStats {
 // InputError (naming `out`) unless about cells * (topology + values_per_cell floats) bytes fit on
 // the file system that will hold `out`: a demo or convert must not fill the disk and fail late.
 void check_free_space(const std::filesystem::path& out, uint64_t cells, uint64_t values_per_cell, bool file_order);
-ConvertStats convert_to_dataset(AmrSource& source, const std::filesystem::path& out_dir, const ConvertOptions& options = {});
+ConvertStats convert_to_dataset(AmrSource& source, const std::filesystem::path& out_dir,
+                                const ConvertOptions& options = {});
 
 }  // namespace vs

@@ -14,7 +14,8 @@ std::vector<BrickHistogramBin> cells_per_brick_histogram(const std::vector<Brick
   for (size_t i = 0; i < counts.size(); ++i)
     if (counts[i]) last = i;
   std::vector<BrickHistogramBin> bins;
-  for (size_t i = 0; i <= last && !bricks.empty(); ++i) bins.push_back({uint64_t(1) << i, (uint64_t(2) << i) - 1, counts[i]});
+  for (size_t i = 0; i <= last && !bricks.empty(); ++i)
+    bins.push_back({uint64_t(1) << i, (uint64_t(2) << i) - 1, counts[i]});
   return bins;
 }
 
@@ -24,13 +25,16 @@ json dataset_summary(const Dataset& ds) {
   json j;
   j["path"] = ds.dir().string();
   j["source"] = m.source;
-  const vec3d lo = m.transform.to_world(vec3d(m.grid_bounds.lower)), hi = m.transform.to_world(vec3d(m.grid_bounds.upper));
-  j["domain"] = {{"lower", {lo.x, lo.y, lo.z}}, {"upper", {hi.x, hi.y, hi.z}},
+  const vec3d lo = m.transform.to_world(vec3d(m.grid_bounds.lower)),
+              hi = m.transform.to_world(vec3d(m.grid_bounds.upper));
+  j["domain"] = {{"lower", {lo.x, lo.y, lo.z}},
+                 {"upper", {hi.x, hi.y, hi.z}},
                  {"grid_lower", {m.grid_bounds.lower.x, m.grid_bounds.lower.y, m.grid_bounds.lower.z}},
                  {"grid_upper", {m.grid_bounds.upper.x, m.grid_bounds.upper.y, m.grid_bounds.upper.z}},
                  {"finest_cell_size", {m.transform.cell_size.x, m.transform.cell_size.y, m.transform.cell_size.z}}};
   j["cells"] = m.cell_count;
-  for (const auto& l : m.levels) j["levels"].push_back({{"level", l.level}, {"width", 1 << l.level}, {"cells", l.cell_count}});
+  for (const auto& l : m.levels)
+    j["levels"].push_back({{"level", l.level}, {"width", 1 << l.level}, {"cells", l.cell_count}});
   j["steps"] = m.step_count();
   j["step_times"] = m.step_times;
   for (const auto& f : m.fields) {
@@ -81,16 +85,17 @@ std::string format_summary(const json& j) {
   line("dataset   %s\nsource    %s\n", j["path"].get<std::string>().c_str(), j["source"].get<std::string>().c_str());
   const auto& d = j["domain"];
   line("domain    [%g, %g, %g] - [%g, %g, %g]  (finest cell %g x %g x %g)\n", d["lower"][0].get<double>(),
-       d["lower"][1].get<double>(), d["lower"][2].get<double>(), d["upper"][0].get<double>(), d["upper"][1].get<double>(),
-       d["upper"][2].get<double>(), d["finest_cell_size"][0].get<double>(), d["finest_cell_size"][1].get<double>(),
-       d["finest_cell_size"][2].get<double>());
+       d["lower"][1].get<double>(), d["lower"][2].get<double>(), d["upper"][0].get<double>(),
+       d["upper"][1].get<double>(), d["upper"][2].get<double>(), d["finest_cell_size"][0].get<double>(),
+       d["finest_cell_size"][1].get<double>(), d["finest_cell_size"][2].get<double>());
   line("cells     %llu in %zu levels\n", (unsigned long long)j["cells"].get<uint64_t>(), j["levels"].size());
   for (const auto& l : j["levels"])
     line("  level %2d (width %6d): %12llu cells\n", l["level"].get<int>(), l["width"].get<int>(),
          (unsigned long long)l["cells"].get<uint64_t>());
   line("steps     %d (t = %g .. %g)\n", j["steps"].get<int>(), j["step_times"].front().get<double>(),
        j["step_times"].back().get<double>());
-  if (j.value("file_order", false)) s += "file order yes: every step also in file order, plus file_index.bin (--file-order)\n";
+  if (j.value("file_order", false))
+    s += "file order yes: every step also in file order, plus file_index.bin (--file-order)\n";
   line("fields    %zu\n", j["fields"].size());
   for (const auto& f : j["fields"])
     line("  %-20s [%g, %g]\n", f["name"].get<std::string>().c_str(), f["min"].get<double>(), f["max"].get<double>());
@@ -101,9 +106,10 @@ std::string format_summary(const json& j) {
   for (const auto& b : j["cells_per_brick_histogram"]) most = std::max(most, b["bricks"].get<uint64_t>());
   for (const auto& b : j["cells_per_brick_histogram"]) {
     const uint64_t n = b["bricks"].get<uint64_t>();
-    const std::string bar(size_t(n ? 1 + 39.0 * std::log10(double(n)) / std::log10(double(std::max<uint64_t>(most, 2))) : 0), '#');
-    line("  %8llu-%-8llu %10llu %s\n", (unsigned long long)b["min"].get<uint64_t>(), (unsigned long long)b["max"].get<uint64_t>(),
-         (unsigned long long)n, bar.c_str());
+    const std::string bar(
+        size_t(n ? 1 + 39.0 * std::log10(double(n)) / std::log10(double(std::max<uint64_t>(most, 2))) : 0), '#');
+    line("  %8llu-%-8llu %10llu %s\n", (unsigned long long)b["min"].get<uint64_t>(),
+         (unsigned long long)b["max"].get<uint64_t>(), (unsigned long long)n, bar.c_str());
   }
   for (const char* section : {"bytes", "device_bytes"}) {
     if (!j.contains(section)) continue;

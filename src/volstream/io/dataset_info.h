@@ -12,7 +12,7 @@ struct BrickHistogramBin {
 };
 
 std::vector<BrickHistogramBin> cells_per_brick_histogram(const std::vector<Brick>& bricks);
-nlohmann::json dataset_summary(const Dataset& ds);  // everything `info` shows
+nlohmann::json dataset_summary(const Dataset& ds);          // everything `info` shows
 std::string format_summary(const nlohmann::json& summary);  // the human-readable text
 
 }  // namespace vs

@@ -7,14 +7,16 @@
 
 namespace vs {
 namespace {
-static_assert(std::endian::native == std::endian::little, "ExaBrick files are little-endian; big-endian hosts need byte swaps");
+static_assert(std::endian::native == std::endian::little,
+              "ExaBrick files are little-endian; big-endian hosts need byte swaps");
 
 class ExaBrickSource : public AmrSource {
  public:
   explicit ExaBrickSource(const ExaBrickInput& in) : in_(in) {
     const uint64_t size = file_size_checked(in.cells);
     if (size == 0 || size % sizeof(Cell) != 0)
-      input_error(in.cells.string(), "size " + std::to_string(size) + " is not a positive multiple of 16 bytes (4 x int32 per cell)");
+      input_error(in.cells.string(),
+                  "size " + std::to_string(size) + " is not a positive multiple of 16 bytes (4 x int32 per cell)");
     count_ = size / sizeof(Cell);
     if (in.scalars.empty()) input_error(in.cells.string(), "no scalar files given");
     for (const auto& s : in.scalars) {

@@ -10,9 +10,9 @@
 #include <memory>
 #include <sstream>
 
-#include "volstream/core/error.h"
 #include "volstream/backend/parallel.h"
 #include "volstream/core/color.h"
+#include "volstream/core/error.h"
 #include "volstream/io/atomic_file.h"
 #include "volstream/io/binary_file.h"
 
@@ -100,10 +100,13 @@ std::vector<uint8_t> to_rgb8(const Image& image, const vec3f& background_srgb) {
   const Srgb8Table& table = srgb8_table();
   const Over over(background_srgb);
   std::vector<uint8_t> bytes(size_t(image.width) * image.height * 3);
-  parallel_for_ranges(int64_t(image.width) * image.height, [&](int64_t begin, int64_t end) {
-    for (int64_t i = begin; i < end; ++i)
-      for (int c = 0; c < 3; ++c) bytes[size_t(3 * i + c)] = table.code(over(image.rgba.data() + 4 * i, c));
-  }, 1 << 14);
+  parallel_for_ranges(
+      int64_t(image.width) * image.height,
+      [&](int64_t begin, int64_t end) {
+        for (int64_t i = begin; i < end; ++i)
+          for (int c = 0; c < 3; ++c) bytes[size_t(3 * i + c)] = table.code(over(image.rgba.data() + 4 * i, c));
+      },
+      1 << 14);
   return bytes;
 }
 
@@ -166,7 +169,8 @@ void write_pfm(const Image& img, const std::string& path, const ImageWriteOption
 }
 
 void check_image_output(const std::string& path) {
-  if (!ends_with(path, ".png") && !ends_with(path, ".pfm")) throw UsageError("output '" + path + "' must end in .png or .pfm");
+  if (!ends_with(path, ".png") && !ends_with(path, ".pfm"))
+    throw UsageError("output '" + path + "' must end in .png or .pfm");
   check_output_directory(path);
 }
 

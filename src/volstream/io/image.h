@@ -10,7 +10,7 @@
 namespace vs {
 
 struct ImageWriteOptions {
-  bool alpha = false;           // keep transparency instead of compositing over the background
+  bool alpha = false;               // keep transparency instead of compositing over the background
   vec3f background{0.f, 0.f, 0.f};  // sRGB-encoded colour in [0, 1]
 };
 

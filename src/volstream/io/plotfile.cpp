@@ -6,10 +6,10 @@
 
 #include <algorithm>
 #include <bit>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cctype>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -21,8 +21,8 @@
 #include <string_view>
 #include <unordered_map>
 
-#include "volstream/core/error.h"
 #include "volstream/backend/parallel.h"
+#include "volstream/core/error.h"
 #include "volstream/io/binary_file.h"
 
 namespace vs {
@@ -33,8 +33,8 @@ namespace fs = std::filesystem;
 constexpr int64_t kMaxComponents = 1 << 14;
 constexpr int64_t kMaxBoxesPerLevel = int64_t(1) << 22;
 constexpr int64_t kMaxGhost = 64;
-constexpr int64_t kMaxIndex = int64_t(1) << 30;         // |index| in any Header or FAB box
-constexpr uint64_t kMaxBoxCells = uint64_t(1) << 33;   // all boxes of all levels together
+constexpr int64_t kMaxIndex = int64_t(1) << 30;       // |index| in any Header or FAB box
+constexpr uint64_t kMaxBoxCells = uint64_t(1) << 33;  // all boxes of all levels together
 constexpr uint64_t kMaxLeafCells = uint64_t(1) << 32;
 constexpr size_t kMaxFabHeaderBytes = 1024;
 constexpr uint64_t kReadChunkBytes = uint64_t(4) << 20;  // per-task read buffer
@@ -121,7 +121,8 @@ class BoxTree {
     const int axis = longest_axis(bounds);
     const uint32_t mid = begin + (end - begin) / 2;
     std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end, [&](uint32_t a, uint32_t b) {
-      return int64_t(boxes_[a].lower[axis]) + boxes_[a].upper[axis] < int64_t(boxes_[b].lower[axis]) + boxes_[b].upper[axis];
+      return int64_t(boxes_[a].lower[axis]) + boxes_[a].upper[axis] <
+             int64_t(boxes_[b].lower[axis]) + boxes_[b].upper[axis];
     });
     const uint32_t left = build(begin, mid);
     const uint32_t right = build(mid, end);
@@ -301,7 +302,8 @@ void parse_geometry(TextCursor& c, PlotHeader& h) {
     h.ref_ratios.push_back(int(r));
   }
   for (int l = 0; l < levels; ++l) h.domains.push_back(read_box(c, "level " + str(l) + " domain"));
-  for (int l = 0; l < levels; ++l) c.read_int("level step", std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::max());
+  for (int l = 0; l < levels; ++l)
+    c.read_int("level step", std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::max());
   for (int l = 0; l < levels; ++l)
     for (int a = 0; a < 3; ++a)
       if (!(c.read_double("cell size") > 0)) c.fail("cell size is not positive");
@@ -353,7 +355,8 @@ std::vector<int> level_shifts(const PlotHeader& h) {
     }
   }
   for (int a = 0; a < 3; ++a)
-    if (extent(h.domains.back(), a) > kMaxCoord) input_error(file, "finest domain is too large (over 2^28 cells per axis)");
+    if (extent(h.domains.back(), a) > kMaxCoord)
+      input_error(file, "finest domain is too large (over 2^28 cells per axis)");
   return shift;
 }
 
@@ -411,7 +414,8 @@ void read_box_array(TextCursor& c, int64_t ngrids, LevelFabs& lf) {
 
 void read_fab_locations(TextCursor& c, const fs::path& level_dir, LevelFabs& lf, StepFabs& step) {
   const int64_t n = c.read_int("FabOnDisk count", 0, kMaxBoxesPerLevel);
-  if (n != int64_t(lf.boxes.size())) c.fail(str(n) + " FabOnDisk entries for " + str(uint64_t(lf.boxes.size())) + " boxes");
+  if (n != int64_t(lf.boxes.size()))
+    c.fail(str(n) + " FabOnDisk entries for " + str(uint64_t(lf.boxes.size())) + " boxes");
   for (int64_t i = 0; i < n; ++i) {
     if (c.read_token("FabOnDisk:") != "FabOnDisk:") c.fail("expected 'FabOnDisk:'");
     const std::string name = c.read_token("FAB file name");
@@ -442,7 +446,8 @@ StepFabs parse_step_fabs(const fs::path& dir, const PlotHeader& h) {
   StepFabs step;
   for (size_t l = 0; l < h.cell_paths.size(); ++l) {
     const fs::path cell = dir / h.cell_paths[l];
-    step.levels.push_back(parse_cell_header(fs::path(cell.string() + "_H"), int64_t(h.names.size()), h.ngrids[l], step));
+    step.levels.push_back(
+        parse_cell_header(fs::path(cell.string() + "_H"), int64_t(h.names.size()), h.ngrids[l], step));
   }
   // A FAB must start inside its file and the file must hold the box's values at 4 bytes each
   // at least (float32); checked before anything is allocated for the cells the boxes claim.
@@ -455,11 +460,12 @@ StepFabs parse_step_fabs(const fs::path& dir, const PlotHeader& h) {
       const uint64_t size = sizes[lf.file[b]], offset = lf.offset[b];
       const std::string file = step.files[lf.file[b]].string();
       if (offset >= size)
-        input_error(file, "truncated: FAB offset " + str(offset) + " is beyond the end of the file (" + str(size) + " bytes)");
+        input_error(
+            file, "truncated: FAB offset " + str(offset) + " is beyond the end of the file (" + str(size) + " bytes)");
       const uint64_t need = volume(grow(lf.boxes[b], lf.nghost)) * ncomp * 4;
       if (need > size - offset)
-        input_error(file, "truncated: the FAB at offset " + str(offset) + " needs at least " + str(need) + " bytes, the file has " +
-                              str(size - offset) + " from there");
+        input_error(file, "truncated: the FAB at offset " + str(offset) + " needs at least " + str(need) +
+                              " bytes, the file has " + str(size - offset) + " from there");
     }
   return step;
 }
@@ -473,11 +479,13 @@ void check_level_boxes(const LevelFabs& lf, const box3i& domain, int ratio_to_co
   for (size_t i = 0; i < lf.boxes.size(); ++i) {
     const box3i& b = lf.boxes[i];
     if (!inside(b, domain))
-      input_error(file, "box " + str(uint64_t(i)) + " " + box_text(b) + " lies outside the level domain " + box_text(domain));
+      input_error(file,
+                  "box " + str(uint64_t(i)) + " " + box_text(b) + " lies outside the level domain " + box_text(domain));
     for (int a = 0; a < 3; ++a)
       if ((int64_t(b.lower[a]) - domain.lower[a]) % ratio_to_coarser != 0 ||
           (int64_t(b.upper[a]) + 1 - domain.lower[a]) % ratio_to_coarser != 0)
-        input_error(file, "box " + str(uint64_t(i)) + " " + box_text(b) + " is not aligned to the ref ratio " + str(ratio_to_coarser));
+        input_error(file, "box " + str(uint64_t(i)) + " " + box_text(b) + " is not aligned to the ref ratio " +
+                              str(ratio_to_coarser));
     total_cells += volume(b);
     if (total_cells > kMaxBoxCells) input_error(file, "too many cells (over 2^33 in all boxes)");
   }
@@ -485,7 +493,8 @@ void check_level_boxes(const LevelFabs& lf, const box3i& domain, int ratio_to_co
   for (size_t i = 0; i < lf.boxes.size(); ++i)
     tree.query(lf.boxes[i], [&](uint32_t j) {
       if (j != i)
-        input_error(file, "boxes " + str(uint64_t(std::min<size_t>(i, j))) + " and " + str(uint64_t(std::max<size_t>(i, j))) + " overlap");
+        input_error(file, "boxes " + str(uint64_t(std::min<size_t>(i, j))) + " and " +
+                              str(uint64_t(std::max<size_t>(i, j))) + " overlap");
     });
 }
 
@@ -504,8 +513,9 @@ std::vector<std::vector<box3i>> covered_regions(const LevelFabs& coarse, const L
       inside_cells += volume(part);
     });
     if (inside_cells != volume(c))
-      input_error(fine.header.string(), "box " + str(uint64_t(f)) + " " + box_text(fine.boxes[f]) +
-                                            " is not inside the coarser level's boxes (levels must be properly nested)");
+      input_error(fine.header.string(),
+                  "box " + str(uint64_t(f)) + " " + box_text(fine.boxes[f]) +
+                      " is not inside the coarser level's boxes (levels must be properly nested)");
   }
   return covered;
 }
@@ -538,7 +548,8 @@ std::vector<Run> leaf_runs(const box3i& box, const std::vector<box3i>& covered) 
     for (int64_t k = c.lower.z; k <= c.upper.z; ++k)
       for (int64_t j = c.lower.y; j <= c.upper.y; ++j)
         spans.push_back({(k - box.lower.z) * ny + (j - box.lower.y), c.lower.x - box.lower.x, c.upper.x - box.lower.x});
-  std::sort(spans.begin(), spans.end(), [](const Span& a, const Span& b) { return a.row != b.row ? a.row < b.row : a.x0 < b.x0; });
+  std::sort(spans.begin(), spans.end(),
+            [](const Span& a, const Span& b) { return a.row != b.row ? a.row < b.row : a.x0 < b.x0; });
   size_t s = 0;
   for (int64_t row = 0; row < ny * nz; ++row) {
     int64_t x = 0;
@@ -615,16 +626,22 @@ std::vector<int64_t> read_descriptor_list(TextCursor& c) {
 FabFormat interpret_descriptor(TextCursor& c, const std::vector<int64_t>& format, const std::vector<int64_t>& order) {
   static const std::vector<int64_t> kDouble{64, 11, 52, 0, 1, 12, 0, 1023}, kFloat{32, 8, 23, 0, 1, 9, 0, 127};
   FabFormat fmt;
-  if (format == kDouble) fmt.bytes = 8;
-  else if (format == kFloat) fmt.bytes = 4;
-  else c.fail("unsupported real format (only IEEE float64 and float32)");
+  if (format == kDouble)
+    fmt.bytes = 8;
+  else if (format == kFloat)
+    fmt.bytes = 4;
+  else
+    c.fail("unsupported real format (only IEEE float64 and float32)");
   std::vector<int64_t> ascending(size_t(fmt.bytes));
   std::iota(ascending.begin(), ascending.end(), 1);
   const std::vector<int64_t> descending(ascending.rbegin(), ascending.rend());
   bool file_little;
-  if (order == descending) file_little = true;  // "8 7 ... 1": least significant byte first
-  else if (order == ascending) file_little = false;
-  else c.fail("unsupported byte order");
+  if (order == descending)
+    file_little = true;  // "8 7 ... 1": least significant byte first
+  else if (order == ascending)
+    file_little = false;
+  else
+    c.fail("unsupported byte order");
   fmt.swap = file_little != (std::endian::native == std::endian::little);
   return fmt;
 }
@@ -662,7 +679,8 @@ void pread_exact(int fd, void* dst, uint64_t bytes, uint64_t offset, const fs::p
     const ssize_t got = ::pread(fd, p, size_t(std::min<uint64_t>(bytes, uint64_t(1) << 30)), off_t(offset));
     if (got < 0 && errno == EINTR) continue;
     if (got < 0) input_error(path.string(), "read error at offset " + str(offset) + ": " + std::strerror(errno));
-    if (got == 0) input_error(path.string(), "truncated: expected " + str(bytes) + " more bytes at offset " + str(offset));
+    if (got == 0)
+      input_error(path.string(), "truncated: expected " + str(bytes) + " more bytes at offset " + str(offset));
     p += got;
     bytes -= uint64_t(got);
     offset += uint64_t(got);
@@ -677,7 +695,7 @@ class OpenFiles {
       const int fd = ::open(p.c_str(), O_RDONLY | O_CLOEXEC);
       if (fd < 0) input_error(p.string(), "cannot open");
       fds_.push_back(fd);
-      struct stat st{};
+      struct stat st {};
       if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) input_error(p.string(), "not a regular file");
       sizes_.push_back(uint64_t(st.st_size));
     }
@@ -699,7 +717,8 @@ class OpenFiles {
 // order, so covered and ghost cells that span more than a chunk are skipped, not read.
 class SlabReader {
  public:
-  SlabReader(int fd, const fs::path& path, uint64_t start, uint64_t elems, FabFormat fmt, std::vector<unsigned char>& buf)
+  SlabReader(int fd, const fs::path& path, uint64_t start, uint64_t elems, FabFormat fmt,
+             std::vector<unsigned char>& buf)
       : fd_(fd), path_(path), start_(start), elems_(elems), fmt_(fmt), buf_(buf) {}
   void copy(uint64_t at, uint64_t n, float* dst) {
     while (n > 0) {
@@ -736,13 +755,17 @@ class PlotfileSource final : public AmrSource {
     if (dirs_.empty()) throw UsageError("no plotfile directories given");
     for (size_t s = 0; s < dirs_.size(); ++s) {
       const PlotHeader h = parse_header(dirs_[s]);
-      if (s == 0) first_ = h;
-      else check_same_hierarchy(first_, h);
+      if (s == 0)
+        first_ = h;
+      else
+        check_same_hierarchy(first_, h);
       times_.push_back(h.time);
       cell_paths_.push_back(h.cell_paths);
       auto fabs = std::make_shared<StepFabs>(parse_step_fabs(dirs_[s], h));
-      if (s == 0) build_layout(*fabs);
-      else check_same_boxes(*fabs);
+      if (s == 0)
+        build_layout(*fabs);
+      else
+        check_same_boxes(*fabs);
       cached_step_ = int(s);
       cached_ = std::move(fabs);
     }
@@ -750,7 +773,8 @@ class PlotfileSource final : public AmrSource {
 
   std::vector<Cell> take_cells() override {
     std::vector<Cell> cells(leaf_count_);
-    parallel_for("plotfile cells", int64_t(boxes_.size()), [&](int64_t b) { emit_cells(boxes_[size_t(b)], cells.data()); });
+    parallel_for("plotfile cells", int64_t(boxes_.size()),
+                 [&](int64_t b) { emit_cells(boxes_[size_t(b)], cells.data()); });
     return cells;
   }
   uint64_t cell_count() const override { return leaf_count_; }
@@ -767,7 +791,8 @@ class PlotfileSource final : public AmrSource {
   void read_values(int field, int step, float* out) override;
   std::string description() const override {
     if (dirs_.size() == 1) return "AMReX plotfile " + dirs_.front().filename().string();
-    return "AMReX plotfile series of " + str(uint64_t(dirs_.size())) + " steps from " + dirs_.front().filename().string();
+    return "AMReX plotfile series of " + str(uint64_t(dirs_.size())) + " steps from " +
+           dirs_.front().filename().string();
   }
   std::string origin() const override { return first_.path.string(); }
 
@@ -806,9 +831,12 @@ void PlotfileSource::build_layout(const StepFabs& fabs) {
   for (int l = 0; l < levels; ++l) {
     const auto& boxes = level_boxes_[size_t(l)];
     std::vector<std::vector<box3i>> covered(boxes.size());
-    if (l + 1 < levels) covered = covered_regions(fabs.levels[size_t(l)], fabs.levels[size_t(l + 1)], shift_[size_t(l)] - shift_[size_t(l + 1)]);
+    if (l + 1 < levels)
+      covered = covered_regions(fabs.levels[size_t(l)], fabs.levels[size_t(l + 1)],
+                                shift_[size_t(l)] - shift_[size_t(l + 1)]);
     std::vector<std::vector<Run>> runs(boxes.size());
-    parallel_for("plotfile leaf runs", int64_t(boxes.size()), [&](int64_t b) { runs[size_t(b)] = leaf_runs(boxes[size_t(b)], covered[size_t(b)]); });
+    parallel_for("plotfile leaf runs", int64_t(boxes.size()),
+                 [&](int64_t b) { runs[size_t(b)] = leaf_runs(boxes[size_t(b)], covered[size_t(b)]); });
     for (size_t b = 0; b < boxes.size(); ++b) {
       BoxLayout layout{l, uint32_t(b), boxes[b], leaf_count_, runs_.size(), runs[b].size()};
       for (const Run& r : runs[b]) leaf_count_ += r.len;
@@ -816,7 +844,8 @@ void PlotfileSource::build_layout(const StepFabs& fabs) {
       boxes_.push_back(layout);
     }
   }
-  if (leaf_count_ > kMaxLeafCells) input_error(first_.path.string(), "too many leaf cells (" + str(leaf_count_) + ", the limit is 2^32)");
+  if (leaf_count_ > kMaxLeafCells)
+    input_error(first_.path.string(), "too many leaf cells (" + str(leaf_count_) + ", the limit is 2^32)");
 }
 
 void PlotfileSource::check_same_boxes(const StepFabs& fabs) const {
@@ -869,7 +898,8 @@ void PlotfileSource::read_box(const BoxLayout& b, const LevelFabs& lf, const Ope
   const uint32_t fi = lf.file[b.index];
   const fs::path& path = paths[fi];
   const uint64_t offset = lf.offset[b.index], size = files.size(fi);
-  if (offset >= size) input_error(path.string(), "truncated: FAB offset " + str(offset) + " is beyond the end of the file");
+  if (offset >= size)
+    input_error(path.string(), "truncated: FAB offset " + str(offset) + " is beyond the end of the file");
   std::string head(size_t(std::min<uint64_t>(kMaxFabHeaderBytes, size - offset)), '\0');
   pread_exact(files.fd(fi), head.data(), head.size(), offset, path);
   const FabHeader fab = parse_fab_header(head, path, offset);
@@ -877,13 +907,16 @@ void PlotfileSource::read_box(const BoxLayout& b, const LevelFabs& lf, const Ope
   const box3i grown = grow(b.box, lf.nghost);
   const std::string where = "FAB at offset " + str(offset);
   if (!(fab.box.lower == grown.lower && fab.box.upper == grown.upper))
-    input_error(path.string(), where + " has box " + box_text(fab.box) + ", " + lf.header.filename().string() + " says " + box_text(grown));
+    input_error(path.string(), where + " has box " + box_text(fab.box) + ", " + lf.header.filename().string() +
+                                   " says " + box_text(grown));
   if (fab.ncomp != int64_t(first_.names.size()))
-    input_error(path.string(), where + " has " + str(fab.ncomp) + " components, expected " + str(uint64_t(first_.names.size())));
+    input_error(path.string(),
+                where + " has " + str(fab.ncomp) + " components, expected " + str(uint64_t(first_.names.size())));
   const uint64_t elems = volume(grown), comp_bytes = elems * uint64_t(fab.format.bytes);
   const uint64_t data = offset + fab.length;
   if (data > size || (size - data) / uint64_t(fab.ncomp) < comp_bytes)
-    input_error(path.string(), "truncated: " + where + " needs " + str(comp_bytes * uint64_t(fab.ncomp)) + " data bytes");
+    input_error(path.string(),
+                "truncated: " + where + " needs " + str(comp_bytes * uint64_t(fab.ncomp)) + " data bytes");
 
   SlabReader slab(files.fd(fi), path, data + uint64_t(field) * comp_bytes, elems, fab.format, buf);
   // Runs index the box without ghosts; with ghosts each row of a run lands elsewhere in the slab.
@@ -978,7 +1011,8 @@ WrittenFab write_fab(std::ofstream& out, const std::string& file, const Plotfile
   return w;
 }
 
-std::string cell_header_text(const PlotfileSpec& spec, const std::vector<box3i>& boxes, const std::vector<WrittenFab>& fabs) {
+std::string cell_header_text(const PlotfileSpec& spec, const std::vector<box3i>& boxes,
+                             const std::vector<WrittenFab>& fabs) {
   std::ostringstream h;
   h << "1\n0\n" << spec.components.size() << '\n' << spec.nghost << '\n';
   h << '(' << boxes.size() << " 0\n";
@@ -1046,7 +1080,8 @@ std::string plot_header_text(const PlotfileSpec& spec, const std::vector<box3i>&
   h << '\n';
   std::vector<vec3d> dx;
   for (const box3i& d : domains) {
-    dx.push_back((spec.prob_hi - spec.prob_lo) / vec3d(double(extent(d, 0)), double(extent(d, 1)), double(extent(d, 2))));
+    dx.push_back((spec.prob_hi - spec.prob_lo) /
+                 vec3d(double(extent(d, 0)), double(extent(d, 1)), double(extent(d, 2))));
     h << dx.back().x << ' ' << dx.back().y << ' ' << dx.back().z << ' ' << '\n';
   }
   h << "0\n0\n";  // Cartesian coordinates, boundary width

@@ -40,11 +40,11 @@ struct PlotfileSpec {
   box3i level0_domain;          // inclusive index box of the coarsest level
   std::vector<int> ref_ratios;  // between level l and l+1 (powers of two)
   std::vector<PlotfileLevel> levels;
-  bool float32 = false;         // FAB data as float32 instead of float64
+  bool float32 = false;  // FAB data as float32 instead of float64
   double time = 0;
-  int boxes_per_fab_file = 2;   // several FABs per Cell_D_xxxxx file, at increasing offsets
-  bool big_endian = false;      // FAB data byte order (AMReX on x86 writes little endian)
-  int nghost = 0;               // ghost cells stored around each FAB (value() is asked for them too)
+  int boxes_per_fab_file = 2;  // several FABs per Cell_D_xxxxx file, at increasing offsets
+  bool big_endian = false;     // FAB data byte order (AMReX on x86 writes little endian)
+  int nghost = 0;              // ghost cells stored around each FAB (value() is asked for them too)
 };
 // value(component, level, i, j, k) -> value of that cell (index space of the level). The writer
 // does not validate the spec, so tests can write inconsistent plotfiles on purpose.

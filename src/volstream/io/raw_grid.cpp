@@ -3,17 +3,17 @@
 #include <algorithm>
 #include <cstring>
 
-#include "volstream/core/error.h"
 #include "volstream/backend/parallel.h"
+#include "volstream/core/error.h"
 #include "volstream/io/binary_file.h"
 
 namespace vs {
 
 RawType parse_raw_type(const std::string& name) {
   static const std::pair<const char*, RawType> kNames[] = {
-      {"uint8", RawType::u8},   {"uint16", RawType::u16},  {"int16", RawType::i16}, {"uint32", RawType::u32},
-      {"int32", RawType::i32}, {"float32", RawType::f32}, {"float", RawType::f32}, {"float64", RawType::f64},
-      {"double", RawType::f64}};
+      {"uint8", RawType::u8},   {"uint16", RawType::u16},  {"int16", RawType::i16},
+      {"uint32", RawType::u32}, {"int32", RawType::i32},   {"float32", RawType::f32},
+      {"float", RawType::f32},  {"float64", RawType::f64}, {"double", RawType::f64}};
   for (const auto& [n, t] : kNames)
     if (name == n) return t;
   throw UsageError("unknown raw type '" + name + "' (uint8, uint16, int16, uint32, int32, float32, float64)");
@@ -21,10 +21,17 @@ RawType parse_raw_type(const std::string& name) {
 
 size_t raw_type_size(RawType t) {
   switch (t) {
-    case RawType::u8: return 1;
-    case RawType::u16: case RawType::i16: return 2;
-    case RawType::u32: case RawType::i32: case RawType::f32: return 4;
-    case RawType::f64: return 8;
+    case RawType::u8:
+      return 1;
+    case RawType::u16:
+    case RawType::i16:
+      return 2;
+    case RawType::u32:
+    case RawType::i32:
+    case RawType::f32:
+      return 4;
+    case RawType::f64:
+      return 8;
   }
   return 0;
 }
@@ -43,13 +50,20 @@ float decode(const unsigned char* p, bool swap) {
 
 float decode_value(RawType t, const unsigned char* p, bool swap) {
   switch (t) {
-    case RawType::u8: return float(*p);
-    case RawType::u16: return decode<uint16_t>(p, swap);
-    case RawType::i16: return decode<int16_t>(p, swap);
-    case RawType::u32: return decode<uint32_t>(p, swap);
-    case RawType::i32: return decode<int32_t>(p, swap);
-    case RawType::f32: return decode<float>(p, swap);
-    case RawType::f64: return decode<double>(p, swap);
+    case RawType::u8:
+      return float(*p);
+    case RawType::u16:
+      return decode<uint16_t>(p, swap);
+    case RawType::i16:
+      return decode<int16_t>(p, swap);
+    case RawType::u32:
+      return decode<uint32_t>(p, swap);
+    case RawType::i32:
+      return decode<int32_t>(p, swap);
+    case RawType::f32:
+      return decode<float>(p, swap);
+    case RawType::f64:
+      return decode<double>(p, swap);
   }
   return 0.f;
 }
@@ -64,7 +78,9 @@ class RawGridSource : public AmrSource {
     if (count_ >= UINT32_MAX) throw UsageError("raw grid has too many cells");
     for (const auto& f : in.files) {
       const uint64_t size = file_size_checked(f), want = count_ * raw_type_size(in.type);
-      if (size != want) input_error(f.string(), "size " + std::to_string(size) + " bytes, expected " + std::to_string(want) + " for the given dimensions and type");
+      if (size != want)
+        input_error(f.string(), "size " + std::to_string(size) + " bytes, expected " + std::to_string(want) +
+                                    " for the given dimensions and type");
     }
   }
   std::vector<Cell> take_cells() override {
@@ -90,7 +106,8 @@ class RawGridSource : public AmrSource {
     const size_t size = raw_type_size(in_.type);
     std::vector<unsigned char> bytes(count_ * size);
     read_exact(path, 0, bytes.data(), bytes.size());
-    parallel_for("raw_decode", int64_t(count_), [&](int64_t i) { out[i] = decode_value(in_.type, &bytes[size_t(i) * size], in_.big_endian); });
+    parallel_for("raw_decode", int64_t(count_),
+                 [&](int64_t i) { out[i] = decode_value(in_.type, &bytes[size_t(i) * size], in_.big_endian); });
   }
   std::string description() const override { return "raw grid " + in_.files.front().filename().string(); }
   std::string origin() const override { return in_.files.front().string(); }

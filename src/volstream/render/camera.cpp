@@ -42,10 +42,12 @@ CameraView make_camera_view(const Camera& cam, uint32_t width, uint32_t height) 
   if (!(dist > 0) || !std::isfinite(dist)) throw UsageError("camera position and look-at point must differ");
   const vec3d fwd = fwd_raw / dist;
   const vec3d right_raw = cross(fwd, cam.up);
-  if (!(length(right_raw) > 1e-9 * length(cam.up))) throw UsageError("camera up vector is parallel to the view direction");
+  if (!(length(right_raw) > 1e-9 * length(cam.up)))
+    throw UsageError("camera up vector is parallel to the view direction");
   const vec3d right = normalize(right_raw);
   const vec3d up = cross(right, fwd);
-  if (!cam.ortho && !(cam.fov_deg > 0 && cam.fov_deg < 180)) throw UsageError("field of view must be in (0, 180) degrees");
+  if (!cam.ortho && !(cam.fov_deg > 0 && cam.fov_deg < 180))
+    throw UsageError("field of view must be in (0, 180) degrees");
   const double aspect = double(width) / double(height);
   // Height of the image plane at distance 1 (perspective) or in world units (orthographic).
   double plane_h = 2.0 * std::tan(0.5 * cam.fov_deg * kPi / 180.0);

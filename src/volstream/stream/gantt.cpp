@@ -21,10 +21,12 @@ constexpr size_t kMaxRows = 10000;  // rows of a chart (lanes or stage names per
 
 double finite_number(const json& e, const char* key) {
   const auto it = e.find(key);
-  if (it == e.end() || !it->is_number()) throw std::runtime_error(std::string("event without a numeric \"") + key + "\"");
+  if (it == e.end() || !it->is_number())
+    throw std::runtime_error(std::string("event without a numeric \"") + key + "\"");
   const double v = it->get<double>();
   // Microseconds; 1e15 is 31 years. Beyond it spans overflow to inf and the axis never ends.
-  if (!(std::fabs(v) <= kMaxTraceMicroseconds)) throw std::runtime_error(std::string("\"") + key + "\" not a number within +-1e15");
+  if (!(std::fabs(v) <= kMaxTraceMicroseconds))
+    throw std::runtime_error(std::string("\"") + key + "\" not a number within +-1e15");
   return v;
 }
 
@@ -101,11 +103,20 @@ std::string escape(const std::string& s) {
   std::string out;
   for (char c : s) {
     switch (c) {
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '&': out += "&amp;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -146,8 +157,8 @@ std::vector<Row> make_rows(std::vector<TraceEvent>& events, GanttOptions::Rows b
     index.emplace(k, 0);
   }
   if (index.size() > kMaxRows)
-    throw UsageError("the trace has " + std::to_string(index.size()) + " rows (lanes or stage names); a chart shows at most " +
-                     std::to_string(kMaxRows));
+    throw UsageError("the trace has " + std::to_string(index.size()) +
+                     " rows (lanes or stage names); a chart shows at most " + std::to_string(kMaxRows));
   std::vector<Row> rows;
   for (auto& [key, i] : index) {
     i = rows.size();
@@ -209,9 +220,10 @@ std::string gantt_svg(const std::vector<TraceEvent>& input, const GanttOptions& 
   const int axis_y = y + 4, legend_y = axis_y + 40, height = legend_y + 30;
   auto x_of = [&](double ts_us) { return label_w + (ts_us - t0) * 1e-3 / span_ms * plot_w; };
 
-  std::string svg = fmt("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\" "
-                        "font-family=\"sans-serif\" font-size=\"11\">\n",
-                        options.width, height, options.width, height);
+  std::string svg =
+      fmt("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\" "
+          "font-family=\"sans-serif\" font-size=\"11\">\n",
+          options.width, height, options.width, height);
   svg += fmt("<rect width=\"%d\" height=\"%d\" fill=\"white\"/>\n", options.width, height);
   svg += fmt("<text x=\"%d\" y=\"22\" font-size=\"14\" font-weight=\"bold\">%s</text>\n", label_w,
              escape(options.title).c_str());
@@ -225,13 +237,15 @@ std::string gantt_svg(const std::vector<TraceEvent>& input, const GanttOptions& 
     svg += fmt("<line x1=\"%.1f\" y1=\"%d\" x2=\"%.1f\" y2=\"%d\" stroke=\"black\"/>\n", x, axis_y, x, axis_y + 5);
     svg += fmt("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%g</text>\n", x, axis_y + 17, ms);
   }
-  svg += fmt("<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", label_w, axis_y, label_w + plot_w, axis_y);
+  svg += fmt("<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", label_w, axis_y, label_w + plot_w,
+             axis_y);
   svg += fmt("<text x=\"%d\" y=\"%d\" text-anchor=\"middle\">time [ms]</text>\n", label_w + plot_w / 2, axis_y + 32);
 
   // Row labels, with the process name above its first row.
   for (size_t r = 0; r < rows.size(); ++r) {
     if (r == 0 || rows[r].pid != rows[r - 1].pid)
-      svg += fmt("<text x=\"4\" y=\"%d\" font-weight=\"bold\">%s</text>\n", row_y[r] - 5, escape(rows[r].process).c_str());
+      svg +=
+          fmt("<text x=\"4\" y=\"%d\" font-weight=\"bold\">%s</text>\n", row_y[r] - 5, escape(rows[r].process).c_str());
     svg += fmt("<text x=\"14\" y=\"%d\">%s</text>\n", row_y[r] + row_h / 2 + 4, escape(rows[r].label).c_str());
   }
 
@@ -240,9 +254,10 @@ std::string gantt_svg(const std::vector<TraceEvent>& input, const GanttOptions& 
     const TraceEvent& e = events[i];
     const double x = x_of(e.ts_us), w = std::max(1.0, x_of(e.ts_us + e.dur_us) - x);
     const int by = row_y[row_of[i]] + 2;
-    svg += fmt("<rect x=\"%.2f\" y=\"%d\" width=\"%.2f\" height=\"%d\" fill=\"%s\" stroke=\"white\" stroke-width=\"0.5\">"
-               "<title>%s step %d: %.3f ms</title></rect>\n",
-               x, by, w, row_h - 4, stage_colour(e.name), escape(e.name).c_str(), e.step, e.dur_us * 1e-3);
+    svg +=
+        fmt("<rect x=\"%.2f\" y=\"%d\" width=\"%.2f\" height=\"%d\" fill=\"%s\" stroke=\"white\" stroke-width=\"0.5\">"
+            "<title>%s step %d: %.3f ms</title></rect>\n",
+            x, by, w, row_h - 4, stage_colour(e.name), escape(e.name).c_str(), e.step, e.dur_us * 1e-3);
     const std::string label = e.step >= 0 ? std::to_string(e.step) : "";
     if (!label.empty() && w > 7.0 * double(label.size()) + 4)
       svg += fmt("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\" fill=\"white\" font-size=\"10\">%s</text>\n",

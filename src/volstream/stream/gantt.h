@@ -10,8 +10,8 @@ namespace vs::stream {
 
 // One complete ("ph":"X") event of a trace, with its process and thread names resolved.
 struct TraceEvent {
-  std::string name;         // the stage
-  int step = -1;            // args.step; -1 when absent
+  std::string name;  // the stage
+  int step = -1;     // args.step; -1 when absent
   int pid = 0, tid = 0;
   std::string process, thread;
   double ts_us = 0, dur_us = 0;
@@ -23,7 +23,7 @@ std::vector<TraceEvent> read_chrome_trace(const std::filesystem::path& path);
 
 struct GanttOptions {
   enum class Rows { lane, stage } rows = Rows::lane;
-  int width = 1200;      // pixels
+  int width = 1200;  // pixels
   // Start every process (run, e.g. pipeline level) at time 0, so that runs recorded one after
   // another share one time axis and compare at a glance, as the panels of Fig. 3 do.
   bool align_processes = true;

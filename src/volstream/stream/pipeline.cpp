@@ -7,14 +7,14 @@
 #include <future>
 #include <numeric>
 
-#include "volstream/core/error.h"
 #include "volstream/backend/parallel.h"
+#include "volstream/core/error.h"
 
 namespace vs::stream {
 
 namespace {
-constexpr const char* kLevelNames[kLevelCount] = {"baseline", "async-io", "pinned", "direct-io",
-                                                  "preordered", "refit", "overlap"};
+constexpr const char* kLevelNames[kLevelCount] = {"baseline",   "async-io", "pinned", "direct-io",
+                                                  "preordered", "refit",    "overlap"};
 }
 
 const char* level_name(Level level) { return kLevelNames[int(level)]; }
@@ -61,7 +61,11 @@ struct Pipeline::Slot {
 };
 
 Pipeline::Pipeline(const Dataset& dataset, int field, PipelineFlags flags, FrameStages& stages, Timeline* timeline)
-    : dataset_(dataset), field_(field), flags_(flags), stages_(stages), timeline_(timeline),
+    : dataset_(dataset),
+      field_(field),
+      flags_(flags),
+      stages_(stages),
+      timeline_(timeline),
       reader_(dataset.manifest().cell_count, flags.direct_io ? ReadMode::direct : ReadMode::buffered) {
   if (flags_.overlap) flags_.async_io = true;  // the overlapped upload runs on the loader thread
   const int slots = flags_.async_io ? 2 : 1;
@@ -112,9 +116,9 @@ std::string Pipeline::describe_buffers() const {
   HostBuffer::Pinning weakest = staging_buffers_.front().pinning();
   for (const HostBuffer& b : staging_buffers_) weakest = std::min(weakest, b.pinning());
   const char* pinning = pinning_name(weakest);
-  std::snprintf(text, sizeof(text), "%zu file + %zu staging (%s) + %zu device (%s) buffers: %.1f MiB", file_buffers_.size(),
-                staging_buffers_.size(), pinning, size_t(flags_.overlap ? 2 : 1), device_values_->where(),
-                double(buffer_bytes()) / (1 << 20));
+  std::snprintf(text, sizeof(text), "%zu file + %zu staging (%s) + %zu device (%s) buffers: %.1f MiB",
+                file_buffers_.size(), staging_buffers_.size(), pinning, size_t(flags_.overlap ? 2 : 1),
+                device_values_->where(), double(buffer_bytes()) / (1 << 20));
   return text;
 }
 
@@ -180,9 +184,12 @@ void Pipeline::flatten(const Slot& slot) {
   const uint32_t* index = flatten_index_.data();
   const float* in = slot.file;
   float* out = slot.staging;
-  parallel_for_ranges(int64_t(flatten_index_.size()), [&](int64_t begin, int64_t end) {
-    for (int64_t i = begin; i < end; ++i) out[i] = in[index[i]];
-  }, 1 << 16);
+  parallel_for_ranges(
+      int64_t(flatten_index_.size()),
+      [&](int64_t begin, int64_t end) {
+        for (int64_t i = begin; i < end; ++i) out[i] = in[index[i]];
+      },
+      1 << 16);
 }
 
 void Pipeline::process(Slot& slot, int frame) {
@@ -224,7 +231,8 @@ PlayStats Pipeline::play(const std::vector<int>& steps, const std::function<void
       Slot& next = slot_for(i + 1);
       next.step = steps[size_t(i) + 1];
       next.done = Phase::none;
-      pending = std::async(std::launch::async, [this, &next, loader_upto] { load(next, next.step, loader_upto, kPrefetchLane); });
+      pending = std::async(std::launch::async,
+                           [this, &next, loader_upto] { load(next, next.step, loader_upto, kPrefetchLane); });
     }
     load(slot, slot.step, Phase::uploaded, kFrameLane);  // whatever the loader did not do
     process(slot, i);

@@ -43,9 +43,9 @@ namespace vs::stream {
 
 enum class Level : uint8_t { baseline, async_io, pinned, direct_io, preordered, refit, overlap };
 inline constexpr int kLevelCount = 7;
-const char* level_name(Level level);                      // "baseline", "async-io", ...
-bool parse_level(const std::string& name, Level& out);   // false if unknown
-std::string level_names();                                // "baseline|async-io|...", for help texts
+const char* level_name(Level level);                    // "baseline", "async-io", ...
+bool parse_level(const std::string& name, Level& out);  // false if unknown
+std::string level_names();                              // "baseline|async-io|...", for help texts
 
 struct PipelineFlags {
   bool async_io = false;    // prefetch the next step on a background thread
@@ -98,7 +98,7 @@ class FrameStages {
 
 struct PlayStats {
   int frames = 0;
-  double seconds = 0;      // wall time from the first read to the last output
+  double seconds = 0;  // wall time from the first read to the last output
   uint64_t bytes_read = 0;
 };
 
@@ -117,9 +117,10 @@ class Pipeline {
   PlayStats play(const std::vector<int>& steps, const std::function<void(int frame, int step)>& on_frame = {});
 
   const PipelineFlags& flags() const { return flags_; }
-  uint64_t buffer_bytes() const;       // all per-step buffers together
-  std::string describe_buffers() const;  // e.g. "0 file + 2 staging (page-locked (cuda)) + 2 device (GPU) buffers: 16.0 MiB"
-  bool direct_io_active() const;       // false if O_DIRECT fell back to buffered reads
+  uint64_t buffer_bytes() const;  // all per-step buffers together
+  std::string describe_buffers()
+      const;                      // e.g. "0 file + 2 staging (page-locked (cuda)) + 2 device (GPU) buffers: 16.0 MiB"
+  bool direct_io_active() const;  // false if O_DIRECT fell back to buffered reads
   // The flatten pass of the levels before `preordered` (see above): "file-order" (the dataset's
   // file-order copies through the real index), "identity" (no such copies: device-order files
   // through the identity index), or "none" (from `preordered` on).

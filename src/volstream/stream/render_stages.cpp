@@ -5,9 +5,9 @@
 #include <unistd.h>
 
 #include <cctype>
-#include <cstdlib>
 #include <cerrno>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 
@@ -42,7 +42,8 @@ Conversion find_conversion(const std::string& p) {
     if (i >= p.size() || p[i] != 'd' || c.width > 12) throw UsageError("-o " + p + ": only %d, %0Nd and %% may appear");
     c.end = i + 1;
   }
-  if (c.begin == std::string::npos) throw UsageError("-o " + p + ": a PNG sequence needs a %d for the frame number (frames_%04d.png)");
+  if (c.begin == std::string::npos)
+    throw UsageError("-o " + p + ": a PNG sequence needs a %d for the frame number (frames_%04d.png)");
   return c;
 }
 
@@ -139,9 +140,10 @@ VideoWriter::VideoWriter(std::string path, uint32_t width, uint32_t height, doub
   char size[64], rate[32];
   std::snprintf(size, sizeof(size), "%ux%u", width, height);
   std::snprintf(rate, sizeof(rate), "%g", fps);
-  const std::string command = std::string("ffmpeg -nostdin -hide_banner -loglevel error -y -f rawvideo -pix_fmt rgb24 -s ") +
-                              size + " -r " + rate + " -i - -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p -f " +
-                              muxer(path_) + " " + shell_quote(temp_.string()) + " 2>" + shell_quote(log_.string());
+  const std::string command =
+      std::string("ffmpeg -nostdin -hide_banner -loglevel error -y -f rawvideo -pix_fmt rgb24 -s ") + size + " -r " +
+      rate + " -i - -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p -f " + muxer(path_) + " " +
+      shell_quote(temp_.string()) + " 2>" + shell_quote(log_.string());
   pipe_ = ::popen(command.c_str(), "w");
   if (!pipe_) input_error(path_, "cannot start ffmpeg: " + std::string(std::strerror(errno)));
 }
@@ -160,7 +162,8 @@ void VideoWriter::write(const Image& image, int, int step) {
     ::pclose(pipe_);
     pipe_ = nullptr;
     const std::string said = last_line(log_);
-    input_error(path_, "ffmpeg stopped taking frames at step " + std::to_string(step) + (said.empty() ? "" : ": " + said));
+    input_error(path_,
+                "ffmpeg stopped taking frames at step " + std::to_string(step) + (said.empty() ? "" : ": " + said));
   }
   ++frames_;
 }
@@ -173,8 +176,8 @@ void VideoWriter::finish() {
   const std::string said = last_line(log_);
   if (status == -1) input_error(path_, "ffmpeg: " + std::string(std::strerror(errno)));
   if (!flushed || !WIFEXITED(status) || WEXITSTATUS(status) != 0 || !said.empty())
-    input_error(path_, "ffmpeg failed (exit status " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")" +
-                           (said.empty() ? "" : ": " + said));
+    input_error(path_, "ffmpeg failed (exit status " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
+                           ")" + (said.empty() ? "" : ": " + said));
   std::error_code ec;
   if (frames_ == 0 || std::filesystem::file_size(temp_, ec) == 0 || ec)
     input_error(path_, "ffmpeg wrote no video (" + std::to_string(frames_) + " frames given)");

@@ -37,9 +37,12 @@ struct Fd {
 // ---------------------------------------------------------------------------------------------
 const char* pinning_name(HostBuffer::Pinning p) {
   switch (p) {
-    case HostBuffer::Pinning::cuda: return "page-locked (cudaHostAlloc)";
-    case HostBuffer::Pinning::mlock: return "page-locked (mlock)";
-    default: return "pageable";
+    case HostBuffer::Pinning::cuda:
+      return "page-locked (cudaHostAlloc)";
+    case HostBuffer::Pinning::mlock:
+      return "page-locked (mlock)";
+    default:
+      return "pageable";
   }
 }
 
@@ -65,7 +68,8 @@ HostBuffer::HostBuffer(uint64_t bytes, bool want_pinned, const char* structure)
     if (!data_) throw std::bad_alloc();
   }
   std::memset(data_, 0, bytes_);
-  counted_ = CountedBytes(structure, pinning_ == Pinning::none ? MemorySpace::host : MemorySpace::pinned, int64_t(bytes_));
+  counted_ =
+      CountedBytes(structure, pinning_ == Pinning::none ? MemorySpace::host : MemorySpace::pinned, int64_t(bytes_));
 }
 
 HostBuffer& HostBuffer::operator=(HostBuffer&& o) noexcept {
@@ -95,7 +99,8 @@ void HostBuffer::release() {
 
 // ---------------------------------------------------------------------------------------------
 StepReader::StepReader(uint64_t value_count, ReadMode mode)
-    : value_bytes_(value_count * sizeof(float)), padded_bytes_(round_up(value_count * sizeof(float))),
+    : value_bytes_(value_count * sizeof(float)),
+      padded_bytes_(round_up(value_count * sizeof(float))),
       direct_(mode == ReadMode::direct) {}
 
 void StepReader::fall_back(const std::filesystem::path& file, int error) {
@@ -110,12 +115,13 @@ int StepReader::open_file(const std::filesystem::path& file, int step) {
   const std::string where = "step " + std::to_string(step) + ": ";
   // What the path is, before any O_DIRECT attempt: a directory would be refused O_DIRECT
   // (a bogus warning) and a FIFO would block the open until someone writes to it.
-  struct stat st{};
+  struct stat st {};
   if (::stat(file.c_str(), &st) != 0) {
     if (errno == ENOENT) input_error(file.string(), where + "values file is missing");
     input_error(file.string(), where + "cannot open: " + errno_text(errno));
   }
-  if (!S_ISREG(st.st_mode)) input_error(file.string(), where + (S_ISDIR(st.st_mode) ? "is a directory" : "not a regular file"));
+  if (!S_ISREG(st.st_mode))
+    input_error(file.string(), where + (S_ISDIR(st.st_mode) ? "is a directory" : "not a regular file"));
   for (;;) {
     const bool direct = direct_.load();
     // O_NONBLOCK: should the path become a FIFO after the check, the open still returns.
@@ -164,15 +170,17 @@ void StepReader::read(const std::filesystem::path& file, int step, void* dst) {
   const std::string where = "step " + std::to_string(step) + ": ";
   for (;;) {
     Fd fd{open_file(file, step)};
-    struct stat st{};
+    struct stat st {};
     if (::fstat(fd.fd, &st) != 0 || !S_ISREG(st.st_mode)) input_error(file.string(), where + "not a regular file");
     // The file holds exactly the values, zero-padded to 4 KiB; anything else is a different
     // dataset or a damaged file, and reading it would render garbage.
     const uint64_t size = uint64_t(st.st_size);
-    const std::string expected = "expected " + std::to_string(value_bytes_) + " bytes of values padded to " +
-                                 std::to_string(padded_bytes_);
-    if (size < value_bytes_) input_error(file.string(), where + "truncated: " + std::to_string(size) + " bytes, " + expected);
-    if (size > padded_bytes_) input_error(file.string(), where + "wrong size: " + std::to_string(size) + " bytes, " + expected);
+    const std::string expected =
+        "expected " + std::to_string(value_bytes_) + " bytes of values padded to " + std::to_string(padded_bytes_);
+    if (size < value_bytes_)
+      input_error(file.string(), where + "truncated: " + std::to_string(size) + " bytes, " + expected);
+    if (size > padded_bytes_)
+      input_error(file.string(), where + "wrong size: " + std::to_string(size) + " bytes, " + expected);
     if (!direct_.load()) ::posix_fadvise(fd.fd, 0, 0, POSIX_FADV_SEQUENTIAL);
     if (read_all(fd.fd, file, step, static_cast<char*>(dst))) return;
   }
@@ -188,7 +196,7 @@ bool evict_from_page_cache(const std::filesystem::path& file) {
 
 double page_cache_resident_fraction(const std::filesystem::path& file) {
   Fd fd{::open(file.c_str(), O_RDONLY | O_CLOEXEC)};
-  struct stat st{};
+  struct stat st {};
   if (fd.fd < 0 || ::fstat(fd.fd, &st) != 0) return -1;
   if (st.st_size == 0) return 0;
   void* map = ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_SHARED, fd.fd, 0);

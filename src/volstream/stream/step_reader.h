@@ -2,11 +2,11 @@
 // by direct I/O (O_DIRECT, bypassing the page cache: paper 000, section 5.4), and the aligned,
 // optionally page-locked host buffers it reads into.
 #pragma once
-#include "volstream/backend/memory.h"
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include "volstream/backend/memory.h"
 
 namespace vs::stream {
 

@@ -28,9 +28,12 @@ bool parse_stage(const std::string& name, Stage& out) {
 
 const char* lane_name(int lane) {
   switch (lane) {
-    case kFrameLane: return "frame";
-    case kPrefetchLane: return "prefetch";
-    default: return "lane";
+    case kFrameLane:
+      return "frame";
+    case kPrefetchLane:
+      return "prefetch";
+    default:
+      return "lane";
   }
 }
 
@@ -39,7 +42,9 @@ Timeline::Timeline(std::string process, int pid) : process_(std::move(process)),
 }
 
 void Timeline::record(Stage stage, int step, int lane, Clock::time_point begin, Clock::time_point end) {
-  auto ns = [&](Clock::time_point t) { return std::chrono::duration_cast<std::chrono::nanoseconds>(t - origin_).count(); };
+  auto ns = [&](Clock::time_point t) {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(t - origin_).count();
+  };
   const TimelineEvent e{stage, step, lane, int64_t(ns(begin)), int64_t(ns(end))};
   std::lock_guard lock(mutex_);
   events_.push_back(e);
@@ -70,7 +75,8 @@ nlohmann::json to_chrome_trace(const std::vector<const Timeline*>& timelines) {
   for (const Timeline* t : timelines) {
     const double shift_us = std::chrono::duration<double, std::micro>(t->origin() - origin).count();
     events.push_back({{"ph", "M"}, {"name", "process_name"}, {"pid", t->pid()}, {"args", {{"name", t->process()}}}});
-    events.push_back({{"ph", "M"}, {"name", "process_sort_index"}, {"pid", t->pid()}, {"args", {{"sort_index", t->pid()}}}});
+    events.push_back(
+        {{"ph", "M"}, {"name", "process_sort_index"}, {"pid", t->pid()}, {"args", {{"sort_index", t->pid()}}}});
     std::vector<int> lanes;
     for (const TimelineEvent& e : t->events()) {
       events.push_back({{"ph", "X"},
@@ -84,7 +90,11 @@ nlohmann::json to_chrome_trace(const std::vector<const Timeline*>& timelines) {
       if (std::find(lanes.begin(), lanes.end(), e.lane) == lanes.end()) lanes.push_back(e.lane);
     }
     for (int lane : lanes)
-      events.push_back({{"ph", "M"}, {"name", "thread_name"}, {"pid", t->pid()}, {"tid", lane}, {"args", {{"name", lane_name(lane)}}}});
+      events.push_back({{"ph", "M"},
+                        {"name", "thread_name"},
+                        {"pid", t->pid()},
+                        {"tid", lane},
+                        {"args", {{"name", lane_name(lane)}}}});
   }
   return {{"traceEvents", std::move(events)}, {"displayTimeUnit", "ms"}};
 }
@@ -120,8 +130,8 @@ std::string format_summary(const std::vector<StageSummary>& summary) {
   std::string text = "stage      count    total ms     mean ms   median ms      max ms\n";
   char line[160];
   for (const StageSummary& s : summary) {
-    std::snprintf(line, sizeof(line), "%-8s %7zu %11.2f %11.3f %11.3f %11.3f\n", stage_name(s.stage), s.count, s.total_ms,
-                  s.mean_ms, s.median_ms, s.max_ms);
+    std::snprintf(line, sizeof(line), "%-8s %7zu %11.2f %11.3f %11.3f %11.3f\n", stage_name(s.stage), s.count,
+                  s.total_ms, s.mean_ms, s.median_ms, s.max_ms);
     text += line;
   }
   return text;

@@ -13,11 +13,11 @@
 namespace vs {
 
 struct AmrVolume {
-  AmrView amr;                                   // topology (amr.values unused: see fields)
-  const float* fields[kVolumeFields] = {};       // device order; fields[1] may be null
-  const BvhNode* nodes = nullptr;                // refit BVH: visible ABRs only
+  AmrView amr;                              // topology (amr.values unused: see fields)
+  const float* fields[kVolumeFields] = {};  // device order; fields[1] may be null
+  const BvhNode* nodes = nullptr;           // refit BVH: visible ABRs only
   uint32_t node_count = 0;
-  const BvhNode* all_nodes = nullptr;            // template BVH over all ABRs: point location
+  const BvhNode* all_nodes = nullptr;  // template BVH over all ABRs: point location
   uint32_t all_node_count = 0;
 
   VS_HOST_DEVICE float sample(int field, uint32_t abr, const vec3f& p) const {
@@ -26,7 +26,8 @@ struct AmrVolume {
     return sample_abr(v, abr, p);
   }
   VS_HOST_DEVICE int64_t locate(const vec3f& p) const {
-    return bvh_locate(all_nodes, all_node_count, [&](uint32_t i) { return amr.abrs[i].box; }, p);
+    return bvh_locate(
+        all_nodes, all_node_count, [&](uint32_t i) { return amr.abrs[i].box; }, p);
   }
   VS_HOST_DEVICE float sample_near(int field, uint32_t abr, const vec3f& p) const {
     if (amr.abrs[abr].box.contains(p)) return sample(field, abr, p);

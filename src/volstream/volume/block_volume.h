@@ -22,7 +22,8 @@ namespace blocks {
 VS_HOST_DEVICE inline int32_t clampi(int32_t v, int32_t lo, int32_t hi) { return v < lo ? lo : (v > hi ? hi : v); }
 
 VS_HOST_DEVICE inline float cell_value(const float* values, const Brick& br, int32_t x, int32_t y, int32_t z) {
-  return values[br.value_offset + (uint64_t(z) * uint64_t(br.dims.y) + uint64_t(y)) * uint64_t(br.dims.x) + uint64_t(x)];
+  return values[br.value_offset + (uint64_t(z) * uint64_t(br.dims.y) + uint64_t(y)) * uint64_t(br.dims.x) +
+                uint64_t(x)];
 }
 
 // Value of the block's cell containing p (grid units); clamped to the block against rounding.
@@ -66,8 +67,8 @@ VS_HOST_DEVICE inline float sample_trilinear(const float* values, const Brick& b
 struct BlockVolume {
   KdView kd;
   const Brick* bricks = nullptr;
-  const float* fields[kVolumeFields] = {};          // cell values, device order
-  const uint64_t* vertex_offsets = nullptr;          // per block (vertex_field.h); null: no vertex values
+  const float* fields[kVolumeFields] = {};   // cell values, device order
+  const uint64_t* vertex_offsets = nullptr;  // per block (vertex_field.h); null: no vertex values
   const float* vertex_fields[kVolumeFields] = {};
   Reconstruction reconstruction = Reconstruction::trilinear;
 
@@ -75,7 +76,8 @@ struct BlockVolume {
     const Block& b = kd.blocks[block];
     const Brick& br = bricks[b.brick];
     if (reconstruction == Reconstruction::nearest) return blocks::sample_nearest(fields[field], br, b, p);
-    if (vertex_offsets && vertex_fields[field]) return sample_vertices(vertex_fields[field], vertex_offsets[block], b, p);
+    if (vertex_offsets && vertex_fields[field])
+      return sample_vertices(vertex_fields[field], vertex_offsets[block], b, p);
     return blocks::sample_trilinear(fields[field], br, p);
   }
   VS_HOST_DEVICE int64_t locate(const vec3f& p) const { return kd_locate(kd, p); }
@@ -89,8 +91,9 @@ struct BlockVolume {
 
   template <typename Visit>
   VS_HOST_DEVICE void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
-    kd_traverse(kd, org, dir, 0.f, INFINITY,
-                [&](uint32_t block, float t0, float t1) { return visit(RayInterval{block, t0, t1}); });
+    kd_traverse(kd, org, dir, 0.f, INFINITY, [&](uint32_t block, float t0, float t1) {
+      return visit(RayInterval{block, t0, t1});
+    });
   }
 };
 static_assert(Volume<BlockVolume>);

@@ -5,9 +5,9 @@
 
 #include "volstream/accel/bvh_sah.h"
 #include "volstream/accel/refit.h"
+#include "volstream/backend/parallel.h"
 #include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
-#include "volstream/backend/parallel.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/render/classify.h"
 #include "volstream/render/integrators/launch_cpu.h"
@@ -53,8 +53,9 @@ AmrRenderer::AmrRenderer(const AmrTopology& topology, const WorldTransform& tran
   template_ = build_bvh_sah(abr_boxes_);
   if (!subtrees_are_runs(template_.nodes)) throw std::logic_error("BVH node order does not allow a bottom-up refit");
   nodes_ = template_.nodes;
-  bvh_bytes_ = CountedBytes("BVH", MemorySpace::host,
-                            int64_t((template_.nodes.size() + nodes_.size()) * sizeof(BvhNode) + abr_boxes_.size() * sizeof(box3f)));
+  bvh_bytes_ = CountedBytes(
+      "BVH", MemorySpace::host,
+      int64_t((template_.nodes.size() + nodes_.size()) * sizeof(BvhNode) + abr_boxes_.size() * sizeof(box3f)));
 }
 
 uint64_t AmrRenderer::classify(const std::vector<Range>& abr_ranges, const TransferTable& tf,
@@ -143,9 +144,10 @@ Image AmrRenderer::render(Device device, const float* values, const TransferTabl
   OpticsView optics;
   optics.tf = tf.view();
   const TfView color_view = color_tf ? color_tf->view() : TfView{};
-  return render(device,
-                view({values, color_tf ? color_values : nullptr}, optics, color_tf ? &color_view : nullptr, camera, settings),
-                stats);
+  return render(
+      device,
+      view({values, color_tf ? color_values : nullptr}, optics, color_tf ? &color_view : nullptr, camera, settings),
+      stats);
 }
 
 }  // namespace vs

@@ -92,10 +92,10 @@ class AmrRenderer {
  private:
   const AmrTopology& topology_;
   WorldTransform transform_;
-  Bvh template_;                 // all ABRs, never changes
-  std::vector<BvhNode> nodes_;   // same topology, boxes refit to the visible ABRs
+  Bvh template_;                // all ABRs, never changes
+  std::vector<BvhNode> nodes_;  // same topology, boxes refit to the visible ABRs
   std::vector<box3f> abr_boxes_;
-  CountedBytes bvh_bytes_;       // template, refit copy and boxes (host)
+  CountedBytes bvh_bytes_;  // template, refit copy and boxes (host)
 };
 
 // The world box of the leaf cells.

@@ -40,8 +40,11 @@ void BlockRenderer::set_fields(const float* values, const float* second, bool ve
     if (second) vertex_second_ = build_vertex_field(kd_, topology_.bricks, second);
   }
   vertex_seconds_ = watch.seconds();
-  auto bytes = [](const VertexField& f) { return f.offsets.size() * sizeof(uint64_t) + f.values.size() * sizeof(float); };
-  vertex_bytes_ = CountedBytes("vertex values", MemorySpace::host, int64_t(bytes(vertex_values_) + bytes(vertex_second_)));
+  auto bytes = [](const VertexField& f) {
+    return f.offsets.size() * sizeof(uint64_t) + f.values.size() * sizeof(float);
+  };
+  vertex_bytes_ =
+      CountedBytes("vertex values", MemorySpace::host, int64_t(bytes(vertex_values_) + bytes(vertex_second_)));
 }
 
 FrameView<BlockVolume> BlockRenderer::view(const TfView* tf, const Camera& camera, const BlockFrame& frame,
@@ -57,7 +60,8 @@ FrameView<BlockVolume> BlockRenderer::view(const TfView* tf, const Camera& camer
   if (frame.settings.reconstruction == Reconstruction::trilinear && !kd_.blocks.empty()) {
     // Without vertex values the volume would fall back to per-brick interpolation (seams): a
     // different picture, so ask for them instead.
-    if (vertex_values_.values.empty()) throw std::logic_error("BlockRenderer: trilinear needs set_fields(..., vertex_values = true)");
+    if (vertex_values_.values.empty())
+      throw std::logic_error("BlockRenderer: trilinear needs set_fields(..., vertex_values = true)");
     vol.vertex_offsets = vertex_values_.offsets.data();
     vol.vertex_fields[0] = vertex_values_.values.data();
     vol.vertex_fields[1] = second_ ? vertex_second_.values.data() : nullptr;
@@ -65,7 +69,8 @@ FrameView<BlockVolume> BlockRenderer::view(const TfView* tf, const Camera& camer
   v.optics.kind = frame.settings.optics;
   if (tf) v.optics.tf = *tf;
   v.optics.bb = bb_.view(frame.blackbody);
-  if (frame.settings.optics == Optics::blackbody && !second_) throw UsageError("blackbody optics needs a temperature field");
+  if (frame.settings.optics == Optics::blackbody && !second_)
+    throw UsageError("blackbody optics needs a temperature field");
   if (!tf && (frame.settings.optics == Optics::tf || frame.integrator.iso_count > 0))
     throw UsageError("TF optics and isosurfaces need a transfer function");
   if (color_tf && second_) {

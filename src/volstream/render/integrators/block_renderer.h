@@ -52,7 +52,7 @@ class BlockRenderer {
   // call again only when the values change.
   void set_fields(const float* values, const float* second = nullptr, bool vertex_values = true);
   double vertex_seconds() const { return vertex_seconds_; }  // of the last set_fields
-  const VertexField* vertex_field(int field) const;           // 0 or 1; null when not built
+  const VertexField* vertex_field(int field) const;          // 0 or 1; null when not built
 
   // tf: the transfer function (may be null for blackbody); color_tf: colours isosurfaces by the
   // second field.

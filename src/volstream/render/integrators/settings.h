@@ -19,17 +19,17 @@ enum class March : uint32_t {
 };
 
 struct IntegratorSettings {
-  float rate = 2.f;          // samples per cell width (the region's finest width when adaptive)
-  uint32_t adaptive = 1;     // 0: step at the dataset's finest width in every region
-  float ref_step = 1.f;      // world length over which a table alpha applies unchanged
-  uint32_t jitter = 1;       // equal_jittered: per-pixel start offset (deterministic hash)
-  uint32_t shade = 0;        // gradient (headlight) shading of the volume
-  uint32_t spp = 1;          // rays per pixel; > 1 spreads them over the pixel
-  uint32_t seed = 0;         // varies the jitter pattern
+  float rate = 2.f;       // samples per cell width (the region's finest width when adaptive)
+  uint32_t adaptive = 1;  // 0: step at the dataset's finest width in every region
+  float ref_step = 1.f;   // world length over which a table alpha applies unchanged
+  uint32_t jitter = 1;    // equal_jittered: per-pixel start offset (deterministic hash)
+  uint32_t shade = 0;     // gradient (headlight) shading of the volume
+  uint32_t spp = 1;       // rays per pixel; > 1 spreads them over the pixel
+  uint32_t seed = 0;      // varies the jitter pattern
   March march = March::equal_jittered;
   uint32_t iso_count = 0;
   float iso[kMaxIso] = {};
-  float iso_alpha = 1.f;     // opacity of the isosurfaces
+  float iso_alpha = 1.f;  // opacity of the isosurfaces
 };
 
 }  // namespace vs

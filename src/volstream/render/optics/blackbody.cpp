@@ -58,9 +58,12 @@ double log_band_mean(std::span<const Sample> f, double t) {
 
 std::span<const PassbandSample> passband(Band band) {
   switch (band) {
-    case Band::B: return kB;
-    case Band::V: return kV;
-    case Band::R: return kR;
+    case Band::B:
+      return kB;
+    case Band::V:
+      return kV;
+    case Band::R:
+      return kR;
   }
   return {};
 }
@@ -80,7 +83,8 @@ vec3f rayleigh_weights() {
 BlackbodyTable::BlackbodyTable(uint32_t size) {
   entries_.resize(std::max<uint32_t>(size, 2));
   for (size_t i = 0; i < entries_.size(); ++i) {
-    const double lt = kBlackbodyLogTMin + (kBlackbodyLogTMax - kBlackbodyLogTMin) * double(i) / double(entries_.size() - 1);
+    const double lt =
+        kBlackbodyLogTMin + (kBlackbodyLogTMax - kBlackbodyLogTMin) * double(i) / double(entries_.size() - 1);
     entries_[i] = blackbody_rgb(std::pow(10.0, lt));
   }
 }

@@ -38,7 +38,7 @@ vec3f rayleigh_weights();
 struct BlackbodyView {
   const vec3f* table = nullptr;
   uint32_t size = 0;
-  float inv_rho_max = 1.f;   // density / rho_max: the normalised density of the paper
+  float inv_rho_max = 1.f;  // density / rho_max: the normalised density of the paper
   // > 0: normalise on a log scale instead, over this many decades below rho_max, for data whose
   // density spans many decades (cosmology: linear rho / rho_max shows only the densest peaks).
   float log_decades = 0.f;
@@ -46,8 +46,8 @@ struct BlackbodyView {
   // keeps the diffuse gas from glowing as brightly as the clumps; absorption stays linear, so
   // that thin cool gas still darkens what lies behind it.
   float emission_power = 1.f;
-  float emission = 1.f;      // emission per reference step at rho = rho_max
-  float absorption = 1.f;    // extinction (V band) per reference step at rho = rho_max
+  float emission = 1.f;    // emission per reference step at rho = rho_max
+  float absorption = 1.f;  // extinction (V band) per reference step at rho = rho_max
   vec3f rayleigh{1.f, 1.f, 1.f};
 
   // Density mapped to [0, 1]: rho / rho_max, or its log10 position over log_decades.
@@ -72,10 +72,10 @@ struct BlackbodyView {
 
 // The model's parameters (BlackbodyView has their meaning).
 struct BlackbodyParams {
-  float rho_max = 1.f;         // density normalising emission and absorption
+  float rho_max = 1.f;  // density normalising emission and absorption
   float emission = 1.f, absorption = 1.f;
   float emission_power = 1.f;
-  float log_decades = 0.f;     // > 0: density on a log scale
+  float log_decades = 0.f;  // > 0: density on a log scale
 };
 
 class BlackbodyTable {

@@ -38,10 +38,10 @@ constexpr float kInferno[33][3] = {
 
 // Moreland, "Diverging Color Maps for Scientific Visualization" (2009), 33 evenly spaced entries.
 constexpr float kCoolWarm[33][3] = {
-    {0.2298057f, 0.298717966f, 0.753683153f}, {0.26623388f, 0.353094838f, 0.801466763f},
-    {0.30386891f, 0.406535296f, 0.84495867f},  {0.342804478f, 0.458757618f, 0.883725899f},
-    {0.38301334f, 0.50941904f, 0.917387822f},  {0.424369608f, 0.558148092f, 0.945619588f},
-    {0.46666708f, 0.604562568f, 0.968154911f}, {0.509635204f, 0.648280772f, 0.98478814f},
+    {0.2298057f, 0.298717966f, 0.753683153f},   {0.26623388f, 0.353094838f, 0.801466763f},
+    {0.30386891f, 0.406535296f, 0.84495867f},   {0.342804478f, 0.458757618f, 0.883725899f},
+    {0.38301334f, 0.50941904f, 0.917387822f},   {0.424369608f, 0.558148092f, 0.945619588f},
+    {0.46666708f, 0.604562568f, 0.968154911f},  {0.509635204f, 0.648280772f, 0.98478814f},
     {0.552953156f, 0.688929332f, 0.995375608f}, {0.596262162f, 0.726149107f, 0.999836203f},
     {0.639176211f, 0.759599947f, 0.998151185f}, {0.681291281f, 0.788964712f, 0.990363227f},
     {0.722193294f, 0.813952739f, 0.976574709f}, {0.761464949f, 0.834302879f, 0.956945269f},
@@ -73,7 +73,9 @@ std::vector<ColorPoint> even(const float (&rows)[33][3]) {
 
 }  // namespace
 
-std::vector<std::string> builtin_color_map_names() { return {"viridis", "inferno", "cool-warm", "grayscale", "blackbody"}; }
+std::vector<std::string> builtin_color_map_names() {
+  return {"viridis", "inferno", "cool-warm", "grayscale", "blackbody"};
+}
 
 std::vector<ColorPoint> builtin_color_map(const std::string& name) {
   if (name == "viridis") return even(kViridis);

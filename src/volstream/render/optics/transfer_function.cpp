@@ -73,8 +73,8 @@ ParaviewColorMap parse_paraview_color_map(const std::string& text, const std::st
   input_check(rgb.size() >= 4 && rgb.size() % 4 == 0, file, "\"RGBPoints\" must hold groups of 4 numbers x,r,g,b");
   for (size_t i = 0; i < rgb.size(); i += 4) {
     input_check(i == 0 || rgb[i] >= rgb[i - 4], file, "\"RGBPoints\" positions are not sorted");
-    cm.colors.push_back({rgb[i], std::clamp(rgb[i + 1], 0.f, 1.f), std::clamp(rgb[i + 2], 0.f, 1.f),
-                         std::clamp(rgb[i + 3], 0.f, 1.f)});
+    cm.colors.push_back(
+        {rgb[i], std::clamp(rgb[i + 1], 0.f, 1.f), std::clamp(rgb[i + 2], 0.f, 1.f), std::clamp(rgb[i + 3], 0.f, 1.f)});
   }
   // Presets are stored over arbitrary ranges ([-1,1], [0,1], data units): normalise to [0, 1].
   const float x0 = cm.colors.front().x, x1 = cm.colors.back().x;

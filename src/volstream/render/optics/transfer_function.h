@@ -78,7 +78,7 @@ struct ColorPoint {
   float x, r, g, b;  // x in [0, 1] of the value range; sRGB-encoded colour
 };
 struct OpacityPoint {
-  float x, a;        // x in [0, 1] of the (scaled) value range; alpha per reference step
+  float x, a;  // x in [0, 1] of the (scaled) value range; alpha per reference step
 };
 
 // A transfer function before baking. Positions are normalised over [lo, hi] after scaling
@@ -135,6 +135,5 @@ class TransferTable {
   OpacityIndex shortcuts_;               // the value thresholds, found once; opacity_index() sets the pointers
   OpacityIndex find_shortcuts() const;
 };
-
 
 }  // namespace vs

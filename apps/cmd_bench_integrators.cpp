@@ -2,17 +2,15 @@
 // (nearest and trilinear), on the CPU: render time and the image difference to the ABR image, and
 // the block raycaster's vertex values (trilinear's once-per-field preprocessing) timed apart.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 
 #include "commands.h"
-#include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/image.h"
-#include "volstream/render/integrators/abr_renderer.h"
-#include "volstream/render/integrators/block_renderer.h"
+#include "volstream/frame/frame_renderer.h"
+#include "volstream/frame/look.h"
 
 namespace vs::cli {
 namespace {
@@ -25,7 +23,7 @@ struct BenchIntegratorsArgs {
 };
 
 // The field's range, log10 over up to 8 decades when positive; inferno with the default ramp.
-TransferTable bench_tf(const FieldInfo& f, int step) {
+TransferFunctionSpec bench_tf(const FieldInfo& f, int step) {
   TransferFunctionSpec spec;
   Range r = f.step_ranges.at(size_t(step));
   if (!(r.lo <= r.hi)) r = {0.f, 1.f};
@@ -35,7 +33,7 @@ TransferTable bench_tf(const FieldInfo& f, int step) {
   spec.hi = r.hi;
   spec.colors = builtin_color_map("inferno");
   spec.opacity = default_opacity_ramp(0.5f);
-  return TransferTable(spec);
+  return spec;
 }
 
 struct Diff {
@@ -53,16 +51,16 @@ Diff image_diff(const Image& a, const Image& b) {
   return d;
 }
 
-// Best wall time of `repeat` calls of f.
-template <typename F>
-double best_seconds(int repeat, F&& f) {
-  double best = 1e300;
+// Renders `repeat` times; returns the last image and the best render-stage time.
+Image best_render(FrameRenderer& renderer, const FrameRequest& r, int repeat, double& best) {
+  Image img;
+  best = 1e300;
   for (int i = 0; i < std::max(repeat, 1); ++i) {
-    const Stopwatch watch;
-    f();
-    best = std::min(best, watch.seconds());
+    FrameReport report;
+    img = renderer.render(r, &report);
+    best = std::min(best, report.seconds.render);
   }
-  return best;
+  return img;
 }
 
 void run_bench_integrators(const BenchIntegratorsArgs& a) {
@@ -71,45 +69,41 @@ void run_bench_integrators(const BenchIntegratorsArgs& a) {
   const int field = a.field.empty() ? 0 : m.field_index(a.field);
   if (field < 0) throw UsageError("no field '" + a.field + "' in " + a.dir);
   if (a.step < 0 || a.step >= m.step_count()) throw UsageError("--step out of range");
-  const std::vector<float> values = ds.load_values(field, a.step);
-  const TransferTable tf = bench_tf(m.fields[size_t(field)], a.step);
+  FrameRequest r;
+  r.field = field;
+  r.step = a.step;
+  r.tf = bench_tf(m.fields[size_t(field)], a.step);
+  r.width = r.height = a.size;
+  r.integrator.rate = float(a.rate);
+  r.integrator.jitter = 0;  // same sample positions every run: comparable images
+  r.stored_ranges = true;
+  r.camera = default_view(ds, a.size, a.size);
+  FrameRenderer renderer(ds, Device::cpu);
 
-  FrameSettings fs;
-  fs.width = fs.height = a.size;
-  fs.integrator.rate = float(a.rate);
-  fs.integrator.jitter = 0;  // same sample positions every run: comparable images
-  fs.skip = true;
-  AmrRenderer abr(ds.topology(), m.transform);
-  abr.classify(ds.load_abr_ranges(field, a.step), tf, fs.integrator, fs.skip);
-  const Camera camera = default_camera(abr.world_bounds(), 1.0);
-
-  BlockRenderer blocks(ds.topology(), m.transform);
   std::printf("bench integrators: %s, field %s, %ux%u on the CPU, rate %g, best of %d\n", a.dir.c_str(),
               m.fields[size_t(field)].name.c_str(), a.size, a.size, a.rate, a.repeat);
-  std::printf("%zu bricks -> %zu blocks, kd-tree of %zu nodes built in %.3fs\n", ds.topology().bricks.size(),
-              blocks.kd().blocks.size(), blocks.kd().nodes.size(), blocks.build_seconds());
-
-  Image ref;
-  const double t_abr =
-      best_seconds(a.repeat, [&] { ref = abr.render(Device::cpu, values.data(), tf, nullptr, nullptr, camera, fs); });
+  double t_abr = 0;
+  const Image ref = best_render(renderer, r, a.repeat, t_abr);
   std::printf("\n%-22s %10s %12s %12s\n", "integrator", "ms", "RMSE vs abr", "max vs abr");
   double coverage = 0;  // mean alpha: how much of the image the comparison covers
   for (size_t i = 3; i < ref.rgba.size(); i += 4) coverage += ref.rgba[i];
   coverage /= double(std::max<size_t>(ref.rgba.size() / 4, 1));
   std::printf("%-22s %10.1f %12s %12s   (mean alpha %.3f)\n", "abr (tent)", 1e3 * t_abr, "-", "-", coverage);
-  // Vertex values for trilinear: computed once per field values (set_fields), not per render,
-  // so timed on their own and not included in the trilinear render time.
-  const double t_vertex = best_seconds(a.repeat, [&] { blocks.set_fields(values.data()); });
-  const TfView view = tf.view();
-  for (Reconstruction r : {Reconstruction::nearest, Reconstruction::trilinear}) {
-    BlockFrame frame;
-    frame.width = frame.height = a.size;
-    frame.settings.rate = float(a.rate);
-    frame.settings.reconstruction = r;
-    Image img;
-    const double t = best_seconds(a.repeat, [&] { img = blocks.render(&view, camera, frame); });
+  // Vertex values for trilinear: made once per field values by the first trilinear frame, not
+  // per render, so reported on their own and not included in the render times.
+  double t_vertex = 0;
+  r.kind = IntegratorKind::blocks;
+  for (Reconstruction rec : {Reconstruction::nearest, Reconstruction::trilinear}) {
+    r.reconstruction = rec;
+    if (rec == Reconstruction::trilinear) {
+      FrameReport first;
+      renderer.render(r, &first);
+      t_vertex = first.vertex_seconds;
+    }
+    double t = 0;
+    const Image img = best_render(renderer, r, a.repeat, t);
     const Diff d = image_diff(ref, img);
-    std::printf("%-22s %10.1f %12.4f %12.4f\n", r == Reconstruction::nearest ? "blocks nearest" : "blocks trilinear",
+    std::printf("%-22s %10.1f %12.4f %12.4f\n", rec == Reconstruction::nearest ? "blocks nearest" : "blocks trilinear",
                 1e3 * t, d.rmse, d.max);
   }
   std::printf("%-22s %10.1f   (once per field values, not in the render times)\n", "blocks vertex values",

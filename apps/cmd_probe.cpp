@@ -5,9 +5,8 @@
 #include <sstream>
 
 #include "commands.h"
-#include "volstream/amr/probe.h"
-#include "volstream/backend/parallel.h"
 #include "volstream/core/error.h"
+#include "volstream/frame/frame_renderer.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/io/dataset.h"
 
@@ -59,6 +58,7 @@ void add_probe_command(CLI::App& app) {
   struct Args {
     std::string dir, field, points;
     int step = 0;
+    std::string device = "cpu";
     bool brute = false;
   };
   auto a = std::make_shared<Args>();
@@ -69,6 +69,7 @@ void add_probe_command(CLI::App& app) {
   cmd->add_option("--step", a->step, "time step")->capture_default_str();
   cmd->add_option("--points", a->points, "file of points (default: stdin)");
   cmd->add_flag("--brute-force", a->brute, "sum over all cells instead of the ABRs (the reference)");
+  cmd->add_option("--device", a->device, "cpu | cuda | auto: where the ABR probes run")->capture_default_str();
   cmd->callback([a] {
     const Dataset ds(a->dir);
     const auto& m = ds.manifest();
@@ -81,20 +82,13 @@ void add_probe_command(CLI::App& app) {
       world = parse_points(read_stdin_capped(), "<stdin>");
     else
       world = parse_points(read_text_file(a->points, kMaxPointsBytes), a->points);
-    const std::vector<float> values = ds.load_values(field, a->step);
     std::vector<double> out(world.size());
     if (a->brute) {
-      const std::vector<Cell> cells = ds.load_cells();
-      parallel_for("probe_brute", int64_t(world.size()), [&](int64_t i) {
-        out[size_t(i)] =
-            sample_brute_force(cells.data(), values.data(), cells.size(), m.transform.to_grid(world[size_t(i)]));
-      });
+      out = probe_brute_force(ds, field, a->step, world);
     } else {
-      std::vector<vec3f> grid(world.size());
-      for (size_t i = 0; i < world.size(); ++i) grid[i] = vec3f(m.transform.to_grid(world[i]));
-      const Bvh bvh = build_abr_bvh(ds.topology());
-      const auto v = probe_points(ds.topology(), bvh, values.data(), grid);
-      for (size_t i = 0; i < v.size(); ++i) out[i] = v[i];
+      FrameRenderer renderer(ds, resolve_device(a->device));
+      const std::vector<float> v = renderer.probe(field, a->step, world);
+      std::copy(v.begin(), v.end(), out.begin());
     }
     std::string text;
     char buf[32];

@@ -3,7 +3,9 @@
 #include <cmath>
 #include <numeric>
 
+#include "volstream/amr/probe.h"
 #include "volstream/backend/backend.h"
+#include "volstream/backend/parallel.h"
 #include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
 #include "volstream/cuda/backend.h"
@@ -96,6 +98,20 @@ struct FrameRenderer::Impl {
 
   CachedTable tf, color_tf;
   std::unique_ptr<BlackbodyTable> blackbody;  // made on first use (a few Planck integrals per entry)
+
+  // One frame of a view (host pointers; the scene swaps in its device arrays) on the GPU.
+  template <typename V>
+  Image render_on_device(FrameView<V> view, FrameReport& report) {
+    Image img(view.width, view.height);
+    std::vector<uint32_t> counts(size_t(view.width) * view.height);
+    view.rgba = img.rgba.data();
+    view.sample_counts = counts.data();
+    const cuda::RenderTimes t = scene->render(view, kernel_values(0), kernel_values(1));
+    report.seconds.upload += t.upload_seconds;
+    report.seconds.render += t.kernel_seconds;
+    report.samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
+    return img;
+  }
 
   const BlackbodyTable& blackbody_table() {
     if (!blackbody) blackbody = std::make_unique<BlackbodyTable>();
@@ -314,15 +330,7 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
     }
     const TfView tf_view = table.view();
     if (m.device == Device::cuda) {
-      img = Image(r.width, r.height);
-      std::vector<uint32_t> counts(size_t(r.width) * r.height);
-      FrameView<BlockVolume> view = blocks.view(&tf_view, r.camera, block_frame(r), color_iso ? &color_view : nullptr);
-      view.rgba = img.rgba.data();
-      view.sample_counts = counts.data();
-      const cuda::RenderTimes t = m.scene->render(view, m.kernel_values(0), m.kernel_values(1));
-      local.seconds.upload += t.upload_seconds;
-      local.seconds.render += t.kernel_seconds;
-      local.samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
+      img = m.render_on_device(blocks.view(&tf_view, r.camera, block_frame(r), color_iso ? &color_view : nullptr), local);
     } else {
       BlockStats bs;
       img = blocks.render(&tf_view, r.camera, block_frame(r), Device::cpu, &bs, color_iso ? &color_view : nullptr);
@@ -339,15 +347,7 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
     const FrameView<AmrVolume> view = abr.view({m.kernel_values(0), m.kernel_values(1)}, optics,
                                                color_iso ? &color_view : nullptr, r.camera, frame_settings(r));
     if (m.device == Device::cuda) {
-      img = Image(r.width, r.height);
-      std::vector<uint32_t> counts(size_t(r.width) * r.height);
-      FrameView<AmrVolume> out = view;
-      out.rgba = img.rgba.data();
-      out.sample_counts = counts.data();
-      const cuda::RenderTimes t = m.scene->render(out, m.kernel_values(0), m.kernel_values(1));
-      local.seconds.upload += t.upload_seconds;
-      local.seconds.render += t.kernel_seconds;
-      local.samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
+      img = m.render_on_device(view, local);
     } else {
       FrameStats stats;
       img = abr.render(Device::cpu, view, &stats);
@@ -368,6 +368,35 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
     report->vertex_seconds = local.vertex_seconds;
   }
   return img;
+}
+
+namespace {
+std::vector<vec3f> grid_points(const WorldTransform& transform, const std::vector<vec3d>& world) {
+  std::vector<vec3f> grid(world.size());
+  for (size_t i = 0; i < world.size(); ++i) grid[i] = vec3f(transform.to_grid(world[i]));
+  return grid;
+}
+}  // namespace
+
+std::vector<float> FrameRenderer::probe(int field, int step, const std::vector<vec3d>& world) {
+  Impl& m = *impl_;
+  FrameTimes ignored;
+  m.load(0, field, step, ignored);
+  const AmrRenderer& abr = m.abr_renderer();  // its BVH template locates the points
+  const std::vector<vec3f> grid = grid_points(dataset_.manifest().transform, world);
+  if (device_ == Device::cuda) return m.device_scene().probe(m.kernel_values(0), grid);
+  return probe_points(dataset_.topology(), abr.template_bvh(), m.kernel_values(0), grid);
+}
+
+std::vector<double> probe_brute_force(const Dataset& ds, int field, int step, const std::vector<vec3d>& world) {
+  const std::vector<float> values = ds.load_values(field, step);
+  const std::vector<Cell> cells = ds.load_cells();
+  std::vector<double> out(world.size());
+  parallel_for("probe_brute_force", int64_t(world.size()), [&](int64_t i) {
+    out[size_t(i)] =
+        sample_brute_force(cells.data(), values.data(), cells.size(), ds.manifest().transform.to_grid(world[size_t(i)]));
+  });
+  return out;
 }
 
 Image FrameRenderer::render(const FrameRequest& r, FrameReport* report) {

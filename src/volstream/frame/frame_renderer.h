@@ -84,6 +84,10 @@ class FrameRenderer {
   void refit(const FrameRequest& request, bool rebuild, FrameReport* report = nullptr);
   Image render_image(const FrameRequest& request, FrameReport* report = nullptr);
 
+  // Values of `field` at `step` at world points through the ABRs (amr/probe.h; on the GPU on
+  // CUDA, through the same device scene as the frames), NaN outside the data.
+  std::vector<float> probe(int field, int step, const std::vector<vec3d>& world_points);
+
   Device device() const { return device_; }
   const Dataset& dataset() const { return dataset_; }
   Box3<double> world_bounds() const;
@@ -97,5 +101,9 @@ class FrameRenderer {
   std::unique_ptr<Impl> impl_;
   uint64_t visible_ = 0;
 };
+
+// The reference for probe(): the tent-basis sum over every cell, no bricks or ABRs (double
+// precision; amr/sampler.h's sample_brute_force).
+std::vector<double> probe_brute_force(const Dataset& dataset, int field, int step, const std::vector<vec3d>& world_points);
 
 }  // namespace vs

@@ -7,10 +7,10 @@
 
 #include "commands.h"
 #include "volstream/core/error.h"
-#include "volstream/io/dataset.h"
-#include "volstream/io/image.h"
 #include "volstream/frame/frame_renderer.h"
 #include "volstream/frame/look.h"
+#include "volstream/io/dataset.h"
+#include "volstream/io/image.h"
 
 namespace vs::cli {
 namespace {

@@ -92,7 +92,7 @@ int main(int argc, char** argv) try {
   AmrRenderer renderer(topo, ds.manifest().transform);
   const std::vector<uint64_t> offsets = macrocell_offsets(topo.bricks);
   std::vector<Range> ranges = compute_abr_ranges(topo, values.data(), &offsets);
-  std::vector<uint8_t> keep = classify_abrs(ranges, tf, iso);
+  std::vector<uint8_t> keep = classify_regions(ranges, tf, iso);
   std::vector<box3f> boxes;
   for (const Abr& a : topo.abrs) boxes.push_back(a.box);
   std::vector<BvhNode> nodes = renderer.template_bvh().nodes;
@@ -105,7 +105,7 @@ int main(int argc, char** argv) try {
   time_stage("ranges (tight)", args.repeat, [&] { ranges = compute_abr_ranges(topo, values.data(), &offsets); });
   time_stage("ranges (per brick)", args.repeat,
              [&] { compute_abr_ranges(topo, values.data(), &offsets, RangeMode::per_brick); });
-  time_stage("classify", args.repeat, [&] { keep = classify_abrs(ranges, tf, iso); });
+  time_stage("classify", args.repeat, [&] { keep = classify_regions(ranges, tf, iso); });
   time_stage("refit", args.repeat, [&] { refit_bvh(nodes, boxes, keep); });
   time_stage("classify + refit", args.repeat, [&] { renderer.classify(ranges, tf, iso, true); });
   time_stage("rebuild (SAH BVH)", std::min(args.repeat, 3), [&] { build_bvh_sah(boxes); });

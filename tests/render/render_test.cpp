@@ -375,7 +375,7 @@ TEST(Render, RefitScheduleEqualsReverseSweep) {
   OctreeScene s;
   AmrRenderer r(s.vol.topology, s.vol.transform);
   r.classify(s.vol.abr_ranges, s.tf, IntegratorSettings{}, true);  // the reverse sweep, some ABRs culled
-  const std::vector<uint8_t> keep = classify_abrs(s.vol.abr_ranges, s.tf, IntegratorSettings{});
+  const std::vector<uint8_t> keep = classify_regions(s.vol.abr_ranges, s.tf, IntegratorSettings{});
   ASSERT_GT(std::count(keep.begin(), keep.end(), 0), 0);
   std::vector<BvhNode> nodes = r.template_bvh().nodes;
   const RefitSchedule schedule = refit_schedule(nodes);

@@ -330,7 +330,8 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
     }
     const TfView tf_view = table.view();
     if (m.device == Device::cuda) {
-      img = m.render_on_device(blocks.view(&tf_view, r.camera, block_frame(r), color_iso ? &color_view : nullptr), local);
+      img =
+          m.render_on_device(blocks.view(&tf_view, r.camera, block_frame(r), color_iso ? &color_view : nullptr), local);
     } else {
       BlockStats bs;
       img = blocks.render(&tf_view, r.camera, block_frame(r), Device::cpu, &bs, color_iso ? &color_view : nullptr);
@@ -393,8 +394,8 @@ std::vector<double> probe_brute_force(const Dataset& ds, int field, int step, co
   const std::vector<Cell> cells = ds.load_cells();
   std::vector<double> out(world.size());
   parallel_for("probe_brute_force", int64_t(world.size()), [&](int64_t i) {
-    out[size_t(i)] =
-        sample_brute_force(cells.data(), values.data(), cells.size(), ds.manifest().transform.to_grid(world[size_t(i)]));
+    out[size_t(i)] = sample_brute_force(cells.data(), values.data(), cells.size(),
+                                        ds.manifest().transform.to_grid(world[size_t(i)]));
   });
   return out;
 }

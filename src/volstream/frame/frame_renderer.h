@@ -104,6 +104,7 @@ class FrameRenderer {
 
 // The reference for probe(): the tent-basis sum over every cell, no bricks or ABRs (double
 // precision; amr/sampler.h's sample_brute_force).
-std::vector<double> probe_brute_force(const Dataset& dataset, int field, int step, const std::vector<vec3d>& world_points);
+std::vector<double> probe_brute_force(const Dataset& dataset, int field, int step,
+                                      const std::vector<vec3d>& world_points);
 
 }  // namespace vs

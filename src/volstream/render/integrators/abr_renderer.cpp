@@ -3,25 +3,13 @@
 #include <algorithm>
 #include <numeric>
 
-#include "volstream/accel/bvh_sah.h"
-#include "volstream/accel/refit.h"
 #include "volstream/backend/parallel.h"
 #include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
 #include "volstream/cuda/backend.h"
-#include "volstream/render/classify.h"
 #include "volstream/render/integrators/launch_cpu.h"
 
 namespace vs {
-
-std::vector<uint8_t> classify_abrs(const std::vector<Range>& ranges, const TransferTable& tf,
-                                   const IntegratorSettings& iso) {
-  std::vector<uint8_t> visible(ranges.size());
-  const OpacityIndex opacity = tf.opacity_index();
-  parallel_for("classify", int64_t(ranges.size()),
-               [&](int64_t i) { visible[size_t(i)] = abr_visible(ranges[size_t(i)], opacity, iso) ? 1 : 0; });
-  return visible;
-}
 
 double default_reference_step(const Box3<double>& world_bounds) { return reduce_max(world_bounds.size()) / 256.0; }
 
@@ -46,43 +34,38 @@ Box3<double> world_bounds(const AmrTopology& topology, const WorldTransform& tra
   return b;
 }
 
-AmrRenderer::AmrRenderer(const AmrTopology& topology, const WorldTransform& transform)
-    : topology_(topology), transform_(transform) {
-  abr_boxes_.reserve(topology.abrs.size());
-  for (const Abr& a : topology.abrs) abr_boxes_.push_back(a.box);
-  template_ = build_bvh_sah(abr_boxes_);
-  if (!subtrees_are_runs(template_.nodes)) throw std::logic_error("BVH node order does not allow a bottom-up refit");
-  nodes_ = template_.nodes;
-  bvh_bytes_ = CountedBytes(
-      "BVH", MemorySpace::host,
-      int64_t((template_.nodes.size() + nodes_.size()) * sizeof(BvhNode) + abr_boxes_.size() * sizeof(box3f)));
+namespace {
+std::vector<box3f> abr_boxes(const AmrTopology& topology) {
+  std::vector<box3f> boxes;
+  boxes.reserve(topology.abrs.size());
+  for (const Abr& a : topology.abrs) boxes.push_back(a.box);
+  return boxes;
 }
+
+void fill(FrameStats* stats, const SkipStats& s) {
+  if (!stats) return;
+  stats->classify_seconds = s.classify_seconds;
+  stats->refit_seconds = s.refit_seconds;
+  stats->visible_abrs = s.visible;
+}
+}  // namespace
+
+AmrRenderer::AmrRenderer(const AmrTopology& topology, const WorldTransform& transform)
+    : topology_(topology), transform_(transform), skipping_(abr_boxes(topology)) {}
 
 uint64_t AmrRenderer::classify(const std::vector<Range>& abr_ranges, const TransferTable& tf,
                                const IntegratorSettings& iso, bool skip, FrameStats* stats) {
-  if (abr_ranges.size() != topology_.abrs.size()) throw std::invalid_argument("one value range per ABR expected");
-  Stopwatch watch;
-  std::vector<uint8_t> keep;  // empty: keep all
-  uint64_t visible = topology_.abrs.size();
-  if (skip) {
-    keep = classify_abrs(abr_ranges, tf, iso);
-    visible = uint64_t(std::count(keep.begin(), keep.end(), uint8_t(1)));
-  }
-  const double classify_s = watch.lap();
-  refit(keep, stats);
-  if (stats) stats->classify_seconds = classify_s;
+  SkipStats s;
+  const uint64_t visible = skipping_.classify(abr_ranges, tf, iso, skip, &s);
+  fill(stats, s);
   return visible;
 }
 
 uint64_t AmrRenderer::refit(const std::vector<uint8_t>& keep, FrameStats* stats) {
-  Stopwatch watch;
-  refit_bvh(nodes_, abr_boxes_, keep);
-  const uint64_t visible = keep.empty() ? keep.size() : uint64_t(std::count(keep.begin(), keep.end(), uint8_t(1)));
-  if (stats) {
-    stats->refit_seconds = watch.seconds();
-    stats->visible_abrs = keep.empty() ? topology_.abrs.size() : visible;
-  }
-  return keep.empty() ? topology_.abrs.size() : visible;
+  SkipStats s;
+  const uint64_t visible = skipping_.refit(keep, &s);
+  fill(stats, s);
+  return visible;
 }
 
 Box3<double> AmrRenderer::world_bounds() const { return vs::world_bounds(topology_, transform_); }
@@ -94,10 +77,10 @@ FrameView<AmrVolume> AmrRenderer::view(const FrameFields& fields, const OpticsVi
   v.volume.amr = make_view(topology_, fields.primary);
   v.volume.fields[0] = fields.primary;
   v.volume.fields[1] = fields.second;
-  v.volume.nodes = nodes_.data();
-  v.volume.node_count = uint32_t(nodes_.size());
-  v.volume.all_nodes = template_.nodes.data();
-  v.volume.all_node_count = uint32_t(template_.nodes.size());
+  v.volume.nodes = skipping_.refit_nodes().data();
+  v.volume.node_count = uint32_t(skipping_.refit_nodes().size());
+  v.volume.all_nodes = skipping_.template_bvh().nodes.data();
+  v.volume.all_node_count = uint32_t(skipping_.template_bvh().nodes.size());
   v.optics = optics;
   if (color_tf && fields.second) {
     v.color_isosurfaces = 1;

@@ -16,6 +16,7 @@
 #include "volstream/render/camera.h"
 #include "volstream/render/integrators/integrator.h"
 #include "volstream/render/optics/optics.h"
+#include "volstream/render/skipping.h"
 #include "volstream/volume/amr_volume.h"
 
 namespace vs {
@@ -35,11 +36,6 @@ struct FrameStats {
   double render_seconds = 0;  // the integrator (kernel time on CUDA)
   uint64_t samples = 0;       // reconstructions of the field (incl. gradients and root refinement)
 };
-
-// ABR i is visible when the transfer function gives some value of its range non-zero opacity,
-// or its range contains one of the iso values. Empty ranges (no finite value) are invisible.
-std::vector<uint8_t> classify_abrs(const std::vector<Range>& abr_ranges, const TransferTable& tf,
-                                   const IntegratorSettings& iso);
 
 // The world length over which table alphas apply unchanged by default: 1/256 of the domain's
 // largest extent, so an image looks the same at any resolution (cell count) of the same field.
@@ -85,17 +81,14 @@ class AmrRenderer {
 
   Box3<double> world_bounds() const;
   double default_reference_step() const { return vs::default_reference_step(world_bounds()); }
-  const Bvh& template_bvh() const { return template_; }
-  const std::vector<BvhNode>& refit_nodes() const { return nodes_; }
+  const Bvh& template_bvh() const { return skipping_.template_bvh(); }
+  const std::vector<BvhNode>& refit_nodes() const { return skipping_.refit_nodes(); }
   const AmrTopology& topology() const { return topology_; }
 
  private:
   const AmrTopology& topology_;
   WorldTransform transform_;
-  Bvh template_;                // all ABRs, never changes
-  std::vector<BvhNode> nodes_;  // same topology, boxes refit to the visible ABRs
-  std::vector<box3f> abr_boxes_;
-  CountedBytes bvh_bytes_;  // template, refit copy and boxes (host)
+  RegionBvh skipping_;  // over the ABR boxes
 };
 
 // The world box of the leaf cells.

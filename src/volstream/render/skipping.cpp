@@ -1,0 +1,52 @@
+#include "volstream/render/skipping.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "volstream/accel/bvh_sah.h"
+#include "volstream/accel/refit.h"
+#include "volstream/backend/parallel.h"
+#include "volstream/backend/stopwatch.h"
+#include "volstream/render/classify.h"
+
+namespace vs {
+
+std::vector<uint8_t> classify_regions(const std::vector<Range>& ranges, const TransferTable& tf,
+                                      const IntegratorSettings& iso) {
+  std::vector<uint8_t> visible(ranges.size());
+  const OpacityIndex opacity = tf.opacity_index();
+  parallel_for("classify", int64_t(ranges.size()),
+               [&](int64_t i) { visible[size_t(i)] = abr_visible(ranges[size_t(i)], opacity, iso) ? 1 : 0; });
+  return visible;
+}
+
+RegionBvh::RegionBvh(std::vector<box3f> region_boxes)
+    : boxes_(std::move(region_boxes)), template_(build_bvh_sah(boxes_)), nodes_(template_.nodes) {
+  if (!subtrees_are_runs(template_.nodes)) throw std::logic_error("BVH node order does not allow a bottom-up refit");
+  bytes_ = CountedBytes("BVH", MemorySpace::host,
+                        int64_t((template_.nodes.size() + nodes_.size()) * sizeof(BvhNode) + boxes_.size() * sizeof(box3f)));
+}
+
+uint64_t RegionBvh::classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso,
+                             bool skip, SkipStats* stats) {
+  if (ranges.size() != boxes_.size()) throw std::invalid_argument("one value range per region expected");
+  Stopwatch watch;
+  const std::vector<uint8_t> keep = skip ? classify_regions(ranges, tf, iso) : std::vector<uint8_t>{};
+  const double classify_s = watch.seconds();
+  const uint64_t visible = refit(keep, stats);
+  if (stats) stats->classify_seconds = classify_s;
+  return visible;
+}
+
+uint64_t RegionBvh::refit(const std::vector<uint8_t>& keep, SkipStats* stats) {
+  Stopwatch watch;
+  refit_bvh(nodes_, boxes_, keep);
+  const uint64_t visible = keep.empty() ? boxes_.size() : uint64_t(std::count(keep.begin(), keep.end(), uint8_t(1)));
+  if (stats) {
+    stats->refit_seconds = watch.seconds();
+    stats->visible = visible;
+  }
+  return visible;
+}
+
+}  // namespace vs

@@ -1,0 +1,47 @@
+// Empty-space skipping for any volume kind (volume/volume.h): a BVH template over the volume's
+// region boxes, built once (binned SAH), then per step, transfer-function or iso change the
+// regions are classified from their value ranges (classify.h) and the BVH refit (culled regions
+// get empty boxes, accel/refit.h), never rebuilt. The ABRs are the first user; the unstructured
+// mesh's leaf clusters will be the next.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "volstream/accel/bvh.h"
+#include "volstream/amr/model.h"
+#include "volstream/backend/memory.h"
+#include "volstream/render/integrators/settings.h"
+#include "volstream/render/optics/transfer_function.h"
+
+namespace vs {
+
+struct SkipStats {
+  uint64_t visible = 0;
+  double classify_seconds = 0, refit_seconds = 0;
+};
+
+// Region i is visible when the transfer function gives some value of its range non-zero
+// opacity, or its range contains one of the iso values. Empty ranges (no finite value) are not.
+std::vector<uint8_t> classify_regions(const std::vector<Range>& ranges, const TransferTable& tf,
+                                      const IntegratorSettings& iso);
+
+class RegionBvh {
+ public:
+  explicit RegionBvh(std::vector<box3f> region_boxes);  // builds the template
+  // Classifies the regions and refits; skip = false keeps every region. Returns visible ones.
+  uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso,
+                    bool skip, SkipStats* stats = nullptr);
+  // Refits to the regions with keep[i] != 0 (empty: all). Returns the visible ones.
+  uint64_t refit(const std::vector<uint8_t>& keep, SkipStats* stats = nullptr);
+  const Bvh& template_bvh() const { return template_; }
+  const std::vector<BvhNode>& refit_nodes() const { return nodes_; }
+  size_t region_count() const { return boxes_.size(); }
+
+ private:
+  std::vector<box3f> boxes_;
+  Bvh template_;                // every region, never changes
+  std::vector<BvhNode> nodes_;  // same topology, boxes refit to the visible regions
+  CountedBytes bytes_;          // template, refit copy and boxes (host)
+};
+
+}  // namespace vs

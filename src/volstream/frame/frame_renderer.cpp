@@ -10,6 +10,7 @@
 #include "volstream/core/error.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/frame/look.h"
+#include "volstream/io/image.h"
 
 namespace vs {
 namespace {
@@ -398,6 +399,10 @@ std::vector<double> probe_brute_force(const Dataset& ds, int field, int step, co
                                         ds.manifest().transform.to_grid(world[size_t(i)]));
   });
   return out;
+}
+
+std::vector<uint8_t> FrameRenderer::render_srgb8(const FrameRequest& r, const vec3f& background, FrameReport* report) {
+  return to_rgb8(render(r, report), background);
 }
 
 Image FrameRenderer::render(const FrameRequest& r, FrameReport* report) {

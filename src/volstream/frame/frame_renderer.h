@@ -73,8 +73,12 @@ class FrameRenderer {
   FrameRenderer(const FrameRenderer&) = delete;
   FrameRenderer& operator=(const FrameRenderer&) = delete;
 
-  // One frame, every stage that the request needs redone.
+  // One frame, every stage that the request needs redone: premultiplied linear RGBA floats.
   Image render(const FrameRequest& request, FrameReport* report = nullptr);
+  // The same frame as 8-bit sRGB RGB over `background` (sRGB-encoded), rows top to bottom: what
+  // PNG frames, video and an image stream take.
+  std::vector<uint8_t> render_srgb8(const FrameRequest& request, const vec3f& background,
+                                    FrameReport* report = nullptr);
 
   // The stages one by one, for the streaming pipeline: values of the request's field it owns
   // (host memory on the CPU, device memory on CUDA), valid until the next call; then ranges,

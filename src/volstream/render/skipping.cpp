@@ -23,8 +23,9 @@ std::vector<uint8_t> classify_regions(const std::vector<Range>& ranges, const Tr
 RegionBvh::RegionBvh(std::vector<box3f> region_boxes)
     : boxes_(std::move(region_boxes)), template_(build_bvh_sah(boxes_)), nodes_(template_.nodes) {
   if (!subtrees_are_runs(template_.nodes)) throw std::logic_error("BVH node order does not allow a bottom-up refit");
-  bytes_ = CountedBytes("BVH", MemorySpace::host,
-                        int64_t((template_.nodes.size() + nodes_.size()) * sizeof(BvhNode) + boxes_.size() * sizeof(box3f)));
+  bytes_ =
+      CountedBytes("BVH", MemorySpace::host,
+                   int64_t((template_.nodes.size() + nodes_.size()) * sizeof(BvhNode) + boxes_.size() * sizeof(box3f)));
 }
 
 uint64_t RegionBvh::classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso,

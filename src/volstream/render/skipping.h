@@ -29,8 +29,8 @@ class RegionBvh {
  public:
   explicit RegionBvh(std::vector<box3f> region_boxes);  // builds the template
   // Classifies the regions and refits; skip = false keeps every region. Returns visible ones.
-  uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso,
-                    bool skip, SkipStats* stats = nullptr);
+  uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso, bool skip,
+                    SkipStats* stats = nullptr);
   // Refits to the regions with keep[i] != 0 (empty: all). Returns the visible ones.
   uint64_t refit(const std::vector<uint8_t>& keep, SkipStats* stats = nullptr);
   const Bvh& template_bvh() const { return template_; }

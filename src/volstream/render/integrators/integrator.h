@@ -202,24 +202,28 @@ VS_HOST_DEVICE inline void close_interval(const FrameView<V>& v, const Ray& ray,
 template <typename V>
 VS_HOST_DEVICE inline void take_sample(const FrameView<V>& v, const Ray& ray, uint32_t region, float t, float end,
                                        float f, float len_ref, RayState& s) {
-  if (v.settings.iso_count > 0 && s.prev.valid)
-    isosurfaces(v, ray, {s.prev.t, s.prev.f, t, f, s.prev.end, s.prev.region, region}, s);
-  if (v.optics.kind == OpticsKind::blackbody) {
-    const float temperature = v.volume.sample(1, region, ray.at(t));
-    ++s.samples;
-    if (!s.acc.opaque()) blackbody_step(v.optics.bb, f, temperature, len_ref, s.acc);
-  } else {
-    Rgba c = v.optics.tf.lookup(f);
-    if (c.a > 0.f && !s.acc.opaque()) {
-      const float alpha = corrected_alpha(c.a, len_ref);
-      if (v.settings.shade) {
-        c = headlight(c, world_gradient(v, region, ray.at(t), f), ray.dir_w, 0.35f, 0.25f);
-        s.samples += 6;
+  const bool iso = v.settings.iso_count > 0;
+  if (iso && s.prev.valid) isosurfaces(v, ray, {s.prev.t, s.prev.f, t, f, s.prev.end, s.prev.region, region}, s);
+  // Without isosurfaces the march stops at opacity before this sample; with them, a surface
+  // just composited may have made the ray opaque.
+  if (!iso || !s.acc.opaque()) {
+    if (v.optics.kind == OpticsKind::blackbody) {
+      const float temperature = v.volume.sample(1, region, ray.at(t));
+      ++s.samples;
+      blackbody_step(v.optics.bb, f, temperature, len_ref, s.acc);
+    } else {
+      Rgba c = v.optics.tf.lookup(f);
+      if (c.a > 0.f) {
+        const float alpha = corrected_alpha(c.a, len_ref);
+        if (v.settings.shade) {
+          c = headlight(c, world_gradient(v, region, ray.at(t), f), ray.dir_w, 0.35f, 0.25f);
+          s.samples += 6;
+        }
+        s.acc.blend(c.r, c.g, c.b, alpha);
       }
-      s.acc.blend(c.r, c.g, c.b, alpha);
     }
   }
-  s.prev = {true, t, f, region, end};
+  if (iso) s.prev = {true, t, f, region, end};  // only isosurfaces look back
 }
 
 // The steps of one interval (settings.h, March).

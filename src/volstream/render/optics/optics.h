@@ -26,7 +26,12 @@ struct Accum {
   vec3f color{0.f, 0.f, 0.f};  // premultiplied linear RGB
   vec3f trans{1.f, 1.f, 1.f};  // transmittance per channel
   VS_HOST_DEVICE float alpha() const { return 1.f - (trans.x + trans.y + trans.z) * (1.f / 3.f); }
-  VS_HOST_DEVICE bool opaque() const { return fmaxf(fmaxf(trans.x, trans.y), trans.z) <= 1.f - kOpaque; }
+  // Plain comparisons, not fmaxf: its NaN rules cost instructions on the CPU (callgrind).
+  VS_HOST_DEVICE bool opaque() const {
+    const float t =
+        trans.x > trans.y ? (trans.x > trans.z ? trans.x : trans.z) : (trans.y > trans.z ? trans.y : trans.z);
+    return t <= 1.f - kOpaque;
+  }
   // Front-to-back "over" of a surface or step of colour (r, g, b) (straight) and opacity alpha.
   VS_HOST_DEVICE void blend(float r, float g, float b, float alpha) {
     const vec3f w = trans * alpha;

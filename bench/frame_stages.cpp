@@ -18,7 +18,7 @@
 #include "volstream/accel/bvh_sah.h"
 #include "volstream/accel/refit.h"
 #include "volstream/amr/ranges.h"
-#include "volstream/backend/stopwatch.h"
+#include "volstream/core/stopwatch.h"
 #include "volstream/io/dataset.h"
 #include "volstream/render/integrators/abr_renderer.h"
 #include "volstream/render/optics/transfer_function.h"

@@ -10,8 +10,8 @@
 #include <unordered_set>
 
 #include "volstream/amr/demo.h"
-#include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
+#include "volstream/core/stopwatch.h"
 
 namespace vs {
 namespace {

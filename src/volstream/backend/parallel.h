@@ -9,7 +9,7 @@
 #include <cstdint>
 
 #include "volstream/backend/launch_times.h"
-#include "volstream/backend/stopwatch.h"
+#include "volstream/core/stopwatch.h"
 
 namespace vs {
 

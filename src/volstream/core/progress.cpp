@@ -30,7 +30,8 @@ Progress::Progress(std::string label, uint64_t total, bool enabled, std::string 
       total_(total),
       enabled_(enabled && (isatty(STDERR_FILENO) || forced())),
       uncaught_(std::uncaught_exceptions()) {
-  start_ = last_draw_ = std::chrono::steady_clock::now();
+  started_.lap();
+  since_draw_.lap();
 }
 
 Progress::~Progress() {
@@ -45,9 +46,8 @@ void Progress::advance(uint64_t by) { set(done_ + by); }
 void Progress::set(uint64_t done) {
   if (finished_) return;
   done_ = done;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_draw_ > std::chrono::milliseconds(100)) {
-    last_draw_ = now;
+  if (since_draw_.seconds() > 0.1) {
+    since_draw_.lap();
     draw(false);
   }
 }
@@ -75,7 +75,7 @@ std::string Progress::stopped_text(const char* verb, const std::string& unit, ui
 
 void Progress::draw(bool final) {
   if (!enabled_) return;
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double seconds = started_.seconds();
   const double fraction = total_ ? double(done_) / double(total_) : 1.0;
   std::fprintf(stderr, "\r%-12s [%s] %5.1f%%  %6.1fs  %s\033[K", label_.c_str(), bar_of(done_, total_).c_str(),
                100.0 * fraction, seconds, detail_.c_str());
@@ -85,7 +85,7 @@ void Progress::draw(bool final) {
 
 void Progress::draw_stopped(const char* verb) {
   if (!enabled_) return;
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double seconds = started_.seconds();
   // No percentage: a stopped run never reads as complete, whatever fraction it reached.
   std::fprintf(stderr, "\r%-12s [%s] %s  %6.1fs\033[K\n", label_.c_str(), bar_of(done_, total_).c_str(),
                stopped_text(verb, unit_, done_, total_).c_str(), seconds);

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include "volstream/core/stopwatch.h"
 
 namespace vs {
 
@@ -34,7 +35,7 @@ class Progress {
   uint64_t total_, done_ = 0;
   bool enabled_, finished_ = false;
   int uncaught_ = 0;  // std::uncaught_exceptions() at construction
-  std::chrono::steady_clock::time_point start_, last_draw_;
+  Stopwatch started_, since_draw_;
 };
 
 }  // namespace vs

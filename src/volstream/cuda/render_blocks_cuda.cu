@@ -1,7 +1,7 @@
 // A one-off frame of the block integrator on the GPU (block_backend.h), through a DeviceScene.
 #include <chrono>
 
-#include "volstream/backend/stopwatch.h"
+#include "volstream/core/stopwatch.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/cuda/block_backend.h"
 #include "volstream/render/integrators/integrator.h"

@@ -7,7 +7,7 @@
 #include "volstream/accel/refit.h"
 #include "volstream/amr/probe.h"
 #include "volstream/amr/ranges.h"
-#include "volstream/backend/stopwatch.h"
+#include "volstream/core/stopwatch.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/cuda/launch.cuh"
 #include "volstream/cuda/render_frame.cuh"

@@ -17,6 +17,7 @@
 #include "volstream/backend/parallel.h"
 #include "volstream/core/error.h"
 #include "volstream/core/progress.h"
+#include "volstream/core/stopwatch.h"
 #include "volstream/io/atomic_file.h"
 #include "volstream/io/binary_file.h"
 
@@ -412,10 +413,8 @@ void check_values(const std::vector<float>& v, const std::string& origin, const 
 }  // namespace
 
 ConvertStats convert_to_dataset(AmrSource& source, const fs::path& target_dir, const ConvertOptions& options) {
-  using clock = std::chrono::steady_clock;
-  auto seconds_since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
   ConvertStats stats;
-  auto t0 = clock::now();
+  Stopwatch watch;
   const std::string origin = source.origin();
   // file_index.bin holds uint32 positions (as does the brick builder's input index).
   if (options.file_order && source.cell_count() > uint64_t(UINT32_MAX))
@@ -431,18 +430,18 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& target_dir, c
   check_free_space(target_dir, source.cell_count(), values_per_cell, options.file_order);
   std::vector<Cell> cells = source.take_cells();
   if (cells.empty()) input_error(origin, "no cells");
-  stats.cells_seconds = seconds_since(t0);
+  stats.cells_seconds = watch.seconds();
 
-  t0 = clock::now();
+  watch.lap();
   BrickBuildResult built = build_bricks(std::move(cells), origin);
   AmrTopology topology;
   topology.cell_count = built.device_cells.size();
   topology.bricks = std::move(built.bricks);
-  stats.bricks_seconds = seconds_since(t0);
+  stats.bricks_seconds = watch.seconds();
 
-  t0 = clock::now();
+  watch.lap();
   build_abrs(topology, origin);
-  stats.abrs_seconds = seconds_since(t0);
+  stats.abrs_seconds = watch.seconds();
   stats.topology_bytes = topology.bricks.size() * sizeof(Brick) + topology.abrs.size() * sizeof(Abr) +
                          topology.abr_bricks.size() * sizeof(uint32_t);
 
@@ -462,7 +461,7 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& target_dir, c
   // the file index.
   if (options.file_order) writer.write_file_index(built.input_index);
 
-  t0 = clock::now();
+  watch.lap();
   const uint64_t n = topology.cell_count;
   std::vector<float> input(n), device(n);
   const int steps = source.step_count();
@@ -480,7 +479,7 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& target_dir, c
     }
   }
   progress.finish();
-  stats.values_seconds = seconds_since(t0);
+  stats.values_seconds = watch.seconds();
   writer.finish();
   staged.commit();
   return stats;

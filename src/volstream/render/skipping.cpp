@@ -6,7 +6,7 @@
 #include "volstream/accel/bvh_sah.h"
 #include "volstream/accel/refit.h"
 #include "volstream/backend/parallel.h"
-#include "volstream/backend/stopwatch.h"
+#include "volstream/core/stopwatch.h"
 #include "volstream/render/classify.h"
 
 namespace vs {

@@ -4,8 +4,8 @@
 #include <numeric>
 
 #include "volstream/backend/parallel.h"
-#include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
+#include "volstream/core/stopwatch.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/render/integrators/launch_cpu.h"
 

@@ -3,8 +3,8 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "volstream/backend/stopwatch.h"
 #include "volstream/core/error.h"
+#include "volstream/core/stopwatch.h"
 #include "volstream/cuda/block_backend.h"
 #include "volstream/render/integrators/launch_cpu.h"
 

@@ -26,9 +26,17 @@ double render_frame(const FrameView<V>& d, cudaStream_t stream) {
   const Event start, stop;
   VS_CUDA_CHECK(cudaEventRecord(start.e, stream));
   const uint32_t width = d.width;
-  parallel_for(
-      "render", int64_t(d.width) * d.height,
-      [=] __device__(int64_t i) { render_pixel(d, uint32_t(i % width), uint32_t(i / width)); }, stream);
+  // One kernel per optical model (render_pixel's template argument), chosen once per frame.
+  if (d.optics.kind == OpticsKind::blackbody)
+    parallel_for(
+        "render", int64_t(d.width) * d.height,
+        [=] __device__(int64_t i) { render_pixel<OpticsKind::blackbody>(d, uint32_t(i % width), uint32_t(i / width)); },
+        stream);
+  else
+    parallel_for(
+        "render", int64_t(d.width) * d.height,
+        [=] __device__(int64_t i) { render_pixel<OpticsKind::tf>(d, uint32_t(i % width), uint32_t(i / width)); },
+        stream);
   VS_CUDA_CHECK(cudaEventRecord(stop.e, stream));
   VS_CUDA_CHECK(cudaEventSynchronize(stop.e));
   float ms = 0.f;

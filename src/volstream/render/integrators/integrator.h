@@ -16,6 +16,7 @@
 #pragma once
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 #include "volstream/render/camera.h"
 #include "volstream/render/integrators/settings.h"
@@ -199,7 +200,7 @@ VS_HOST_DEVICE inline void close_interval(const FrameView<V>& v, const Ray& ray,
 
 // Volume sample f at distance t in `region`: isosurfaces since the previous sample, then the
 // optics' emission and absorption over len_ref reference steps.
-template <typename V>
+template <OpticsKind kOptics, typename V>
 VS_HOST_DEVICE inline void take_sample(const FrameView<V>& v, const Ray& ray, uint32_t region, float t, float end,
                                        float f, float len_ref, RayState& s) {
   const bool iso = v.settings.iso_count > 0;
@@ -207,7 +208,7 @@ VS_HOST_DEVICE inline void take_sample(const FrameView<V>& v, const Ray& ray, ui
   // Without isosurfaces the march stops at opacity before this sample; with them, a surface
   // just composited may have made the ray opaque.
   if (!iso || !s.acc.opaque()) {
-    if (v.optics.kind == OpticsKind::blackbody) {
+    if constexpr (kOptics == OpticsKind::blackbody) {
       const float temperature = v.volume.sample(1, region, ray.at(t));
       ++s.samples;
       blackbody_step(v.optics.bb, f, temperature, len_ref, s.acc);
@@ -219,7 +220,7 @@ VS_HOST_DEVICE inline void take_sample(const FrameView<V>& v, const Ray& ray, ui
           c = headlight(c, world_gradient(v, region, ray.at(t), f), ray.dir_w, 0.35f, 0.25f);
           s.samples += 6;
         }
-        s.acc.blend(c.r, c.g, c.b, alpha);
+        s.acc.blend_gray(c.r, c.g, c.b, alpha);
       }
     }
   }
@@ -263,7 +264,7 @@ VS_HOST_DEVICE inline Steps make_steps(const IntegratorSettings& st, const Ray& 
 }
 
 // Marches one region's interval.
-template <typename V>
+template <OpticsKind kOptics, typename V>
 VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, float jitter,
                                           RayState& s) {
   const IntegratorSettings& st = v.settings;
@@ -288,12 +289,13 @@ VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray,
       s.prev.valid = false;
       continue;
     }
-    take_sample(v, ray, iv.region, t, iv.t1, f, len_ref, s);
+    take_sample<kOptics>(v, ray, iv.region, t, iv.t1, f, len_ref, s);
     if (s.acc.opaque()) return;
   }
 }
 
-template <typename V>
+// kOptics: the frame's optics as a template argument (one branch per ray, not per sample).
+template <OpticsKind kOptics, typename V>
 VS_HOST_DEVICE inline RayState trace_ray(const FrameView<V>& v, const vec3f& org_w, const vec3f& dir_w, float jitter) {
   Ray ray;
   ray.org_w = org_w;
@@ -303,7 +305,7 @@ VS_HOST_DEVICE inline RayState trace_ray(const FrameView<V>& v, const vec3f& org
   ray.dir_len = length(ray.dir);
   RayState s;
   v.volume.for_each_interval(ray.org, ray.dir, [&](const RayInterval& iv) {
-    march_interval(v, ray, iv, jitter, s);
+    march_interval<kOptics>(v, ray, iv, jitter, s);
     return !s.acc.opaque();
   });
   if (v.settings.iso_count > 0 && !s.acc.opaque()) close_interval(v, ray, s);
@@ -312,8 +314,9 @@ VS_HOST_DEVICE inline RayState trace_ray(const FrameView<V>& v, const vec3f& org
 
 }  // namespace detail
 
-// Renders pixel (x, y) into v.rgba (and v.sample_counts when given).
-template <typename V>
+// Renders pixel (x, y) into v.rgba (and v.sample_counts when given) with the frame's optics
+// (v.optics.kind == kOptics): launches pick the instantiation once per frame.
+template <OpticsKind kOptics, typename V>
 VS_HOST_DEVICE inline void render_pixel(const FrameView<V>& v, uint32_t x, uint32_t y) {
   const IntegratorSettings& st = v.settings;
   const uint32_t spp = st.spp > 0 ? st.spp : 1u;
@@ -332,7 +335,7 @@ VS_HOST_DEVICE inline void render_pixel(const FrameView<V>& v, uint32_t x, uint3
     jitter = kFaceInset + (1.f - 2.f * kFaceInset) * jitter;  // never exactly on a region face
     vec3f org, dir;
     v.camera.ray(float(x) + sx, float(y) + sy, org, dir);
-    const detail::RayState s = detail::trace_ray(v, org, dir, jitter);
+    const detail::RayState s = detail::trace_ray<kOptics>(v, org, dir, jitter);
     color = color + s.acc.color;
     alpha += s.acc.alpha();
     samples += s.samples;
@@ -344,6 +347,15 @@ VS_HOST_DEVICE inline void render_pixel(const FrameView<V>& v, uint32_t x, uint3
   out[2] = color.z * inv;
   out[3] = alpha * inv;
   if (v.sample_counts) v.sample_counts[pixel] = samples;
+}
+
+// Calls f with the frame's optics as a template argument: f(std::integral_constant<OpticsKind, K>).
+template <typename V, typename F>
+VS_HOST_DEVICE inline void with_optics(const FrameView<V>& v, F&& f) {
+  if (v.optics.kind == OpticsKind::blackbody)
+    f(std::integral_constant<OpticsKind, OpticsKind::blackbody>{});
+  else
+    f(std::integral_constant<OpticsKind, OpticsKind::tf>{});
 }
 
 }  // namespace vs

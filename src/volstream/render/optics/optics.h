@@ -32,6 +32,14 @@ struct Accum {
         trans.x > trans.y ? (trans.x > trans.z ? trans.x : trans.z) : (trans.y > trans.z ? trans.y : trans.z);
     return t <= 1.f - kOpaque;
   }
+  // blend() for the transfer-function optics, whose channels keep one transmittance: one product
+  // instead of three (the block march's hot loop, measured with callgrind).
+  VS_HOST_DEVICE void blend_gray(float r, float g, float b, float alpha) {
+    const float t = trans.x;
+    const float w = t * alpha;
+    color = color + vec3f(r, g, b) * w;
+    trans = vec3f(t - w);
+  }
   // Front-to-back "over" of a surface or step of colour (r, g, b) (straight) and opacity alpha.
   VS_HOST_DEVICE void blend(float r, float g, float b, float alpha) {
     const vec3f w = trans * alpha;

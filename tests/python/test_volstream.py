@@ -88,6 +88,33 @@ def test_probe_bad_points(ds):
         ds.probe("pressure", np.zeros((1, 3)), step=5)
 
 
+def test_probe_edge_cases(ds):
+    assert ds.probe("pressure", np.zeros((0, 3))).shape == (0,)
+    v = ds.probe("pressure", np.array([[np.nan, 0.0, 0.0], [0, 0, 0]], dtype=np.float32))  # converted to float64
+    assert np.isnan(v[0]) and np.isfinite(v[1])
+    assert ds.probe(None, [[0.0, 0.0, 0.0]])[0] == v[1]  # None: the first field; a list converts too
+
+
+def test_threads_render_with_the_gil_released(ds):
+    import threading
+
+    scenes = [vs.create_scene(ds) for _ in range(3)]
+    for sc in scenes:
+        sc.camera.resolution = (64, 48)
+    out = [None] * len(scenes)
+
+    def work(i):
+        out[i] = scenes[i].render()
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(len(scenes))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for img in out[1:]:
+        np.testing.assert_array_equal(img, out[0])
+
+
 def test_default_render_equals_cli(ds, dataset_dir, tmp_path):
     sc = vs.create_scene(ds)
     sc.camera.resolution = (48, 32)

@@ -14,7 +14,7 @@ PACKAGES=(
   libpng-dev zlib1g-dev            # PNG output
   libgtest-dev libgmock-dev        # tests
   ffmpeg                           # video output
-  python3
+  python3 pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

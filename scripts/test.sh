@@ -11,7 +11,8 @@ BUILD_DIR=build bash scripts/build.sh -DVOLSTREAM_WERROR=ON
 ctest --test-dir build --output-on-failure -j2 --timeout 900
 if [ "${VOLSTREAM_SKIP_SANITIZE:-0}" != 1 ]; then
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-    -DVOLSTREAM_CUDA=OFF -DVOLSTREAM_SANITIZE=ON -DVOLSTREAM_FUZZ=ON -DVOLSTREAM_WERROR=ON >/dev/null
+    -DVOLSTREAM_CUDA=OFF -DVOLSTREAM_SANITIZE=ON -DVOLSTREAM_FUZZ=ON -DVOLSTREAM_WERROR=ON \
+    -DVOLSTREAM_PYTHON=OFF >/dev/null
   ninja -C build-asan
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j2 --timeout 1800

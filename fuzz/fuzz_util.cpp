@@ -19,9 +19,25 @@ fs::path scratch(const char* name) {
   return dir;
 }
 
+// Through streams, whose reads and writes retry on EINTR: std::filesystem's copies (sendfile)
+// give up when libFuzzer's timer signal interrupts them, a harness failure and not a finding.
+void copy_file_contents(const fs::path& from, const fs::path& to) {
+  std::ifstream in(from, std::ios::binary);
+  std::ofstream out(to, std::ios::binary | std::ios::trunc);
+  out << in.rdbuf();
+  if (!in || !out) throw std::runtime_error("fuzz harness: cannot copy " + from.string());
+}
+
 void copy_tree(const fs::path& from, const fs::path& to) {
   fs::remove_all(to);
-  fs::copy(from, to, fs::copy_options::recursive);
+  fs::create_directories(to);
+  for (const fs::directory_entry& e : fs::recursive_directory_iterator(from)) {
+    const fs::path target = to / fs::relative(e.path(), from);
+    if (e.is_directory())
+      fs::create_directories(target);
+    else
+      copy_file_contents(e.path(), target);
+  }
 }
 
 bool apply_patch(const std::vector<fs::path>& files, const uint8_t* data, size_t size) {

@@ -11,7 +11,9 @@
 
 namespace vs::fuzz {
 
-std::filesystem::path scratch(const char* name);                                     // created once per process
+std::filesystem::path scratch(const char* name);  // created once per process
+// Copies one file's bytes (EINTR-safe, unlike std::filesystem::copy_file).
+void copy_file_contents(const std::filesystem::path& from, const std::filesystem::path& to);
 void copy_tree(const std::filesystem::path& from, const std::filesystem::path& to);  // replaces `to`
 // Applies the patch in data to one of `files`; returns false if data is too short.
 bool apply_patch(const std::vector<std::filesystem::path>& files, const uint8_t* data, size_t size);

@@ -39,8 +39,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   (void)ready;
   if (size > (1 << 16)) return 0;
   const auto trace = dir / "trace.json", map = dir / "map.json";
-  std::filesystem::copy_file(dir / "pristine_trace.json", trace, std::filesystem::copy_options::overwrite_existing);
-  std::filesystem::copy_file(dir / "pristine_map.json", map, std::filesystem::copy_options::overwrite_existing);
+  fuzz::copy_file_contents(dir / "pristine_trace.json", trace);
+  fuzz::copy_file_contents(dir / "pristine_map.json", map);
   if (!fuzz::apply_patch({trace, map}, data, size)) return 0;
   fuzz::expect_clean([&] {
     const auto events = stream::read_chrome_trace(trace);

@@ -98,7 +98,6 @@ struct FrameRenderer::Impl {
   bool block_vertices = false;
 
   CachedTable tf, color_tf;
-  std::unique_ptr<BlackbodyTable> blackbody;  // made on first use (a few Planck integrals per entry)
 
   // One frame of a view (host pointers; the scene swaps in its device arrays) on the GPU.
   template <typename V>
@@ -112,11 +111,6 @@ struct FrameRenderer::Impl {
     report.seconds.render += t.kernel_seconds;
     report.samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
     return img;
-  }
-
-  const BlackbodyTable& blackbody_table() {
-    if (!blackbody) blackbody = std::make_unique<BlackbodyTable>();
-    return *blackbody;
   }
 
   Impl(const Dataset& ds, Device d) : dataset(ds), device(d), backend(d) {
@@ -345,7 +339,7 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
     OpticsView optics;
     optics.kind = r.optics;
     optics.tf = table.view();
-    if (r.optics == OpticsKind::blackbody) optics.bb = m.blackbody_table().view(r.blackbody);
+    if (r.optics == OpticsKind::blackbody) optics.bb = default_blackbody_table().view(r.blackbody);
     const FrameView<AmrVolume> view = abr.view({m.kernel_values(0), m.kernel_values(1)}, optics,
                                                color_iso ? &color_view : nullptr, r.camera, frame_settings(r));
     if (m.device == Device::cuda) {

@@ -68,7 +68,7 @@ FrameView<BlockVolume> BlockRenderer::view(const TfView* tf, const Camera& camer
   }
   v.optics.kind = frame.settings.optics;
   if (tf) v.optics.tf = *tf;
-  v.optics.bb = bb_.view(frame.blackbody);
+  if (frame.settings.optics == Optics::blackbody) v.optics.bb = default_blackbody_table().view(frame.blackbody);
   if (frame.settings.optics == Optics::blackbody && !second_)
     throw UsageError("blackbody optics needs a temperature field");
   if (!tf && (frame.settings.optics == Optics::tf || frame.integrator.iso_count > 0))

@@ -69,7 +69,6 @@ class BlockRenderer {
   const AmrTopology& topology_;
   WorldTransform transform_;
   KdBlocks kd_;
-  BlackbodyTable bb_;
   double build_seconds_ = 0;
   const float* values_ = nullptr;
   const float* second_ = nullptr;

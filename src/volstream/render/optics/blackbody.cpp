@@ -108,4 +108,9 @@ vec3f rayleigh_transmittance(float absorption, float rho_over_max, float length_
   return {std::exp(-k * w.x), std::exp(-k * w.y), std::exp(-k * w.z)};
 }
 
+const BlackbodyTable& default_blackbody_table() {
+  static const BlackbodyTable table;
+  return table;
+}
+
 }  // namespace vs

@@ -88,6 +88,10 @@ class BlackbodyTable {
   std::vector<vec3f> entries_;
 };
 
+// The default table (512 entries), made on first use (a few Planck integrals per entry, some
+// 40 M instructions) and shared by every renderer: frames without blackbody optics never pay it.
+const BlackbodyTable& default_blackbody_table();
+
 // Transmittance (R, G, B) of a homogeneous slab: the reddening of white light by Rayleigh
 // absorption, exp(-absorption * rho/rho_max * length * weight_c). For tests and the docs.
 vec3f rayleigh_transmittance(float absorption, float rho_over_max, float length_in_ref_steps);

@@ -1,0 +1,83 @@
+#include "volstream/umesh/mesh_data.h"
+
+#include <cmath>
+#include <map>
+
+#include "volstream/core/error.h"
+
+namespace vs {
+
+const char* cell_type_name(uint32_t vtk_type) {
+  switch (vtk_type) {
+    case 1: return "vertex";
+    case 3: return "line";
+    case 5: return "triangle";
+    case 7: return "polygon";
+    case 9: return "quad";
+    case 10: return "tetra";
+    case 11: return "voxel";
+    case 12: return "hexahedron";
+    case 13: return "wedge";
+    case 14: return "pyramid";
+    case 24: return "quadratic tetra";
+    case 25: return "quadratic hexahedron";
+    case 42: return "polyhedron";
+    default: return "unknown";
+  }
+}
+
+namespace {
+
+void check_cells(const MeshData& m, const std::string& file) {
+  const uint64_t n = m.cell_count();
+  input_check(n > 0, file, "the mesh has no cells");
+  input_check(m.cell_offsets.size() == n + 1, file,
+              "cell offsets: " + std::to_string(m.cell_offsets.size()) + " entries for " + std::to_string(n) + " cells");
+  std::map<uint32_t, uint64_t> unsupported;
+  for (uint64_t i = 0; i < n; ++i)
+    if (cell_vertex_count(m.cell_types[i]) == 0) ++unsupported[m.cell_types[i]];
+  if (!unsupported.empty()) {
+    const auto& [type, count] = *unsupported.begin();
+    input_error(file, "unsupported cell type " + std::to_string(type) + " (" + cell_type_name(type) + ") in " +
+                          std::to_string(count) + " cells (volstream renders tetra 10, hexahedron 12, wedge 13, " +
+                          "pyramid 14)");
+  }
+  input_check(m.cell_offsets[0] == 0 && m.cell_offsets[n] == m.connectivity.size(), file,
+              "cell offsets do not span the connectivity array");
+  for (uint64_t i = 0; i < n; ++i) {
+    const uint64_t count = m.cell_offsets[i + 1] - m.cell_offsets[i];
+    if (m.cell_offsets[i + 1] < m.cell_offsets[i] || count != uint64_t(cell_vertex_count(m.cell_types[i])))
+      input_error(file, "cell " + std::to_string(i) + " (" + cell_type_name(m.cell_types[i]) + ") has " +
+                            std::to_string(int64_t(m.cell_offsets[i + 1] - m.cell_offsets[i])) + " vertices, expected " +
+                            std::to_string(cell_vertex_count(m.cell_types[i])));
+  }
+  for (uint64_t i = 0; i < m.connectivity.size(); ++i)
+    if (m.connectivity[i] >= m.points.size())
+      input_error(file, "connectivity entry " + std::to_string(i) + " = " + std::to_string(m.connectivity[i]) +
+                            " is out of range (" + std::to_string(m.points.size()) + " points)");
+}
+
+void check_arrays(const std::vector<MeshArray>& arrays, uint64_t tuples, const char* kind, const std::string& file) {
+  for (const MeshArray& a : arrays) {
+    input_check(a.components >= 1, file, std::string(kind) + " array '" + a.name + "' has no components");
+    input_check(a.values.size() == tuples * uint64_t(a.components), file,
+                std::string(kind) + " array '" + a.name + "' has " + std::to_string(a.values.size()) +
+                    " values, expected " + std::to_string(tuples * uint64_t(a.components)));
+  }
+}
+
+}  // namespace
+
+void check_mesh(const MeshData& m, const std::string& file) {
+  input_check(!m.points.empty(), file, "the mesh has no points");
+  for (size_t i = 0; i < m.points.size(); ++i) {
+    const vec3d& p = m.points[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      input_error(file, "point " + std::to_string(i) + " has a non-finite coordinate");
+  }
+  check_cells(m, file);
+  check_arrays(m.point_data, m.points.size(), "point", file);
+  check_arrays(m.cell_data, m.cell_count(), "cell", file);
+}
+
+}  // namespace vs

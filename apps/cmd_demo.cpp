@@ -4,6 +4,7 @@
 #include "commands.h"
 #include "volstream/amr/demo.h"
 #include "volstream/io/dataset.h"
+#include "volstream/io/mesh_convert.h"
 
 namespace vs::cli {
 
@@ -11,6 +12,7 @@ void add_demo_command(CLI::App& app) {
   struct Args {
     std::string name;
     double cells = 1e6;
+    double elements = 1e5;
     int steps = 4;
     std::string out;
     bool quiet = false;
@@ -18,10 +20,16 @@ void add_demo_command(CLI::App& app) {
     std::vector<std::string> fields;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("demo", "Write a built-in procedural dataset (jet or cosmo)");
-  cmd->add_option("name", args->name, "jet | cosmo")->required()->check(CLI::IsMember({"jet", "cosmo"}));
+  auto* cmd =
+      app.add_subcommand("demo", "Write a built-in procedural dataset (AMR: jet, cosmo; meshes: tets, mixed, holes)");
+  cmd->add_option("name", args->name,
+                  "jet | cosmo (AMR), tets | mixed | holes (unstructured meshes: a tet box; twisted hexes, "
+                  "wedges and pyramids; a tet mesh with a cavity, a notch and a second part)")
+      ->required()
+      ->check(CLI::IsMember({"jet", "cosmo", "tets", "mixed", "holes"}));
   cmd->add_option("--cells", args->cells, "approximate number of leaf cells (1e5 .. 5e8 and more)")
       ->capture_default_str();
+  cmd->add_option("--elements", args->elements, "mesh demos: approximate number of elements")->capture_default_str();
   cmd->add_option("--steps", args->steps, "number of time steps")->capture_default_str()->check(CLI::Range(1, 100000));
   cmd->add_option("-o,--output", args->out, "output dataset directory")->required();
   cmd->add_flag("--file-order", args->file_order,
@@ -30,6 +38,17 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--fields", args->fields, "write only these fields (comma-separated; default: all)")->delimiter(',');
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar");
   cmd->callback([args] {
+    if (is_mesh_demo(args->name)) {
+      MeshDemoOptions o{args->name, uint64_t(std::clamp(args->elements, 0.0, 1e12)), args->steps};
+      auto series = make_mesh_demo_series(o);
+      const MeshConvertStats stats =
+          convert_mesh_to_dataset(*series, args->out, {args->quiet, args->file_order, args->fields});
+      std::printf(
+          "wrote %s: demo %s, %llu elements, %llu vertices, %d steps (mesh %.2fs, encode %.2fs, values %.2fs)\n",
+          args->out.c_str(), args->name.c_str(), (unsigned long long)stats.elements, (unsigned long long)stats.vertices,
+          args->steps, stats.read_seconds, stats.encode_seconds, stats.values_seconds);
+      return;
+    }
     // Before the demo is generated (minutes for billions of cells); at least one field.
     const uint64_t fields = std::max<uint64_t>(1, args->fields.size());
     check_free_space(args->out, uint64_t(std::clamp(args->cells, 0.0, 1e12)),

@@ -85,7 +85,7 @@ struct DatasetHandle {
     if (step < 0 || step >= n)
       throw vs::UsageError("step " + std::to_string(step) + " out of range 0.." + std::to_string(n - 1));
   }
-  vs::Box3<double> domain() const { return vs::world_bounds(dataset->topology(), manifest().transform); }
+  vs::Box3<double> domain() const { return vs::world_bounds(*dataset); }
 };
 using DatasetPtr = std::shared_ptr<DatasetHandle>;
 

@@ -120,4 +120,23 @@ VS_HOST_DEVICE inline bool bvh_next_leaf(const BvhNode* nodes, uint32_t node_cou
   return true;
 }
 
+// Every leaf the ray crosses, front to back, as visit(item, t0, t1) (return false to stop): K
+// leaves per traversal (bvh_next_leaves). The interval walk of every volume whose regions are
+// disjoint boxes under a refit BVH (ABRs, mesh macrocells).
+template <typename Visit>
+VS_HOST_DEVICE inline void bvh_for_each_leaf(const BvhNode* nodes, uint32_t node_count, const vec3f& org,
+                                             const vec3f& dir, Visit&& visit) {
+  const SlabRay slab(org, dir);
+  constexpr int kBatch = 16;
+  LeafHit hits[kBatch];
+  float t = 0.f;
+  for (;;) {
+    const int n = bvh_next_leaves<kBatch>(nodes, node_count, slab, t, INFINITY, hits);
+    for (int i = 0; i < n; ++i)
+      if (!visit(hits[i].item, hits[i].t0, hits[i].t1)) return;
+    if (n < kBatch) return;
+    t = hits[kBatch - 1].t1;
+  }
+}
+
 }  // namespace vs

@@ -11,6 +11,7 @@
 #include "volstream/cuda/backend.h"
 #include "volstream/frame/look.h"
 #include "volstream/io/image.h"
+#include "volstream/render/integrators/umesh_renderer.h"
 
 namespace vs {
 namespace {
@@ -93,6 +94,8 @@ struct FrameRenderer::Impl {
   OpticsKind classified_optics = OpticsKind::tf;
   BlackbodyParams classified_bb;
 
+  std::unique_ptr<UMeshRenderer> umesh;  // a mesh dataset: its BVH and macrocells
+
   std::unique_ptr<BlockRenderer> blocks;
   uint64_t block_generation[kVolumeFields] = {};
   bool block_vertices = false;
@@ -116,6 +119,24 @@ struct FrameRenderer::Impl {
   Impl(const Dataset& ds, Device d) : dataset(ds), device(d), backend(d) {
     if (d == Device::cuda)
       for (int s = 0; s < kVolumeFields; ++s) device_slots.push_back(backend.buffer<float>("field values"));
+  }
+
+  UMeshRenderer& umesh_renderer() {
+    if (!umesh) {
+      if (device == Device::cuda) throw UsageError("meshes render on the CPU only so far (--device cpu)");
+      umesh = std::make_unique<UMeshRenderer>(dataset.mesh(), dataset.manifest().transform);
+    }
+    return *umesh;
+  }
+  // A mesh frame's classification (ranges as for ABRs; the blackbody model by density).
+  uint64_t classify_mesh(const FrameRequest& r, const TransferTable& table, FrameStats& stats) {
+    SkipStats s;
+    const uint64_t visible = r.optics == OpticsKind::blackbody
+                                 ? umesh_renderer().refit(blackbody_keep(ranges, r), &s)
+                                 : umesh_renderer().classify(ranges, table, r.integrator, r.skip, &s);
+    stats.classify_seconds = s.classify_seconds;
+    stats.refit_seconds = s.refit_seconds;
+    return visible;
   }
 
   AmrRenderer& abr_renderer() {
@@ -195,9 +216,7 @@ FrameRenderer::FrameRenderer(const Dataset& dataset, Device device)
 
 FrameRenderer::~FrameRenderer() = default;
 
-Box3<double> FrameRenderer::world_bounds() const {
-  return vs::world_bounds(dataset_.topology(), dataset_.manifest().transform);
-}
+Box3<double> FrameRenderer::world_bounds() const { return vs::world_bounds(dataset_); }
 
 Camera FrameRenderer::default_camera(uint32_t width, uint32_t height) const {
   return default_view(dataset_, width, height);
@@ -215,14 +234,19 @@ void FrameRenderer::use_values(const float* primary) {
 
 void FrameRenderer::compute_ranges(const FrameRequest& r, FrameReport* report) {
   Impl& m = *impl_;
-  if (r.kind != IntegratorKind::abr) return;
-  m.abr_renderer();  // the BVH (and on CUDA the device scene) on first use
+  if (r.kind != IntegratorKind::abr && !dataset_.is_mesh()) return;
+  if (dataset_.is_mesh())
+    m.umesh_renderer();  // the element BVH and macrocells on first use
+  else
+    m.abr_renderer();  // the BVH (and on CUDA the device scene) on first use
   const uint64_t generation = m.slots[0].generation;
   if (m.ranges_stamp && m.ranges_generation == generation && m.ranges_mode == r.range_mode &&
       m.ranges_stored == r.stored_ranges)
     return;
   Stopwatch watch;
-  if (r.stored_ranges) {
+  if (dataset_.is_mesh()) {
+    m.ranges = m.umesh->ranges(m.kernel_values(0));
+  } else if (r.stored_ranges) {
     if (m.slots[0].field < 0) throw UsageError("stored ranges need a dataset step, not streamed values");
     m.ranges = m.dataset.load_abr_ranges(m.slots[0].field, m.slots[0].step);
   } else if (m.device == Device::cuda) {
@@ -241,13 +265,18 @@ void FrameRenderer::compute_ranges(const FrameRequest& r, FrameReport* report) {
 
 void FrameRenderer::refit(const FrameRequest& r, bool rebuild, FrameReport* report) {
   Impl& m = *impl_;
-  if (r.kind != IntegratorKind::abr) return;
-  if (rebuild) {
+  if (r.kind != IntegratorKind::abr && !dataset_.is_mesh()) return;
+  if (rebuild && dataset_.is_mesh()) {
+    Stopwatch watch;
+    m.umesh.reset();  // what the pipeline levels before `refit` pay every frame
+    m.umesh_renderer();
+    m.classified_stamp = 0;
+    if (report) report->seconds.refit += watch.seconds();
+  } else if (rebuild) {
     Stopwatch watch;
     m.build_abr();  // what the pipeline levels before `refit` pay every frame
     if (report) report->seconds.refit += watch.seconds();
   }
-  AmrRenderer& abr = m.abr_renderer();
   if (m.ranges_stamp == 0) return;  // no ranges yet: classified at the first frame
   if (m.classified_stamp == m.ranges_stamp && m.classified_skip == r.skip && same_iso(m.classified_iso, r.integrator) &&
       same_spec(m.classified_tf, r.tf) && m.classified_optics == r.optics &&
@@ -256,7 +285,10 @@ void FrameRenderer::refit(const FrameRequest& r, bool rebuild, FrameReport* repo
   const TransferTable& table = m.tf.get(r.tf);
   FrameStats stats;
   Stopwatch watch;
-  if (r.optics == OpticsKind::blackbody) {
+  if (dataset_.is_mesh()) {
+    visible_ = m.classify_mesh(r, table, stats);
+  } else if (r.optics == OpticsKind::blackbody) {
+    AmrRenderer& abr = m.abr_renderer();
     // Emission and absorption depend on density alone, not on the transfer function's opacity.
     const bool device_ranges = m.device == Device::cuda && !r.stored_ranges;
     visible_ = abr.refit(blackbody_keep(device_ranges ? m.scene->download_ranges() : m.ranges, r), &stats);
@@ -266,6 +298,7 @@ void FrameRenderer::refit(const FrameRequest& r, bool rebuild, FrameReport* repo
     visible_ = m.scene->classify_and_refit(table, r.integrator, r.skip);
     stats.refit_seconds = watch.seconds();
   } else {
+    AmrRenderer& abr = m.abr_renderer();
     visible_ = abr.classify(m.ranges, table, r.integrator, r.skip, &stats);
     if (m.device == Device::cuda) m.scene->set_refit_nodes(abr.refit_nodes());
   }
@@ -317,7 +350,21 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
   FrameReport local;
   local.device = m.device;
   Image img;
-  if (r.kind == IntegratorKind::blocks) {
+  OpticsView optics;
+  optics.kind = r.optics;
+  optics.tf = table.view();
+  if (r.optics == OpticsKind::blackbody) optics.bb = default_blackbody_table().view(r.blackbody);
+  if (dataset_.is_mesh()) {
+    UMeshRenderer& mesh = m.umesh_renderer();
+    FrameStats stats;
+    img = mesh.render(mesh.view({m.kernel_values(0), m.kernel_values(1)}, optics, color_iso ? &color_view : nullptr,
+                                r.camera, frame_settings(r)),
+                      &stats);
+    local.seconds.render += stats.render_seconds;
+    local.samples = stats.samples;
+    local.visible_regions = visible_;
+    local.region_count = mesh.region_count();
+  } else if (r.kind == IntegratorKind::blocks) {
     BlockRenderer& blocks = m.block_renderer();
     if (m.update_block_fields(r.reconstruction == Reconstruction::trilinear)) {
       local.vertex_seconds = blocks.vertex_seconds();
@@ -336,10 +383,6 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
     local.visible_regions = local.region_count = blocks.kd().blocks.size();
   } else {
     AmrRenderer& abr = m.abr_renderer();
-    OpticsView optics;
-    optics.kind = r.optics;
-    optics.tf = table.view();
-    if (r.optics == OpticsKind::blackbody) optics.bb = default_blackbody_table().view(r.blackbody);
     const FrameView<AmrVolume> view = abr.view({m.kernel_values(0), m.kernel_values(1)}, optics,
                                                color_iso ? &color_view : nullptr, r.camera, frame_settings(r));
     if (m.device == Device::cuda) {
@@ -378,14 +421,16 @@ std::vector<float> FrameRenderer::probe(int field, int step, const std::vector<v
   Impl& m = *impl_;
   FrameTimes ignored;
   m.load(0, field, step, ignored);
-  const AmrRenderer& abr = m.abr_renderer();  // its BVH template locates the points
   const std::vector<vec3f> grid = grid_points(dataset_.manifest().transform, world);
+  if (dataset_.is_mesh()) return m.umesh_renderer().probe(m.kernel_values(0), grid);
+  const AmrRenderer& abr = m.abr_renderer();  // its BVH template locates the points
   if (device_ == Device::cuda) return m.device_scene().probe(m.kernel_values(0), grid);
   return probe_points(dataset_.topology(), abr.template_bvh(), m.kernel_values(0), grid);
 }
 
 std::vector<double> probe_brute_force(const Dataset& ds, int field, int step, const std::vector<vec3d>& world) {
   const std::vector<float> values = ds.load_values(field, step);
+  if (ds.is_mesh()) return probe_brute_force(ds.mesh(), values.data(), grid_points(ds.manifest().transform, world));
   const std::vector<Cell> cells = ds.load_cells();
   std::vector<double> out(world.size());
   parallel_for("probe_brute_force", int64_t(world.size()), [&](int64_t i) {
@@ -407,6 +452,8 @@ Image FrameRenderer::render(const FrameRequest& r, FrameReport* report) {
                      std::to_string(manifest.step_count() - 1));
   if (r.optics == OpticsKind::blackbody && r.second_field < 0)
     throw UsageError("blackbody optics needs a temperature field");
+  if (dataset_.is_mesh() && r.kind == IntegratorKind::blocks)
+    throw UsageError("the block integrator is for AMR; a mesh is sampled through its elements");
   FrameReport local;
   m.load(0, r.field, r.step, local.seconds);
   m.load(1, r.second_field, r.step, local.seconds);

@@ -6,6 +6,7 @@
 #include "volstream/core/error.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/render/integrators/abr_renderer.h"
+#include "volstream/render/integrators/umesh_renderer.h"
 
 namespace vs {
 
@@ -18,8 +19,13 @@ Look default_look(const DatasetManifest& m) {
   return {m.fields.front().name, "viridis", 0.f, {}};
 }
 
+Box3<double> world_bounds(const Dataset& ds) {
+  if (ds.is_mesh()) return world_bounds(ds.mesh(), ds.manifest().transform);
+  return world_bounds(ds.topology(), ds.manifest().transform);
+}
+
 Camera default_view(const Dataset& ds, uint32_t width, uint32_t height) {
-  return default_camera(world_bounds(ds.topology(), ds.manifest().transform), double(width) / height);
+  return default_camera(world_bounds(ds), double(width) / height);
 }
 
 ParaviewColorMap load_paraview_color_map(const std::string& path) {

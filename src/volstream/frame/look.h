@@ -26,6 +26,8 @@ Look default_look(const DatasetManifest& manifest);
 
 // The default camera for a dataset: its leaf cells' world box from a diagonal, fitted to the
 // image's aspect ratio.
+// The world box of the dataset's cells (AMR) or vertices (mesh).
+Box3<double> world_bounds(const Dataset& dataset);
 Camera default_view(const Dataset& dataset, uint32_t width, uint32_t height);
 
 // A ParaView colour map JSON file (render/optics/transfer_function.h): a regular file of at most

@@ -65,13 +65,21 @@ json manifest_to_json(const DatasetManifest& m) {
   j["format_version"] = m.format_version;
   j["source"] = m.source;
   j["transform"] = {{"origin", to_json(m.transform.origin)}, {"cell_size", to_json(m.transform.cell_size)}};
-  j["grid_bounds"] = {{"lower", to_json(m.grid_bounds.lower)}, {"upper", to_json(m.grid_bounds.upper)}};
-  j["cell_count"] = m.cell_count;
-  j["brick_count"] = m.brick_count;
-  j["abr_count"] = m.abr_count;
-  j["abr_brick_count"] = m.abr_brick_count;
-  j["file_order"] = m.file_order;
-  for (const auto& l : m.levels) j["levels"].push_back({{"level", l.level}, {"cells", l.cell_count}});
+  if (m.kind == DatasetKind::umesh) {
+    j["kind"] = "umesh";
+    j["vertex_count"] = m.mesh.vertices;
+    j["element_count"] = m.mesh.elements;
+    for (int t = 0; t < 4; ++t) j["elements_by_type"][kTypeSlotNames[t]] = m.mesh.by_type[t];
+  } else {
+    j["kind"] = "amr";
+    j["grid_bounds"] = {{"lower", to_json(m.grid_bounds.lower)}, {"upper", to_json(m.grid_bounds.upper)}};
+    j["cell_count"] = m.cell_count;
+    j["brick_count"] = m.brick_count;
+    j["abr_count"] = m.abr_count;
+    j["abr_brick_count"] = m.abr_brick_count;
+    j["file_order"] = m.file_order;
+    for (const auto& l : m.levels) j["levels"].push_back({{"level", l.level}, {"cells", l.cell_count}});
+  }
   j["step_times"] = m.step_times;
   for (const auto& f : m.fields) {
     json ranges = json::array();
@@ -96,15 +104,25 @@ DatasetManifest manifest_from_json(const json& j) {
   m.source = j.at("source").get<std::string>();
   m.transform.origin = vec_from_json<double>(j.at("transform").at("origin"));
   m.transform.cell_size = vec_from_json<double>(j.at("transform").at("cell_size"));
-  m.grid_bounds.lower = vec_from_json<int32_t>(j.at("grid_bounds").at("lower"));
-  m.grid_bounds.upper = vec_from_json<int32_t>(j.at("grid_bounds").at("upper"));
-  m.cell_count = j.at("cell_count").get<uint64_t>();
-  m.brick_count = j.at("brick_count").get<uint64_t>();
-  m.abr_count = j.at("abr_count").get<uint64_t>();
-  m.abr_brick_count = j.at("abr_brick_count").get<uint64_t>();
-  m.file_order = j.value("file_order", false);  // absent in datasets written before it existed
-  for (const auto& l : j.at("levels"))
-    m.levels.push_back({l.at("level").get<int32_t>(), l.at("cells").get<uint64_t>()});
+  const std::string kind = j.value("kind", "amr");  // absent in datasets written before meshes
+  if (kind == "umesh") {
+    m.kind = DatasetKind::umesh;
+    m.mesh.vertices = j.at("vertex_count").get<uint64_t>();
+    m.mesh.elements = j.at("element_count").get<uint64_t>();
+    for (int t = 0; t < 4; ++t) m.mesh.by_type[t] = j.at("elements_by_type").at(kTypeSlotNames[t]).get<uint64_t>();
+  } else if (kind == "amr") {
+    m.grid_bounds.lower = vec_from_json<int32_t>(j.at("grid_bounds").at("lower"));
+    m.grid_bounds.upper = vec_from_json<int32_t>(j.at("grid_bounds").at("upper"));
+    m.cell_count = j.at("cell_count").get<uint64_t>();
+    m.brick_count = j.at("brick_count").get<uint64_t>();
+    m.abr_count = j.at("abr_count").get<uint64_t>();
+    m.abr_brick_count = j.at("abr_brick_count").get<uint64_t>();
+    m.file_order = j.value("file_order", false);  // absent in datasets written before it existed
+    for (const auto& l : j.at("levels"))
+      m.levels.push_back({l.at("level").get<int32_t>(), l.at("cells").get<uint64_t>()});
+  } else {
+    throw std::runtime_error("unknown dataset kind '" + kind + "'");
+  }
   m.step_times = j.at("step_times").get<std::vector<double>>();
   for (const auto& f : j.at("fields")) {
     FieldInfo info{f.at("name").get<std::string>(), f.at("dir").get<std::string>(), {}};
@@ -156,6 +174,14 @@ void validate_manifest(const DatasetManifest& m) {
         fail("field '" + f.name + "' has a non-finite or empty step range");
     if (f.dir.empty() || f.dir.find('/') != std::string::npos || f.dir.find("..") != std::string::npos)
       fail("field '" + f.name + "' has a bad directory name");
+  }
+  if (m.kind == DatasetKind::umesh) {
+    const MeshCounts& c = m.mesh;
+    if (c.vertices == 0 || c.elements == 0) fail("no vertices or elements");
+    if (c.vertices >= kNoVertex || c.elements >= (uint64_t(1) << 40)) fail("counts out of range");
+    if (c.by_type[0] + c.by_type[1] + c.by_type[2] + c.by_type[3] != c.elements)
+      fail("elements by type do not add up to element_count");
+    return;
   }
   uint64_t level_cells = 0;
   for (const auto& l : m.levels) {
@@ -211,6 +237,28 @@ void validate_topology(const AmrTopology& t, const std::string& file) {
   }
 }
 
+// Every element's used slots come first (4, 5, 6 or 8), name existing vertices and match the
+// manifest's counts by type; every vertex is finite.
+void validate_mesh(const UMesh& m, const MeshCounts& counts, const std::string& file) {
+  for (size_t i = 0; i < m.vertices.size(); ++i) {
+    const vec3f& v = m.vertices[i];
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+      input_error(file, "vertex " + std::to_string(i) + " is not finite");
+  }
+  uint64_t by_type[4] = {};
+  for (size_t e = 0; e < m.elements.size(); ++e) {
+    const UElement& el = m.elements[e];
+    const int n = el.vertex_count();
+    bool ok = true;
+    for (int k = 0; k < 8; ++k) ok = ok && (k < n ? el.v[k] < m.vertices.size() : el.v[k] == kNoVertex);
+    if (!ok) input_error(file, "element " + std::to_string(e) + " is invalid");
+    ++by_type[type_slot(n)];
+  }
+  for (int t = 0; t < 4; ++t)
+    if (by_type[t] != counts.by_type[t])
+      input_error(file, std::string("the manifest's ") + kTypeSlotNames[t] + " count does not match the elements");
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -240,9 +288,20 @@ void DatasetWriter::write_topology(const AmrTopology& t, const std::vector<Cell>
   write_file(dir_ / dataset_files::kAbrBricks, t.abr_bricks.data(), t.abr_bricks.size() * sizeof(uint32_t));
 }
 
+void DatasetWriter::write_mesh(const UMesh& mesh) {
+  manifest_.kind = DatasetKind::umesh;
+  manifest_.mesh.vertices = mesh.vertices.size();
+  manifest_.mesh.elements = mesh.elements.size();
+  for (int t = 0; t < 4; ++t) manifest_.mesh.by_type[t] = mesh.count_by_type[t];
+  write_file(dir_ / dataset_files::kMeshVertices, mesh.vertices.data(), mesh.vertices.size() * sizeof(vec3f));
+  write_file(dir_ / dataset_files::kMeshElements, mesh.elements.data(), mesh.elements.size() * sizeof(UElement));
+}
+
 void DatasetWriter::write_values(int field, int step, const std::vector<float>& values) {
   FieldInfo& f = manifest_.fields.at(size_t(field));
   write_file(dir_ / dataset_files::field_values(f, step), values.data(), values.size() * sizeof(float), kFileAlignment);
+  f.step_ranges.at(size_t(step)) = value_range(values.data(), values.size());
+  if (manifest_.kind == DatasetKind::umesh) return;  // mesh ranges are per macrocell, made at load
   const auto abr_ranges = compute_abr_ranges(*topology_, values.data());
   write_file(dir_ / dataset_files::field_ranges(f, step), abr_ranges.data(), abr_ranges.size() * sizeof(Range));
   f.step_ranges.at(size_t(step)) = value_range(values.data(), values.size());
@@ -279,6 +338,10 @@ Dataset::Dataset(const fs::path& dir) : dir_(dir) {
   } catch (const std::exception& e) {
     input_error(manifest_path.string(), std::string("bad manifest: ") + e.what());
   }
+  if (manifest_.kind == DatasetKind::umesh) {
+    load_mesh();
+    return;
+  }
   topology_.cell_count = manifest_.cell_count;
   topology_.bricks = read_records<Brick>(dir / dataset_files::kBricks, manifest_.brick_count);
   topology_.abrs = read_records<Abr>(dir / dataset_files::kAbrs, manifest_.abr_count);
@@ -294,6 +357,15 @@ Dataset::Dataset(const fs::path& dir) : dir_(dir) {
     if (size != manifest_.cell_count * sizeof(uint32_t))
       throw_size_mismatch(index, size, manifest_.cell_count * sizeof(uint32_t));
   }
+}
+
+void Dataset::load_mesh() {
+  mesh_.vertices = read_records<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
+  mesh_.elements = read_records<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
+  for (int t = 0; t < 4; ++t) mesh_.count_by_type[t] = manifest_.mesh.by_type[t];
+  validate_mesh(mesh_, manifest_.mesh, (dir_ / dataset_files::kMeshElements).string());
+  mesh_bytes_ = CountedBytes("mesh", MemorySpace::host,
+                             int64_t(mesh_.vertices.size() * sizeof(vec3f) + mesh_.elements.size() * sizeof(UElement)));
 }
 
 std::vector<Cell> Dataset::load_cells() const {
@@ -325,11 +397,11 @@ std::vector<uint32_t> Dataset::load_file_index() const {
 }
 
 std::vector<float> Dataset::load_file_order_values(int field, int step) const {
-  return read_records<float>(file_order_values_path(field, step), manifest_.cell_count, kFileAlignment);
+  return read_records<float>(file_order_values_path(field, step), manifest_.value_count(), kFileAlignment);
 }
 
 std::vector<float> Dataset::load_values(int field, int step) const {
-  return read_records<float>(values_path(field, step), manifest_.cell_count, kFileAlignment);
+  return read_records<float>(values_path(field, step), manifest_.value_count(), kFileAlignment);
 }
 
 std::vector<Range> Dataset::load_abr_ranges(int field, int step) const {
@@ -384,12 +456,7 @@ void check_free_space(const fs::path& out, uint64_t cells, uint64_t values_per_c
   input_error(out.string(), text);
 }
 
-namespace {
-
-// The values of one (field, step) as the dataset stores them: NaN is "no data" (kept), an
-// infinite value (also a float64 beyond float range, converted) is refused, and some value must
-// be finite so that the step has a range (docs/formats.md, "Values").
-void check_values(const std::vector<float>& v, const std::string& origin, const std::string& field, int step) {
+void check_field_values(const std::vector<float>& v, const std::string& origin, const std::string& field, int step) {
   std::atomic<uint64_t> first_inf{UINT64_MAX};
   parallel_for_ranges(
       int64_t(v.size()),
@@ -410,7 +477,6 @@ void check_values(const std::vector<float>& v, const std::string& origin, const 
   const Range r = value_range(v.data(), v.size());
   if (!(r.lo <= r.hi)) input_error(origin, where + "no finite value (every value is NaN)");
 }
-}  // namespace
 
 ConvertStats convert_to_dataset(AmrSource& source, const fs::path& target_dir, const ConvertOptions& options) {
   ConvertStats stats;
@@ -470,7 +536,7 @@ ConvertStats convert_to_dataset(AmrSource& source, const fs::path& target_dir, c
     for (size_t field = 0; field < field_names.size(); ++field) {
       progress.set_detail(field_names[field] + " step " + std::to_string(step));
       source.read_values(fields[field], step, input.data());
-      check_values(input, origin, field_names[field], step);
+      check_field_values(input, origin, field_names[field], step);
       if (options.file_order) writer.write_file_order_values(int(field), step, input.data(), n);
       const uint32_t* index = built.input_index.data();
       parallel_for("reorder", int64_t(n), [&](int64_t i) { device[size_t(i)] = input[index[i]]; });

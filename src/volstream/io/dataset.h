@@ -12,6 +12,7 @@
 #include "volstream/amr/model.h"
 #include "volstream/amr/source.h"
 #include "volstream/backend/memory.h"
+#include "volstream/umesh/umesh.h"
 
 namespace vs {
 
@@ -31,9 +32,19 @@ struct LevelInfo {
   uint64_t cell_count;
 };
 
+// What a dataset holds: AMR cells (bricks, ABRs) or an unstructured mesh (umesh/umesh.h).
+enum class DatasetKind { amr, umesh };
+
+struct MeshCounts {
+  uint64_t vertices = 0, elements = 0;
+  uint64_t by_type[4] = {};  // umesh.h type_slot order: tetra, pyramid, wedge, hexahedron
+};
+
 struct DatasetManifest {
   int format_version = kDatasetFormatVersion;
-  std::string source;  // what it was converted from
+  DatasetKind kind = DatasetKind::amr;  // manifest key "kind" (absent in older datasets: amr)
+  MeshCounts mesh;                      // umesh only
+  std::string source;                   // what it was converted from
   WorldTransform transform;
   box3i grid_bounds;  // bounding box of all cells, grid units
   uint64_t cell_count = 0;
@@ -45,6 +56,8 @@ struct DatasetManifest {
   // "file_order"; absent in older datasets, which means false).
   bool file_order = false;
   int step_count() const { return int(step_times.size()); }
+  // Values per (field, step) file: cells (AMR) or vertices (mesh).
+  uint64_t value_count() const { return kind == DatasetKind::umesh ? mesh.vertices : cell_count; }
   int field_index(const std::string& name) const;  // -1 if absent
 };
 
@@ -62,6 +75,8 @@ inline constexpr const char* kBricks = "bricks.bin";
 inline constexpr const char* kAbrs = "abrs.bin";
 inline constexpr const char* kAbrBricks = "abr_bricks.bin";
 inline constexpr const char* kFileIndex = "file_index.bin";         // only with file-order copies
+inline constexpr const char* kMeshVertices = "mesh_vertices.bin";   // umesh: float x, y, z per vertex
+inline constexpr const char* kMeshElements = "mesh_elements.bin";   // umesh: UElement per element
 std::string field_values(const FieldInfo& f, int step);             // relative path
 std::string field_file_order_values(const FieldInfo& f, int step);  // relative path (file-order copy)
 std::string field_ranges(const FieldInfo& f, int step);             // relative path
@@ -73,6 +88,7 @@ class DatasetWriter {
   DatasetWriter(std::filesystem::path dir, DatasetManifest manifest_without_fields,
                 const std::vector<std::string>& field_names);
   void write_topology(const AmrTopology& topology, const std::vector<Cell>& device_cells);
+  void write_mesh(const UMesh& mesh);  // an unstructured-mesh dataset (kind umesh)
   // values: cell_count floats in device order. Computes and stores the per-ABR ranges.
   void write_values(int field, int step, const std::vector<float>& values);
   // The file-order copies: `index[device position]` = position in the file-order values (a
@@ -94,7 +110,10 @@ class Dataset {
  public:
   explicit Dataset(const std::filesystem::path& dir);  // throws InputError
   const DatasetManifest& manifest() const { return manifest_; }
-  const AmrTopology& topology() const { return topology_; }
+  const AmrTopology& topology() const { return topology_; }  // AMR (empty for a mesh)
+  DatasetKind kind() const { return manifest_.kind; }
+  bool is_mesh() const { return manifest_.kind == DatasetKind::umesh; }
+  const UMesh& mesh() const { return mesh_; }  // umesh (empty for AMR)
   const std::filesystem::path& dir() const { return dir_; }
   std::vector<Cell> load_cells() const;  // device order; for brute-force reference only
   std::vector<float> load_values(int field, int step) const;
@@ -111,9 +130,12 @@ class Dataset {
   std::vector<float> load_file_order_values(int field, int step) const;
 
  private:
+  void load_mesh();
   std::filesystem::path dir_;
   DatasetManifest manifest_;
   AmrTopology topology_;
+  UMesh mesh_;
+  CountedBytes mesh_bytes_;
   CountedBytes brick_bytes_, abr_bytes_, abr_list_bytes_;  // the topology's host memory
 };
 
@@ -135,6 +157,11 @@ struct ConvertStats {
 // InputError (naming `out`) unless about cells * (topology + values_per_cell floats) bytes fit on
 // the file system that will hold `out`: a demo or convert must not fill the disk and fail late.
 void check_free_space(const std::filesystem::path& out, uint64_t cells, uint64_t values_per_cell, bool file_order);
+// The values of one (field, step) as a dataset stores them: NaN is "no data" (kept), an
+// infinite value (also a float64 beyond float range, converted) is refused (InputError naming
+// `origin`), and some value must be finite so that the step has a range (docs/formats.md).
+void check_field_values(const std::vector<float>& values, const std::string& origin, const std::string& field,
+                        int step);
 ConvertStats convert_to_dataset(AmrSource& source, const std::filesystem::path& out_dir,
                                 const ConvertOptions& options = {});
 

@@ -19,10 +19,49 @@ std::vector<BrickHistogramBin> cells_per_brick_histogram(const std::vector<Brick
   return bins;
 }
 
+namespace {
+
+json field_summary(const DatasetManifest& m) {
+  json fields = json::array();
+  for (const auto& f : m.fields) {
+    Range r{INFINITY, -INFINITY};
+    for (const Range& s : f.step_ranges) r = {std::min(r.lo, s.lo), std::max(r.hi, s.hi)};
+    fields.push_back({{"name", f.name}, {"min", r.lo}, {"max", r.hi}});
+  }
+  return fields;
+}
+
+json mesh_summary(const Dataset& ds) {
+  const DatasetManifest& m = ds.manifest();
+  json j;
+  j["kind"] = "umesh";
+  j["path"] = ds.dir().string();
+  j["source"] = m.source;
+  Box3<double> b{vec3d(INFINITY), vec3d(-INFINITY)};
+  for (const vec3f& v : ds.mesh().vertices) b.extend(m.transform.to_world(vec3d(v)));
+  j["domain"] = {{"lower", {b.lower.x, b.lower.y, b.lower.z}}, {"upper", {b.upper.x, b.upper.y, b.upper.z}}};
+  j["vertices"] = m.mesh.vertices;
+  j["elements"] = m.mesh.elements;
+  for (int t = 0; t < 4; ++t) j["elements_by_type"][kTypeSlotNames[t]] = m.mesh.by_type[t];
+  j["steps"] = m.step_count();
+  j["step_times"] = m.step_times;
+  j["fields"] = field_summary(m);
+  const uint64_t values = align_up(m.mesh.vertices * sizeof(float));
+  j["bytes"] = {{"mesh_vertices", m.mesh.vertices * sizeof(vec3f)},
+                {"mesh_elements", m.mesh.elements * sizeof(UElement)},
+                {"values_per_field_step", values},
+                {"values_total", values * m.fields.size() * uint64_t(m.step_count())}};
+  return j;
+}
+
+}  // namespace
+
 json dataset_summary(const Dataset& ds) {
+  if (ds.is_mesh()) return mesh_summary(ds);
   const DatasetManifest& m = ds.manifest();
   const AmrTopology& t = ds.topology();
   json j;
+  j["kind"] = "amr";
   j["path"] = ds.dir().string();
   j["source"] = m.source;
   const vec3d lo = m.transform.to_world(vec3d(m.grid_bounds.lower)),
@@ -37,11 +76,7 @@ json dataset_summary(const Dataset& ds) {
     j["levels"].push_back({{"level", l.level}, {"width", 1 << l.level}, {"cells", l.cell_count}});
   j["steps"] = m.step_count();
   j["step_times"] = m.step_times;
-  for (const auto& f : m.fields) {
-    Range r{INFINITY, -INFINITY};
-    for (const Range& s : f.step_ranges) r = {std::min(r.lo, s.lo), std::max(r.hi, s.hi)};
-    j["fields"].push_back({{"name", f.name}, {"min", r.lo}, {"max", r.hi}});
-  }
+  j["fields"] = field_summary(m);
   j["bricks"] = t.bricks.size();
   j["abrs"] = t.abrs.size();
   j["abr_brick_refs"] = t.abr_bricks.size();
@@ -73,6 +108,51 @@ std::string human_bytes(double b) {
   std::snprintf(buf, sizeof(buf), u ? "%.1f %s" : "%.0f %s", b, units[u]);
   return buf;
 }
+
+// printf into a std::string.
+template <typename... Args>
+void append(std::string& s, const char* fmt, Args... args) {
+  char buf[512];
+  std::snprintf(buf, sizeof(buf), fmt, args...);
+  s += buf;
+}
+
+std::string format_fields_list(const json& j) {
+  std::string s;
+  append(s, "fields    %zu\n", j["fields"].size());
+  for (const auto& f : j["fields"])
+    append(s, "  %-20s [%g, %g]\n", f["name"].get<std::string>().c_str(), f["min"].get<double>(),
+           f["max"].get<double>());
+  return s;
+}
+
+std::string format_bytes(const json& j) {
+  std::string s;
+  for (const char* section : {"bytes", "resident_bytes", "device_bytes"}) {
+    if (!j.contains(section)) continue;
+    s += std::string(section) + "\n";
+    for (const auto& [k, v] : j[section].items())
+      append(s, "  %-27s %s\n", k.c_str(), human_bytes(double(v.get<uint64_t>())).c_str());
+  }
+  if (j.contains("bytes_per_element")) append(s, "bytes_per_element %.1f\n", j["bytes_per_element"].get<double>());
+  return s;
+}
+
+std::string format_mesh_summary(const json& j) {
+  std::string s;
+  const auto& d = j["domain"];
+  append(s, "domain    [%g, %g, %g] - [%g, %g, %g]\n", d["lower"][0].get<double>(), d["lower"][1].get<double>(),
+         d["lower"][2].get<double>(), d["upper"][0].get<double>(), d["upper"][1].get<double>(),
+         d["upper"][2].get<double>());
+  append(s, "mesh      %llu vertices, %llu elements\n", (unsigned long long)j["vertices"].get<uint64_t>(),
+         (unsigned long long)j["elements"].get<uint64_t>());
+  for (const auto& [type, count] : j["elements_by_type"].items())
+    append(s, "  %-12s %12llu\n", type.c_str(), (unsigned long long)count.get<uint64_t>());
+  append(s, "steps     %d (t = %g .. %g)\n", j["steps"].get<int>(), j["step_times"].front().get<double>(),
+         j["step_times"].back().get<double>());
+  return s + format_fields_list(j) + format_bytes(j);
+}
+
 }  // namespace
 
 std::string format_summary(const json& j) {
@@ -83,6 +163,7 @@ std::string format_summary(const json& j) {
     s += buf;
   };
   line("dataset   %s\nsource    %s\n", j["path"].get<std::string>().c_str(), j["source"].get<std::string>().c_str());
+  if (j.value("kind", "amr") == "umesh") return s + format_mesh_summary(j);
   const auto& d = j["domain"];
   line("domain    [%g, %g, %g] - [%g, %g, %g]  (finest cell %g x %g x %g)\n", d["lower"][0].get<double>(),
        d["lower"][1].get<double>(), d["lower"][2].get<double>(), d["upper"][0].get<double>(),
@@ -96,9 +177,7 @@ std::string format_summary(const json& j) {
        j["step_times"].back().get<double>());
   if (j.value("file_order", false))
     s += "file order yes: every step also in file order, plus file_index.bin (--file-order)\n";
-  line("fields    %zu\n", j["fields"].size());
-  for (const auto& f : j["fields"])
-    line("  %-20s [%g, %g]\n", f["name"].get<std::string>().c_str(), f["min"].get<double>(), f["max"].get<double>());
+  s += format_fields_list(j);
   line("bricks    %llu\nABRs      %llu (%.2f bricks per ABR)\n", (unsigned long long)j["bricks"].get<uint64_t>(),
        (unsigned long long)j["abrs"].get<uint64_t>(), j["bricks_per_abr"].get<double>());
   s += "cells per brick (histogram)\n";
@@ -111,13 +190,7 @@ std::string format_summary(const json& j) {
     line("  %8llu-%-8llu %10llu %s\n", (unsigned long long)b["min"].get<uint64_t>(),
          (unsigned long long)b["max"].get<uint64_t>(), (unsigned long long)n, bar.c_str());
   }
-  for (const char* section : {"bytes", "device_bytes"}) {
-    if (!j.contains(section)) continue;
-    s += std::string(section) + "\n";
-    for (const auto& [k, v] : j[section].items())
-      line("  %-27s %s\n", k.c_str(), human_bytes(double(v.get<uint64_t>())).c_str());
-  }
-  return s;
+  return s + format_bytes(j);
 }
 
 }  // namespace vs

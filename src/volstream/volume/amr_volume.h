@@ -39,17 +39,9 @@ struct AmrVolume {
   // ABR segments come K at a time from one traversal (bvh_next_leaves), front to back.
   template <typename Visit>
   VS_HOST_DEVICE void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
-    const SlabRay slab(org, dir);
-    constexpr int kBatch = 16;
-    LeafHit hits[kBatch];
-    float t = 0.f;
-    for (;;) {
-      const int n = bvh_next_leaves<kBatch>(nodes, node_count, slab, t, INFINITY, hits);
-      for (int i = 0; i < n; ++i)
-        if (!visit(RayInterval{hits[i].item, hits[i].t0, hits[i].t1})) return;
-      if (n < kBatch) return;
-      t = hits[kBatch - 1].t1;
-    }
+    bvh_for_each_leaf(nodes, node_count, org, dir, [&](uint32_t abr, float t0, float t1) {
+      return visit(RayInterval{abr, t0, t1});
+    });
   }
 };
 static_assert(Volume<AmrVolume>);

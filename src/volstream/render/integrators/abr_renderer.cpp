@@ -72,7 +72,6 @@ Box3<double> AmrRenderer::world_bounds() const { return vs::world_bounds(topolog
 
 FrameView<AmrVolume> AmrRenderer::view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
                                        const Camera& camera, const FrameSettings& settings) const {
-  if (optics.needs_second_field() && !fields.second) throw UsageError("blackbody optics needs a temperature field");
   FrameView<AmrVolume> v;
   v.volume.amr = make_view(topology_, fields.primary);
   v.volume.fields[0] = fields.primary;
@@ -81,42 +80,23 @@ FrameView<AmrVolume> AmrRenderer::view(const FrameFields& fields, const OpticsVi
   v.volume.node_count = uint32_t(skipping_.refit_nodes().size());
   v.volume.all_nodes = skipping_.template_bvh().nodes.data();
   v.volume.all_node_count = uint32_t(skipping_.template_bvh().nodes.size());
-  v.optics = optics;
-  if (color_tf && fields.second) {
-    v.color_isosurfaces = 1;
-    v.color_tf = *color_tf;
-  }
-  v.camera = make_camera_view(camera, settings.width, settings.height);
-  v.grid = make_grid_map(transform_);
-  v.settings = resolve_settings(settings.integrator, world_bounds());
-  v.width = settings.width;
-  v.height = settings.height;
+  fill_frame(v, optics, color_tf, fields.second != nullptr, camera, settings, transform_, world_bounds());
   return v;
 }
 
 Image AmrRenderer::render(Device device, const FrameView<AmrVolume>& host_view, FrameStats* stats) const {
+  if (device == Device::cpu) return render_view_cpu(host_view, stats);
   FrameView<AmrVolume> view = host_view;
   Image img(view.width, view.height);
   std::vector<uint32_t> counts(size_t(view.width) * view.height);
   view.rgba = img.rgba.data();
   view.sample_counts = counts.data();
-  FrameStats local;
-  local.device = device;
-  if (device == Device::cuda) {
-    const cuda::RenderTimes t = cuda::render(topology_, view);
-    local.upload_seconds = t.upload_seconds;
-    local.render_seconds = t.kernel_seconds;
-  } else {
-    Stopwatch watch;
-    render_frame_cpu(view);
-    local.render_seconds = watch.seconds();
-  }
-  local.samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
+  const cuda::RenderTimes t = cuda::render(topology_, view);
   if (stats) {
-    stats->device = local.device;
-    stats->upload_seconds = local.upload_seconds;
-    stats->render_seconds = local.render_seconds;
-    stats->samples = local.samples;
+    stats->device = device;
+    stats->upload_seconds = t.upload_seconds;
+    stats->render_seconds = t.kernel_seconds;
+    stats->samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
   }
   return img;
 }

@@ -4,6 +4,7 @@
 // (integrator.h) runs on the CPU or the GPU.
 #pragma once
 #include <cstdint>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -12,9 +13,12 @@
 #include "volstream/amr/source.h"
 #include "volstream/backend/device.h"
 #include "volstream/backend/memory.h"
+#include "volstream/core/error.h"
 #include "volstream/core/image.h"
+#include "volstream/core/stopwatch.h"
 #include "volstream/render/camera.h"
 #include "volstream/render/integrators/integrator.h"
+#include "volstream/render/integrators/launch_cpu.h"
 #include "volstream/render/optics/optics.h"
 #include "volstream/render/skipping.h"
 #include "volstream/volume/amr_volume.h"
@@ -53,6 +57,42 @@ struct FrameFields {
   const float* primary = nullptr;
   const float* second = nullptr;
 };
+
+// The parts of a frame view every volume kind fills alike: optics, colour isosurfaces (when a
+// second field is given), camera, grid map and resolved settings.
+template <typename V>
+void fill_frame(FrameView<V>& v, const OpticsView& optics, const TfView* color_tf, bool has_second,
+                const Camera& camera, const FrameSettings& settings, const WorldTransform& transform,
+                const Box3<double>& world_bounds) {
+  if (optics.needs_second_field() && !has_second) throw UsageError("blackbody optics needs a temperature field");
+  v.optics = optics;
+  if (color_tf && has_second) {
+    v.color_isosurfaces = 1;
+    v.color_tf = *color_tf;
+  }
+  v.camera = make_camera_view(camera, settings.width, settings.height);
+  v.grid = make_grid_map(transform);
+  v.settings = resolve_settings(settings.integrator, world_bounds);
+  v.width = settings.width;
+  v.height = settings.height;
+}
+
+// Renders a view on the CPU into a new image; adds the integrator's time and samples to stats.
+template <typename V>
+Image render_view_cpu(FrameView<V> view, FrameStats* stats) {
+  Image img(view.width, view.height);
+  std::vector<uint32_t> counts(size_t(view.width) * view.height);
+  view.rgba = img.rgba.data();
+  view.sample_counts = counts.data();
+  Stopwatch watch;
+  render_frame_cpu(view);
+  if (stats) {
+    stats->device = Device::cpu;
+    stats->render_seconds = watch.seconds();
+    stats->samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
+  }
+  return img;
+}
 
 class AmrRenderer {
  public:

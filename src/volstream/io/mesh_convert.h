@@ -1,0 +1,35 @@
+// Unstructured meshes into the native dataset (kind umesh, docs/formats.md): the mesh of the
+// first step is checked and encoded once (umesh/from_mesh_data.h); every later step must have
+// the same mesh (a time series changes only its scalars) and contributes its fields.
+#pragma once
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "volstream/io/dataset.h"
+#include "volstream/umesh/demo.h"
+#include "volstream/umesh/mesh_data.h"
+
+namespace vs {
+
+class MeshSeries {
+ public:
+  virtual ~MeshSeries() = default;
+  virtual int step_count() const = 0;
+  virtual double step_time(int step) const { return double(step); }
+  virtual MeshData read_step(int step) = 0;  // checked with check_mesh
+  virtual std::string origin(int step) const = 0;  // the file named in errors about that step
+  virtual std::string description() const = 0;    // for `info` ("VTK XML .vtu", "demo tets", ...)
+};
+
+std::unique_ptr<MeshSeries> make_mesh_demo_series(const MeshDemoOptions& options);
+
+struct MeshConvertStats {
+  double read_seconds = 0, encode_seconds = 0, values_seconds = 0;
+  uint64_t elements = 0, vertices = 0;
+};
+MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const std::filesystem::path& out_dir,
+                                         const ConvertOptions& options = {});
+
+}  // namespace vs

@@ -1,0 +1,99 @@
+#include "volstream/render/integrators/umesh_renderer.h"
+
+#include "volstream/backend/parallel.h"
+#include "volstream/core/stopwatch.h"
+
+namespace vs {
+namespace {
+
+std::vector<box3f> element_boxes(const UMesh& mesh) {
+  std::vector<box3f> boxes(mesh.elements.size());
+  parallel_for("element boxes", int64_t(boxes.size()), [&](int64_t e) {
+    boxes[size_t(e)] = element_box(mesh.vertices.data(), mesh.elements[size_t(e)]);
+  });
+  return boxes;
+}
+
+}  // namespace
+
+Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transform) {
+  Box3<double> b{vec3d(INFINITY), vec3d(-INFINITY)};
+  for (const vec3f& v : mesh.vertices) b.extend(transform.to_world(vec3d(v)));
+  if (b.empty()) b = {vec3d(0), vec3d(1)};
+  return b;
+}
+
+UMeshRenderer::UMeshRenderer(const UMesh& mesh, const WorldTransform& transform)
+    : mesh_(mesh), transform_(transform), skipping_([&] {
+        Stopwatch watch;
+        const std::vector<box3f> boxes = element_boxes(mesh);
+        bvh_ = build_element_bvh(boxes);
+        cells_ = build_macrocells(boxes);
+        build_seconds_ = watch.seconds();
+        return cells_.boxes;
+      }()) {
+  const UMeshBytes b = bytes();
+  counted_ = CountedBytes("mesh BVH and macrocells", MemorySpace::host,
+                          int64_t(b.bvh_nodes + b.bvh_items + b.macrocells + b.region_bvh));
+}
+
+UMeshView UMeshRenderer::mesh_view() const {
+  return {mesh_.vertices.data(), mesh_.elements.data(), bvh_.nodes.data(), bvh_.items.data(),
+          uint32_t(bvh_.nodes.size())};
+}
+
+FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const OpticsView& optics,
+                                           const TfView* color_tf, const Camera& camera,
+                                           const FrameSettings& settings) const {
+  FrameView<UMeshVolume> v;
+  v.volume.mesh = mesh_view();
+  v.volume.fields[0] = fields.primary;
+  v.volume.fields[1] = fields.second;
+  v.volume.nodes = skipping_.refit_nodes().data();
+  v.volume.node_count = uint32_t(skipping_.refit_nodes().size());
+  v.volume.step_widths = cells_.step_width.data();
+  v.volume.grid = cells_.grid;
+  v.volume.region_of_cell = cells_.region_of_cell.data();
+  fill_frame(v, optics, color_tf, fields.second != nullptr, camera, settings, transform_,
+             world_bounds(mesh_, transform_));
+  return v;
+}
+
+std::vector<float> UMeshRenderer::probe(const float* values, const std::vector<vec3f>& points) const {
+  const UMeshView view = mesh_view();
+  std::vector<float> out(points.size());
+  parallel_for("probe", int64_t(points.size()),
+               [&](int64_t i) { out[size_t(i)] = view.sample(values, points[size_t(i)]); });
+  return out;
+}
+
+UMeshBytes UMeshRenderer::bytes() const {
+  UMeshBytes b;
+  b.vertices = mesh_.vertices.size() * sizeof(vec3f);
+  b.elements = mesh_.elements.size() * sizeof(UElement);
+  b.bvh_nodes = bvh_.nodes.size() * sizeof(ElementBvhNode);
+  b.bvh_items = bvh_.items.size() * sizeof(uint32_t);
+  b.macrocells = cells_.bytes();
+  b.region_bvh = 2 * skipping_.template_bvh().nodes.size() * sizeof(BvhNode);  // template + refit copy
+  b.field = mesh_.vertices.size() * sizeof(float);
+  return b;
+}
+
+std::vector<double> probe_brute_force(const UMesh& mesh, const float* values, const std::vector<vec3f>& points) {
+  const UMeshView view{mesh.vertices.data(), mesh.elements.data(), nullptr, nullptr, 0};
+  std::vector<double> out(points.size(), NAN);
+  parallel_for("probe_brute_force", int64_t(points.size()), [&](int64_t i) {
+    float w[8];
+    for (uint32_t e = 0; e < mesh.elements.size(); ++e) {
+      if (!view.in_element(e, points[size_t(i)], w)) continue;
+      const UElement& el = mesh.elements[e];
+      double f = 0;
+      for (int k = 0; k < el.vertex_count(); ++k) f += double(w[k]) * double(values[el.v[k]]);
+      out[size_t(i)] = f;
+      return;
+    }
+  });
+  return out;
+}
+
+}  // namespace vs

@@ -1,0 +1,70 @@
+// The host side of unstructured-mesh rendering (issue 12, reference encoding): the element BVH
+// for point location and the macrocells with their region BVH for the march are built once;
+// per step the macrocells' value ranges are recomputed (only scalars change), then classified
+// and the region BVH refit, never rebuilt, as for ABRs. The one integrator (integrator.h) runs
+// over UMeshVolume.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "volstream/amr/source.h"
+#include "volstream/backend/memory.h"
+#include "volstream/render/integrators/abr_renderer.h"
+#include "volstream/render/skipping.h"
+#include "volstream/umesh/element_bvh.h"
+#include "volstream/umesh/macrocells.h"
+#include "volstream/volume/umesh_volume.h"
+
+namespace vs {
+
+// Resident bytes of each structure the renderer keeps for a mesh (info, bytes_per_element).
+struct UMeshBytes {
+  uint64_t vertices = 0, elements = 0, bvh_nodes = 0, bvh_items = 0, macrocells = 0, region_bvh = 0, field = 0;
+  uint64_t total() const { return vertices + elements + bvh_nodes + bvh_items + macrocells + region_bvh + field; }
+};
+
+class UMeshRenderer {
+ public:
+  // Keeps a reference to `mesh`.
+  UMeshRenderer(const UMesh& mesh, const WorldTransform& transform);
+
+  std::vector<Range> ranges(const float* values) const { return macrocell_ranges(mesh_, cells_, values); }
+  uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso, bool skip,
+                    SkipStats* stats = nullptr) {
+    return skipping_.classify(ranges, tf, iso, skip, stats);
+  }
+  uint64_t refit(const std::vector<uint8_t>& keep, SkipStats* stats = nullptr) { return skipping_.refit(keep, stats); }
+
+  FrameView<UMeshVolume> view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
+                              const Camera& camera, const FrameSettings& settings) const;
+  Image render(const FrameView<UMeshVolume>& view, FrameStats* stats = nullptr) const {
+    return render_view_cpu(view, stats);
+  }
+  // Field values at grid points through the element BVH, NaN outside every element.
+  std::vector<float> probe(const float* values, const std::vector<vec3f>& grid_points) const;
+
+  UMeshView mesh_view() const;
+  const MacroCells& macrocells() const { return cells_; }
+  const ElementBvh& element_bvh() const { return bvh_; }
+  size_t region_count() const { return cells_.boxes.size(); }
+  UMeshBytes bytes() const;
+  double build_seconds() const { return build_seconds_; }
+
+ private:
+  const UMesh& mesh_;
+  WorldTransform transform_;
+  double build_seconds_ = 0;
+  ElementBvh bvh_;
+  MacroCells cells_;
+  RegionBvh skipping_;  // over the macrocell boxes
+  CountedBytes counted_;
+};
+
+// The world box of the mesh's vertices.
+Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transform);
+
+// The reference for probe(): every element tested for every point (no BVH), double precision
+// interpolation of the weights found.
+std::vector<double> probe_brute_force(const UMesh& mesh, const float* values, const std::vector<vec3f>& grid_points);
+
+}  // namespace vs

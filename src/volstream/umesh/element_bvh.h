@@ -1,0 +1,95 @@
+// The reference encoding's acceleration structure for point location: a binary BVH over the
+// elements' boxes with up to kElementLeafSize elements per leaf, addressed through an item list
+// (the layout of paper 002's baseline: 32 B nodes plus 4 B per element of item list). Built by
+// median splits on the longest axis of the centroids (balanced: depth ~ log2(elements / leaf)).
+// Children of an inner node are adjacent (first, first + 1).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "volstream/core/math.h"
+#include "volstream/umesh/shape.h"
+#include "volstream/umesh/umesh.h"
+
+namespace vs {
+
+inline constexpr uint32_t kElementLeafSize = 4;
+
+struct ElementBvhNode {
+  box3f box;
+  uint32_t first;  // inner: left child (right = first + 1); leaf: first item
+  uint32_t count;  // 0: inner node; else the leaf's item count
+};
+
+struct ElementBvh {
+  std::vector<ElementBvhNode> nodes;  // nodes[0] is the root
+  std::vector<uint32_t> items;        // element indices in leaf order
+};
+
+ElementBvh build_element_bvh(const std::vector<box3f>& element_boxes);
+
+// The element containing p and its interpolation weights (w[0..vertex_count)), or -1.
+struct ElementHit {
+  int64_t element = -1;
+  float w[8];
+};
+
+// Everything point location reads (host or device pointers).
+struct UMeshView {
+  const vec3f* vertices = nullptr;
+  const UElement* elements = nullptr;
+  const ElementBvhNode* nodes = nullptr;
+  const uint32_t* items = nullptr;
+  uint32_t node_count = 0;
+
+  VS_HOST_DEVICE bool in_element(uint32_t e, const vec3f& p, float* w) const {
+    const UElement& el = elements[e];
+    const int n = el.vertex_count();
+    vec3f x[8];
+    box3f b = box3f::make_empty();
+    for (int i = 0; i < n; ++i) {
+      x[i] = vertices[el.v[i]];
+      b.extend(x[i]);
+    }
+    // Slightly grown: the parametric tolerance reaches a little beyond the corners' box.
+    const vec3f pad = b.size() * (2.f * shape::kParamTolerance);
+    if (!box3f{b.lower - pad, b.upper + pad}.contains(p)) return false;
+    return shape::locate_in_element(n, x, p, w);
+  }
+
+  VS_HOST_DEVICE ElementHit locate(const vec3f& p) const {
+    ElementHit hit;
+    if (node_count == 0) return hit;
+    uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const ElementBvhNode& node = nodes[stack[--top]];
+      if (!node.box.contains(p)) continue;
+      if (node.count == 0) {
+        stack[top++] = node.first + 1;
+        stack[top++] = node.first;
+        continue;
+      }
+      for (uint32_t k = 0; k < node.count; ++k)
+        if (in_element(items[node.first + k], p, hit.w)) {
+          hit.element = items[node.first + k];
+          return hit;
+        }
+    }
+    return hit;
+  }
+
+  // The field's value at p, NaN outside every element.
+  VS_HOST_DEVICE float sample(const float* values, const vec3f& p) const {
+    const ElementHit hit = locate(p);
+    if (hit.element < 0) return NAN;
+    const UElement& el = elements[hit.element];
+    const int n = el.vertex_count();
+    float f = 0.f;
+    for (int i = 0; i < n; ++i) f += hit.w[i] * values[el.v[i]];
+    return f;
+  }
+};
+
+}  // namespace vs

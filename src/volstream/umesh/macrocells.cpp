@@ -1,0 +1,117 @@
+#include "volstream/umesh/macrocells.h"
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cmath>
+
+#include "volstream/backend/parallel.h"
+
+namespace vs {
+namespace {
+
+// Floats as unsigned integers in the same order, so that ranges grow with integer atomics.
+uint32_t ordered(float f) {
+  const uint32_t b = std::bit_cast<uint32_t>(f);
+  return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
+}
+float from_ordered(uint32_t u) { return std::bit_cast<float>((u & 0x80000000u) ? (u & 0x7fffffffu) : ~u); }
+
+void atomic_min(uint32_t& slot, uint32_t v) {
+  std::atomic_ref<uint32_t> a(slot);
+  uint32_t cur = a.load(std::memory_order_relaxed);
+  while (v < cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+  }
+}
+void atomic_max(uint32_t& slot, uint32_t v) {
+  std::atomic_ref<uint32_t> a(slot);
+  uint32_t cur = a.load(std::memory_order_relaxed);
+  while (v > cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+  }
+}
+
+// Calls f(cell index) for every grid cell the box overlaps.
+template <typename F>
+void for_each_cell(const MacroGrid& g, const box3f& b, F&& f) {
+  const vec3i lo = g.cell_of(b.lower), hi = g.cell_of(b.upper);
+  for (int z = lo.z; z <= hi.z; ++z)
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int x = lo.x; x <= hi.x; ++x) f(g.index({x, y, z}));
+}
+
+MacroGrid make_grid(const std::vector<box3f>& boxes) {
+  MacroGrid g;
+  g.bounds = box3f::make_empty();
+  for (const box3f& b : boxes) g.bounds.extend(b);
+  const vec3f size = vmax(g.bounds.size(), vec3f(1e-30f));
+  // Cubic cells, about kElementsPerMacrocell elements each, at most 256 per axis.
+  const double cells = std::max(1.0, double(boxes.size()) / kElementsPerMacrocell);
+  const double edge = std::cbrt(double(size.x) * size.y * size.z / cells);
+  for (int a = 0; a < 3; ++a) {
+    g.dims[a] = std::clamp(int(std::ceil(size[a] / edge)), 1, 256);
+    g.cell_size[a] = size[a] / float(g.dims[a]);
+    if (!(g.cell_size[a] > 0.f)) g.cell_size[a] = 1.f;  // a flat mesh: one layer of cells
+  }
+  return g;
+}
+
+}  // namespace
+
+float element_size(const box3f& b) {
+  const vec3f s = b.size();
+  const float volume_root = std::cbrt(s.x * s.y * s.z);
+  return std::max(volume_root, 1e-3f * reduce_max(s));
+}
+
+MacroCells build_macrocells(const std::vector<box3f>& boxes) {
+  MacroCells m;
+  m.grid = make_grid(boxes);
+  const uint64_t n = m.grid.cell_count();
+  std::vector<uint32_t> finest(n, ordered(INFINITY));
+  parallel_for("macrocell sizes", int64_t(boxes.size()), [&](int64_t e) {
+    const uint32_t size = ordered(element_size(boxes[size_t(e)]));
+    for_each_cell(m.grid, boxes[size_t(e)], [&](uint64_t c) { atomic_min(finest[c], size); });
+  });
+  m.region_of_cell.assign(n, -1);
+  for (int z = 0; z < m.grid.dims.z; ++z)
+    for (int y = 0; y < m.grid.dims.y; ++y)
+      for (int x = 0; x < m.grid.dims.x; ++x) {
+        const uint64_t c = m.grid.index({x, y, z});
+        const float width = from_ordered(finest[c]);
+        if (!(width < INFINITY)) continue;
+        m.region_of_cell[c] = int32_t(m.boxes.size());
+        const vec3f lower = m.grid.bounds.lower + vec3f(float(x), float(y), float(z)) * m.grid.cell_size;
+        // The last layer ends exactly on the bounds (no rounding gap at the far faces).
+        vec3f upper = lower + m.grid.cell_size;
+        for (int a = 0; a < 3; ++a)
+          if ((a == 0 ? x : a == 1 ? y : z) == m.grid.dims[a] - 1) upper[a] = m.grid.bounds.upper[a];
+        m.boxes.push_back({lower, upper});
+        m.step_width.push_back(width);
+      }
+  return m;
+}
+
+std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& m, const float* values) {
+  std::vector<uint32_t> lo(m.boxes.size(), ordered(INFINITY)), hi(m.boxes.size(), ordered(-INFINITY));
+  parallel_for("macrocell ranges", int64_t(mesh.elements.size()), [&](int64_t i) {
+    const UElement& e = mesh.elements[size_t(i)];
+    float elo = INFINITY, ehi = -INFINITY;
+    const int n = e.vertex_count();
+    for (int k = 0; k < n; ++k) {
+      const float v = values[e.v[k]];
+      if (std::isfinite(v)) elo = std::min(elo, v), ehi = std::max(ehi, v);
+    }
+    if (!(elo <= ehi)) return;
+    const uint32_t olo = ordered(elo), ohi = ordered(ehi);
+    for_each_cell(m.grid, element_box(mesh.vertices.data(), e), [&](uint64_t c) {
+      const int32_t r = m.region_of_cell[c];
+      atomic_min(lo[size_t(r)], olo);
+      atomic_max(hi[size_t(r)], ohi);
+    });
+  });
+  std::vector<Range> ranges(m.boxes.size());
+  for (size_t r = 0; r < ranges.size(); ++r) ranges[r] = {from_ordered(lo[r]), from_ordered(hi[r])};
+  return ranges;
+}
+
+}  // namespace vs

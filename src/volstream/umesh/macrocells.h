@@ -1,0 +1,61 @@
+// The regions an unstructured mesh gives the integrator (volume/umesh_volume.h): the non-empty
+// cells of a uniform macrocell grid over the mesh's bounds, about kElementsPerMacrocell elements
+// each. They are disjoint boxes, so a ray visits them front to back through the same refit
+// region BVH as ABRs (render/skipping.h); each carries the value range of the elements
+// overlapping it (empty-space skipping and isosurfaces, recomputed per step: only scalars
+// change) and the size of its smallest element (the adaptive step). Macrocells no element
+// touches are not regions at all, so rays skip holes, cavities and the gaps between the parts of
+// a mesh without sampling them.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "volstream/amr/model.h"
+#include "volstream/core/math.h"
+#include "volstream/umesh/umesh.h"
+
+namespace vs {
+
+inline constexpr double kElementsPerMacrocell = 32;
+
+struct MacroGrid {
+  box3f bounds;
+  vec3i dims{1, 1, 1};
+  vec3f cell_size{1.f, 1.f, 1.f};
+  // Grid cell of p, clamped into the grid.
+  VS_HOST_DEVICE vec3i cell_of(const vec3f& p) const {
+    vec3i c;
+    for (int a = 0; a < 3; ++a) {
+      const int i = int(floorf((p[a] - bounds.lower[a]) / cell_size[a]));
+      c[a] = i < 0 ? 0 : (i >= dims[a] ? dims[a] - 1 : i);
+    }
+    return c;
+  }
+  VS_HOST_DEVICE uint64_t index(const vec3i& c) const {
+    return (uint64_t(c.z) * uint64_t(dims.y) + uint64_t(c.y)) * uint64_t(dims.x) + uint64_t(c.x);
+  }
+  uint64_t cell_count() const { return uint64_t(dims.x) * uint64_t(dims.y) * uint64_t(dims.z); }
+};
+
+struct MacroCells {
+  MacroGrid grid;
+  std::vector<int32_t> region_of_cell;  // grid cell -> region, -1 where no element overlaps
+  std::vector<box3f> boxes;             // per region
+  std::vector<float> step_width;        // per region: its smallest element's size
+  uint64_t bytes() const {
+    return region_of_cell.size() * sizeof(int32_t) + boxes.size() * sizeof(box3f) + step_width.size() * sizeof(float);
+  }
+};
+
+// A feature size of an element: the cube root of its box's volume, at least 1/1000 of its
+// largest extent (a flat, axis-aligned element has a box of no volume).
+float element_size(const box3f& element_box);
+
+MacroCells build_macrocells(const std::vector<box3f>& element_boxes);
+
+// Per region: the range of the finite values at the vertices of the elements overlapping it
+// (shape functions are convex combinations, so no value inside an element leaves its vertices'
+// range); empty (lo > hi) where none is finite.
+std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& cells, const float* values);
+
+}  // namespace vs

@@ -1,0 +1,98 @@
+// VTK's interpolation inside the linear 3D cells, and its inverse (point location in one cell):
+//   tetra       barycentric: w = (1-r-s-t, r, s, t)
+//   hexahedron  trilinear over r,s,t in [0,1]^3, vertices 0-3 at t = 0, 4-7 above them
+//   wedge       linear on the triangles 0-1-2 (t = 0) and 3-4-5 (t = 1) times linear in t:
+//               w = ((1-r-s)(1-t), r(1-t), s(1-t), (1-r-s)t, rt, st)
+//   pyramid     the base quad 0-3 collapsed to the apex 4: w_0..3 = bilinear(r,s)*(1-t), w_4 = t
+// The non-tet maps are inverted by Newton iteration from the cell's centre, so twisted hexes and
+// non-planar faces are located exactly on their curved (ruled) faces, as VTK's EvaluatePosition
+// does. A point is inside when its parametric coordinates are, within kParamTolerance (shared
+// faces then belong to both neighbours, which interpolate the same value there).
+#pragma once
+#include <cmath>
+
+#include "volstream/core/math.h"
+#include "volstream/umesh/umesh.h"
+
+namespace vs::shape {
+
+inline constexpr float kParamTolerance = 1e-4f;
+inline constexpr int kNewtonIterations = 16;
+
+// Weights w[0..n) at parametric r, s, t for an element of n vertices; and their derivatives
+// d[i] = (dw_i/dr, dw_i/ds, dw_i/dt).
+VS_HOST_DEVICE inline void weights(int n, float r, float s, float t, float* w, vec3f* d) {
+  const float rm = 1.f - r, sm = 1.f - s, tm = 1.f - t;
+  if (n == 4) {
+    w[0] = 1.f - r - s - t, w[1] = r, w[2] = s, w[3] = t;
+    d[0] = {-1.f, -1.f, -1.f}, d[1] = {1.f, 0.f, 0.f}, d[2] = {0.f, 1.f, 0.f}, d[3] = {0.f, 0.f, 1.f};
+  } else if (n == 8) {
+    const float rr[8] = {rm, r, r, rm, rm, r, r, rm}, ss[8] = {sm, sm, s, s, sm, sm, s, s},
+                tt[8] = {tm, tm, tm, tm, t, t, t, t};
+    const float dr[8] = {-1, 1, 1, -1, -1, 1, 1, -1}, ds[8] = {-1, -1, 1, 1, -1, -1, 1, 1},
+                dt[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
+    for (int i = 0; i < 8; ++i) {
+      w[i] = rr[i] * ss[i] * tt[i];
+      d[i] = {dr[i] * ss[i] * tt[i], rr[i] * ds[i] * tt[i], rr[i] * ss[i] * dt[i]};
+    }
+  } else if (n == 6) {
+    const float u = 1.f - r - s;
+    w[0] = u * tm, w[1] = r * tm, w[2] = s * tm, w[3] = u * t, w[4] = r * t, w[5] = s * t;
+    d[0] = {-tm, -tm, -u}, d[1] = {tm, 0.f, -r}, d[2] = {0.f, tm, -s};
+    d[3] = {-t, -t, u}, d[4] = {t, 0.f, r}, d[5] = {0.f, t, s};
+  } else {  // pyramid
+    w[0] = rm * sm * tm, w[1] = r * sm * tm, w[2] = r * s * tm, w[3] = rm * s * tm, w[4] = t;
+    d[0] = {-sm * tm, -rm * tm, -rm * sm}, d[1] = {sm * tm, -r * tm, -r * sm};
+    d[2] = {s * tm, r * tm, -r * s}, d[3] = {-s * tm, rm * tm, -rm * s}, d[4] = {0.f, 0.f, 1.f};
+  }
+}
+
+VS_HOST_DEVICE inline bool params_inside(int n, float r, float s, float t) {
+  const float lo = -kParamTolerance, hi = 1.f + kParamTolerance;
+  if (n == 4) return r >= lo && s >= lo && t >= lo && r + s + t <= hi;
+  if (n == 6) return r >= lo && s >= lo && r + s <= hi && t >= lo && t <= hi;
+  return r >= lo && s >= lo && t >= lo && r <= hi && s <= hi && t <= hi;
+}
+
+// Solves J x = b for a 3x3 J given by its columns; false when J is (nearly) singular.
+VS_HOST_DEVICE inline bool solve3(const vec3f& c0, const vec3f& c1, const vec3f& c2, const vec3f& b, vec3f& x) {
+  const vec3f r0 = cross(c1, c2), r1 = cross(c2, c0), r2 = cross(c0, c1);
+  const float det = dot(c0, r0);
+  if (!(fabsf(det) > 1e-30f)) return false;
+  const float inv = 1.f / det;
+  x = {dot(b, r0) * inv, dot(b, r1) * inv, dot(b, r2) * inv};
+  return true;
+}
+
+// Parametric start of the Newton iteration: the cell's centre.
+VS_HOST_DEVICE inline vec3f centre_params(int n) {
+  return n == 4 ? vec3f(0.25f) : n == 6 ? vec3f(1.f / 3.f, 1.f / 3.f, 0.5f) : n == 5 ? vec3f(0.5f, 0.5f, 0.2f) : vec3f(0.5f);
+}
+
+// Interpolation weights of the element with corners x[0..n) at point p; false if p is outside.
+VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f& p, float* w) {
+  vec3f d[8];
+  vec3f pc = centre_params(n);
+  const int iterations = n == 4 ? 1 : kNewtonIterations;  // the tet's map is linear: one step is exact
+  bool converged = false;
+  for (int it = 0; it < iterations && !converged; ++it) {
+    weights(n, pc.x, pc.y, pc.z, w, d);
+    vec3f pos{0.f, 0.f, 0.f}, jr{0.f, 0.f, 0.f}, js{0.f, 0.f, 0.f}, jt{0.f, 0.f, 0.f};
+    for (int i = 0; i < n; ++i) {
+      pos = pos + x[i] * w[i];
+      jr = jr + x[i] * d[i].x;
+      js = js + x[i] * d[i].y;
+      jt = jt + x[i] * d[i].z;
+    }
+    vec3f delta;
+    if (!solve3(jr, js, jt, p - pos, delta)) return false;
+    pc = pc + delta;
+    converged = n == 4 || fabsf(delta.x) + fabsf(delta.y) + fabsf(delta.z) < 1e-6f;
+    if (!(fabsf(pc.x) < 4.f && fabsf(pc.y) < 4.f && fabsf(pc.z) < 4.f)) return false;  // diverging: far outside
+  }
+  if (!converged || !params_inside(n, pc.x, pc.y, pc.z)) return false;
+  weights(n, pc.x, pc.y, pc.z, w, d);
+  return true;
+}
+
+}  // namespace vs::shape

@@ -1,0 +1,42 @@
+// An unstructured mesh (umesh/umesh.h, reference encoding) as a volume: the regions are the
+// non-empty macrocells (umesh/macrocells.h), found front to back by the refit region BVH like
+// ABRs; a sample locates its element through the element BVH (umesh/element_bvh.h) wherever it
+// is, so sample and sample_near are the same, and a point in no element (a hole, a notch, the
+// space between the parts of a mesh inside a macrocell) is NaN, which the integrator skips.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "volstream/accel/bvh.h"
+#include "volstream/accel/bvh_traverse.h"
+#include "volstream/umesh/element_bvh.h"
+#include "volstream/umesh/macrocells.h"
+#include "volstream/volume/volume.h"
+
+namespace vs {
+
+struct UMeshVolume {
+  UMeshView mesh;
+  const float* fields[kVolumeFields] = {};  // per vertex; fields[1] may be null
+  const BvhNode* nodes = nullptr;           // refit BVH over the macrocells: visible ones only
+  uint32_t node_count = 0;
+  const float* step_widths = nullptr;  // per macrocell
+  MacroGrid grid;
+  const int32_t* region_of_cell = nullptr;
+
+  VS_HOST_DEVICE float sample(int field, uint32_t, const vec3f& p) const { return mesh.sample(fields[field], p); }
+  VS_HOST_DEVICE float sample_near(int field, uint32_t, const vec3f& p) const { return mesh.sample(fields[field], p); }
+  VS_HOST_DEVICE float step_width(uint32_t region) const { return step_widths[region]; }
+  VS_HOST_DEVICE int64_t locate(const vec3f& p) const {
+    if (!grid.bounds.contains(p)) return -1;
+    return region_of_cell[grid.index(grid.cell_of(p))];
+  }
+  template <typename Visit>
+  VS_HOST_DEVICE void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
+    bvh_for_each_leaf(nodes, node_count, org, dir,
+                      [&](uint32_t region, float t0, float t1) { return visit(RayInterval{region, t0, t1}); });
+  }
+};
+static_assert(Volume<UMeshVolume>);
+
+}  // namespace vs

@@ -18,9 +18,9 @@ class MeshSeries {
   virtual ~MeshSeries() = default;
   virtual int step_count() const = 0;
   virtual double step_time(int step) const { return double(step); }
-  virtual MeshData read_step(int step) = 0;  // checked with check_mesh
+  virtual MeshData read_step(int step) = 0;        // checked with check_mesh
   virtual std::string origin(int step) const = 0;  // the file named in errors about that step
-  virtual std::string description() const = 0;    // for `info` ("VTK XML .vtu", "demo tets", ...)
+  virtual std::string description() const = 0;     // for `info` ("VTK XML .vtu", "demo tets", ...)
 };
 
 std::unique_ptr<MeshSeries> make_mesh_demo_series(const MeshDemoOptions& options);

@@ -11,7 +11,9 @@ namespace {
 // Grid of (n+1)^3 points; point (i, j, k) has index ((k * (n+1)) + j) * (n+1) + i.
 struct Lattice {
   int n;
-  uint64_t id(int i, int j, int k) const { return (uint64_t(k) * uint64_t(n + 1) + uint64_t(j)) * uint64_t(n + 1) + uint64_t(i); }
+  uint64_t id(int i, int j, int k) const {
+    return (uint64_t(k) * uint64_t(n + 1) + uint64_t(j)) * uint64_t(n + 1) + uint64_t(i);
+  }
 };
 
 double hash_unit(uint64_t x) {  // deterministic jitter in [-0.5, 0.5)
@@ -53,7 +55,8 @@ void add_cell(MeshData& m, uint8_t type, std::initializer_list<uint64_t> ids) {
 // Hex corners in VTK order: bottom face counter-clockwise seen from above, then the top face.
 void hex_corners(const Lattice& l, int i, int j, int k, uint64_t v[8]) {
   v[0] = l.id(i, j, k), v[1] = l.id(i + 1, j, k), v[2] = l.id(i + 1, j + 1, k), v[3] = l.id(i, j + 1, k);
-  v[4] = l.id(i, j, k + 1), v[5] = l.id(i + 1, j, k + 1), v[6] = l.id(i + 1, j + 1, k + 1), v[7] = l.id(i, j + 1, k + 1);
+  v[4] = l.id(i, j, k + 1), v[5] = l.id(i + 1, j, k + 1), v[6] = l.id(i + 1, j + 1, k + 1),
+  v[7] = l.id(i, j + 1, k + 1);
 }
 
 // Six tets around the diagonal 0-6 (Kuhn's split: neighbouring hexes cut shared faces alike).
@@ -65,7 +68,9 @@ void add_kuhn_tets(MeshData& m, const uint64_t v[8]) {
 // Every element in VTK's orientation for its type (make_umesh refuses inverted ones).
 void add_hex_as_type(MeshData& m, const uint64_t v[8], int column_type, uint64_t centre) {
   switch (column_type) {
-    case 0: add_cell(m, 12, {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]}); break;
+    case 0:
+      add_cell(m, 12, {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
+      break;
     case 1:  // two wedges split by the vertical diagonal plane 0-2-6-4; VTK's wedge has the
              // normal of its first triangle pointing away from the second
       add_cell(m, 13, {v[0], v[2], v[1], v[4], v[6], v[5]});
@@ -113,7 +118,8 @@ void add_island(MeshData& m, int n) {
   const uint64_t base = m.points.size();
   for (int k = 0; k <= s; ++k)
     for (int j = 0; j <= s; ++j)
-      for (int i = 0; i <= s; ++i) m.points.push_back(vec3d(1.2 + i / (3.0 * s), 0.3 + j / (3.0 * s), 0.3 + k / (3.0 * s)));
+      for (int i = 0; i <= s; ++i)
+        m.points.push_back(vec3d(1.2 + i / (3.0 * s), 0.3 + j / (3.0 * s), 0.3 + k / (3.0 * s)));
   for (int k = 0; k < s; ++k)
     for (int j = 0; j < s; ++j)
       for (int i = 0; i < s; ++i) {

@@ -16,7 +16,7 @@
 namespace vs {
 
 struct MeshDemoOptions {
-  std::string name;                  // "tets", "mixed" or "holes"
+  std::string name;                   // "tets", "mixed" or "holes"
   uint64_t target_elements = 100000;  // within a few percent (before holes are cut)
   int steps = 1;
 };

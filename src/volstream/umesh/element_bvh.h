@@ -42,7 +42,9 @@ struct UMeshView {
   const uint32_t* items = nullptr;
   uint32_t node_count = 0;
 
-  VS_HOST_DEVICE bool in_element(uint32_t e, const vec3f& p, float* w) const {
+  // Weights of element e at p (false: p is outside it, or outside its corners' box, which the
+  // BVH's boxes are made of). `outside` as in shape::locate_in_element.
+  VS_HOST_DEVICE bool in_element(uint32_t e, const vec3f& p, float* w, float* outside) const {
     const UElement& el = elements[e];
     const int n = el.vertex_count();
     vec3f x[8];
@@ -51,14 +53,23 @@ struct UMeshView {
       x[i] = vertices[el.v[i]];
       b.extend(x[i]);
     }
-    // Slightly grown: the parametric tolerance reaches a little beyond the corners' box.
-    const vec3f pad = b.size() * (2.f * shape::kParamTolerance);
-    if (!box3f{b.lower - pad, b.upper + pad}.contains(p)) return false;
-    return shape::locate_in_element(n, x, p, w);
+    return b.contains(p) && shape::locate_in_element(n, x, p, w, outside);
+  }
+
+  // Tests candidate element e: a strict hit ends the search (true), a hit within the tolerance
+  // is kept unless a closer one is known.
+  VS_HOST_DEVICE bool consider(uint32_t e, const vec3f& p, ElementHit& hit, float& best) const {
+    float w[8], outside;
+    if (!in_element(e, p, w, &outside) || !(outside < best)) return false;
+    best = outside;
+    hit.element = e;
+    for (int i = 0; i < 8; ++i) hit.w[i] = w[i];
+    return outside <= 0.f;
   }
 
   VS_HOST_DEVICE ElementHit locate(const vec3f& p) const {
     ElementHit hit;
+    float best = INFINITY;
     if (node_count == 0) return hit;
     uint32_t stack[64];
     int top = 0;
@@ -72,10 +83,7 @@ struct UMeshView {
         continue;
       }
       for (uint32_t k = 0; k < node.count; ++k)
-        if (in_element(items[node.first + k], p, hit.w)) {
-          hit.element = items[node.first + k];
-          return hit;
-        }
+        if (consider(items[node.first + k], p, hit, best)) return hit;
     }
     return hit;
   }

@@ -8,12 +8,14 @@
 namespace vs {
 namespace {
 
-// The parametric corners of each type (shape.h), where corner Jacobians are taken. The
-// pyramid's apex is singular (its map collapses the top face) and is left out.
-const vec3f kCorners4[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-const vec3f kCorners5[4] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-const vec3f kCorners6[6] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
-const vec3f kCorners8[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+// The parametric points of each type (shape.h) where Jacobians are taken: the corners and the
+// centre (a hex whose top face is turned half around has positive corners and a singular
+// centre). The pyramid's apex is singular (its map collapses the top face) and is left out.
+const vec3f kCorners4[1] = {{0, 0, 0}};  // the tet's Jacobian is constant
+const vec3f kCorners5[5] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5f, 0.5f, 0.2f}};
+const vec3f kCorners6[7] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1 / 3.f, 1 / 3.f, 0.5f}};
+const vec3f kCorners8[9] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},         {0, 0, 1},
+                            {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {0.5f, 0.5f, 0.5f}};
 
 double jacobian_det(int n, const vec3d* x, const vec3f& pc) {
   float w[8];
@@ -31,7 +33,7 @@ double jacobian_det(int n, const vec3d* x, const vec3f& pc) {
 // +1 or -1: the sign of every corner's Jacobian; 0: degenerate; 2: tangled (mixed signs).
 int element_orientation(int n, const vec3d* x) {
   const vec3f* corners = n == 4 ? kCorners4 : n == 5 ? kCorners5 : n == 6 ? kCorners6 : kCorners8;
-  const int count = n == 4 ? 1 : n == 5 ? 4 : n;  // the tet's Jacobian is constant
+  const int count = n == 4 ? 1 : n + 1;
   box3f b = box3f::make_empty();
   for (int i = 0; i < n; ++i) b.extend(vec3f(x[i]));
   const double extent = reduce_max(b.size());

@@ -7,7 +7,8 @@
 // The non-tet maps are inverted by Newton iteration from the cell's centre, so twisted hexes and
 // non-planar faces are located exactly on their curved (ruled) faces, as VTK's EvaluatePosition
 // does. A point is inside when its parametric coordinates are, within kParamTolerance (shared
-// faces then belong to both neighbours, which interpolate the same value there).
+// faces then belong to both neighbours, which interpolate the same value there; an element that
+// holds the point strictly is preferred, see UMeshView::locate).
 #pragma once
 #include <cmath>
 
@@ -47,11 +48,13 @@ VS_HOST_DEVICE inline void weights(int n, float r, float s, float t, float* w, v
   }
 }
 
-VS_HOST_DEVICE inline bool params_inside(int n, float r, float s, float t) {
-  const float lo = -kParamTolerance, hi = 1.f + kParamTolerance;
-  if (n == 4) return r >= lo && s >= lo && t >= lo && r + s + t <= hi;
-  if (n == 6) return r >= lo && s >= lo && r + s <= hi && t >= lo && t <= hi;
-  return r >= lo && s >= lo && t >= lo && r <= hi && s <= hi && t <= hi;
+// How far the parametric point lies outside the element's parameter domain (<= 0: inside).
+VS_HOST_DEVICE inline float params_outside(int n, float r, float s, float t) {
+  auto mx = [](float a, float b) { return a > b ? a : b; };
+  float o = mx(mx(-r, -s), -t);
+  if (n == 4) return mx(o, r + s + t - 1.f);
+  if (n == 6) return mx(o, mx(r + s - 1.f, t - 1.f));
+  return mx(o, mx(mx(r - 1.f, s - 1.f), t - 1.f));
 }
 
 // Solves J x = b for a 3x3 J given by its columns; false when J is (nearly) singular.
@@ -66,11 +69,18 @@ VS_HOST_DEVICE inline bool solve3(const vec3f& c0, const vec3f& c1, const vec3f&
 
 // Parametric start of the Newton iteration: the cell's centre.
 VS_HOST_DEVICE inline vec3f centre_params(int n) {
-  return n == 4 ? vec3f(0.25f) : n == 6 ? vec3f(1.f / 3.f, 1.f / 3.f, 0.5f) : n == 5 ? vec3f(0.5f, 0.5f, 0.2f) : vec3f(0.5f);
+  return n == 4   ? vec3f(0.25f)
+         : n == 6 ? vec3f(1.f / 3.f, 1.f / 3.f, 0.5f)
+         : n == 5 ? vec3f(0.5f, 0.5f, 0.2f)
+                  : vec3f(0.5f);
 }
 
-// Interpolation weights of the element with corners x[0..n) at point p; false if p is outside.
-VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f& p, float* w) {
+// Interpolation weights of the element with corners x[0..n) at point p; false if p is outside
+// (beyond kParamTolerance). `outside` (optional) gets how far outside the parameter domain p is
+// (<= 0: strictly inside), so that callers can prefer the element that holds p strictly over a
+// neighbour that only takes it within the tolerance (and extrapolates a little).
+VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f& p, float* w,
+                                             float* outside = nullptr) {
   vec3f d[8];
   vec3f pc = centre_params(n);
   const int iterations = n == 4 ? 1 : kNewtonIterations;  // the tet's map is linear: one step is exact
@@ -90,7 +100,10 @@ VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f&
     converged = n == 4 || fabsf(delta.x) + fabsf(delta.y) + fabsf(delta.z) < 1e-6f;
     if (!(fabsf(pc.x) < 4.f && fabsf(pc.y) < 4.f && fabsf(pc.z) < 4.f)) return false;  // diverging: far outside
   }
-  if (!converged || !params_inside(n, pc.x, pc.y, pc.z)) return false;
+  if (!converged) return false;
+  const float o = params_outside(n, pc.x, pc.y, pc.z);
+  if (!(o <= kParamTolerance)) return false;
+  if (outside) *outside = o;
   weights(n, pc.x, pc.y, pc.z, w, d);
   return true;
 }

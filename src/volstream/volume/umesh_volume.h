@@ -33,8 +33,9 @@ struct UMeshVolume {
   }
   template <typename Visit>
   VS_HOST_DEVICE void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
-    bvh_for_each_leaf(nodes, node_count, org, dir,
-                      [&](uint32_t region, float t0, float t1) { return visit(RayInterval{region, t0, t1}); });
+    bvh_for_each_leaf(nodes, node_count, org, dir, [&](uint32_t region, float t0, float t1) {
+      return visit(RayInterval{region, t0, t1});
+    });
   }
 };
 static_assert(Volume<UMeshVolume>);

@@ -8,9 +8,8 @@ namespace {
 
 std::vector<box3f> element_boxes(const UMesh& mesh) {
   std::vector<box3f> boxes(mesh.elements.size());
-  parallel_for("element boxes", int64_t(boxes.size()), [&](int64_t e) {
-    boxes[size_t(e)] = element_box(mesh.vertices.data(), mesh.elements[size_t(e)]);
-  });
+  parallel_for("element boxes", int64_t(boxes.size()),
+               [&](int64_t e) { boxes[size_t(e)] = element_box(mesh.vertices.data(), mesh.elements[size_t(e)]); });
   return boxes;
 }
 
@@ -42,9 +41,8 @@ UMeshView UMeshRenderer::mesh_view() const {
           uint32_t(bvh_.nodes.size())};
 }
 
-FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const OpticsView& optics,
-                                           const TfView* color_tf, const Camera& camera,
-                                           const FrameSettings& settings) const {
+FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
+                                           const Camera& camera, const FrameSettings& settings) const {
   FrameView<UMeshVolume> v;
   v.volume.mesh = mesh_view();
   v.volume.fields[0] = fields.primary;
@@ -83,15 +81,15 @@ std::vector<double> probe_brute_force(const UMesh& mesh, const float* values, co
   const UMeshView view{mesh.vertices.data(), mesh.elements.data(), nullptr, nullptr, 0};
   std::vector<double> out(points.size(), NAN);
   parallel_for("probe_brute_force", int64_t(points.size()), [&](int64_t i) {
-    float w[8];
-    for (uint32_t e = 0; e < mesh.elements.size(); ++e) {
-      if (!view.in_element(e, points[size_t(i)], w)) continue;
-      const UElement& el = mesh.elements[e];
-      double f = 0;
-      for (int k = 0; k < el.vertex_count(); ++k) f += double(w[k]) * double(values[el.v[k]]);
-      out[size_t(i)] = f;
-      return;
-    }
+    ElementHit hit;
+    float best = INFINITY;
+    for (uint32_t e = 0; e < mesh.elements.size(); ++e)
+      if (view.consider(e, points[size_t(i)], hit, best)) break;
+    if (hit.element < 0) return;
+    const UElement& el = mesh.elements[size_t(hit.element)];
+    double f = 0;
+    for (int k = 0; k < el.vertex_count(); ++k) f += double(hit.w[k]) * double(values[el.v[k]]);
+    out[size_t(i)] = f;
   });
   return out;
 }

@@ -1,0 +1,107 @@
+// VTK's shape functions and their inversion: a linear field is reproduced exactly by every
+// element type, also in twisted hexes and wedges with non-planar faces; the weights are VTK's
+// at known parametric points; points outside are refused.
+#include "volstream/umesh/shape.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace vs {
+namespace {
+
+float linear(const vec3f& p) { return 0.5f + p.x + 2.f * p.y - 3.f * p.z; }
+
+// Reference corners of each type (VTK order, positive orientation), distorted.
+std::vector<vec3f> element(int n, std::mt19937& rng, float distortion) {
+  std::vector<vec3f> x;
+  if (n == 4) x = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  if (n == 5) x = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5f, 0.5f, 1}};
+  if (n == 6) x = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, 0, 1}, {0, 1, 1}, {1, 0, 1}};
+  if (n == 8) x = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  std::uniform_real_distribution<float> u(-distortion, distortion);
+  for (vec3f& p : x) p = p + vec3f(u(rng), u(rng), u(rng));
+  if (n == 8) {  // twist the top face by 20 degrees: its sides become non-planar
+    const float c = std::cos(0.35f), s = std::sin(0.35f);
+    for (int i = 4; i < 8; ++i) {
+      const vec3f d = x[i] - vec3f(0.5f, 0.5f, 0.f);
+      x[i] = vec3f(0.5f + c * d.x - s * d.y, 0.5f + s * d.x + c * d.y, x[i].z);
+    }
+  }
+  return x;
+}
+
+vec3f random_params(int n, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(0.02f, 0.98f);
+  vec3f pc(u(rng), u(rng), u(rng));
+  if (n == 4 || n == 6) {  // inside the triangle (and the tet)
+    while (pc.x + pc.y + (n == 4 ? pc.z : 0.f) > 0.98f) pc = vec3f(u(rng), u(rng), n == 4 ? u(rng) : pc.z);
+  }
+  return pc;
+}
+
+class ShapeTest : public ::testing::TestWithParam<int> {};
+
+TEST_P(ShapeTest, LinearFieldIsReproducedAtRandomInteriorPoints) {
+  const int n = GetParam();
+  std::mt19937 rng(n);
+  for (int trial = 0; trial < 200; ++trial) {
+    const std::vector<vec3f> x = element(n, rng, 0.12f);
+    const vec3f pc = random_params(n, rng);
+    float w[8];
+    vec3f d[8];
+    shape::weights(n, pc.x, pc.y, pc.z, w, d);
+    vec3f p(0.f);
+    for (int i = 0; i < n; ++i) p = p + x[size_t(i)] * w[i];
+    float found[8];
+    ASSERT_TRUE(shape::locate_in_element(n, x.data(), p, found)) << "trial " << trial;
+    float f = 0.f;
+    for (int i = 0; i < n; ++i) f += found[i] * linear(x[size_t(i)]);
+    EXPECT_NEAR(f, linear(p), 2e-5f) << "type " << n << " trial " << trial;
+  }
+}
+
+TEST_P(ShapeTest, PointsOutsideAreRefused) {
+  const int n = GetParam();
+  std::mt19937 rng(100 + n);
+  const std::vector<vec3f> x = element(n, rng, 0.f);
+  float w[8];
+  for (const vec3f& p : {vec3f(-0.1f, 0.5f, 0.5f), vec3f(0.5f, 0.5f, 1.2f), vec3f(0.5f, -0.05f, 0.3f),
+                         vec3f(2.f, 2.f, 2.f)})
+    EXPECT_FALSE(shape::locate_in_element(n, x.data(), p, w)) << p.x << " " << p.y << " " << p.z;
+}
+
+TEST_P(ShapeTest, WeightsPartitionUnityAndHitTheirCorner) {
+  const int n = GetParam();
+  std::mt19937 rng(7);
+  const std::vector<vec3f> x = element(n, rng, 0.f);
+  for (int c = 0; c < n; ++c) {
+    if (n == 5 && c == 4) continue;  // the apex is the map's singular point
+    float w[8];
+    ASSERT_TRUE(shape::locate_in_element(n, x.data(), x[size_t(c)], w)) << c;
+    float sum = 0.f;
+    for (int i = 0; i < n; ++i) sum += w[i];
+    EXPECT_NEAR(sum, 1.f, 1e-5f);
+    EXPECT_NEAR(w[c], 1.f, 1e-4f) << "corner " << c;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllTypes, ShapeTest, ::testing::Values(4, 5, 6, 8),
+                         [](const auto& p) { return std::to_string(p.param) + "_vertices"; });
+
+// VTK's hexahedron at its parametric centre weighs all corners 1/8; its pyramid at (0.5, 0.5,
+// 0.5) gives the apex 1/2 and each base corner 1/8; the wedge at (1/3, 1/3, 1/2) 1/6 each.
+TEST(Shape, WeightsAtKnownParametricPointsMatchVtk) {
+  float w[8];
+  vec3f d[8];
+  shape::weights(8, 0.5f, 0.5f, 0.5f, w, d);
+  for (int i = 0; i < 8; ++i) EXPECT_FLOAT_EQ(w[i], 0.125f);
+  shape::weights(5, 0.5f, 0.5f, 0.5f, w, d);
+  for (int i = 0; i < 4; ++i) EXPECT_FLOAT_EQ(w[i], 0.125f);
+  EXPECT_FLOAT_EQ(w[4], 0.5f);
+  shape::weights(6, 1.f / 3.f, 1.f / 3.f, 0.5f, w, d);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(w[i], 1.f / 6.f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace vs

@@ -234,7 +234,8 @@ std::vector<double> VtkReader::read_reals(uint64_t count, VtkType type, const ch
     const char* p = in_.take(count * type_size(type), what);
     for (uint64_t i = 0; i < count; ++i) out[i] = decode_real(p + i * type_size(type), type);
   } else {
-    for (double& v : out) v = in_.real(what);
+    // Values declared float are float in VTK too: "2.1" means float(2.1).
+    for (double& v : out) v = type == VtkType::f32 ? double(float(in_.real(what))) : in_.real(what);
   }
   return out;
 }

@@ -15,8 +15,8 @@ inline MeshData mixed_mesh() {
   MeshData m;
   // Points 0-7: a unit cube (VTK hex order); 8 apex above its top; 9, 10 extend it in x for the
   // wedge; 11 below the bottom for the tet. Coordinates not exact in float32 on purpose.
-  m.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0},         {0, 1, 0},   {0, 0, 1},   {1, 0, 1},
-              {1, 1, 1}, {0, 1, 1}, {0.5, 0.5, 2.1},   {2.3, 0, 0}, {2.3, 0, 1}, {0.1, 0.2, -0.7}};
+  m.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0},       {0, 1, 0},   {0, 0, 1},   {1, 0, 1},
+              {1, 1, 1}, {0, 1, 1}, {0.5, 0.5, 2.1}, {2.3, 0, 0}, {2.3, 0, 1}, {0.1, 0.2, -0.7}};
   auto add = [&m](CellType t, std::initializer_list<uint64_t> v) {
     m.cell_types.push_back(uint8_t(t));
     m.connectivity.insert(m.connectivity.end(), v);

@@ -56,7 +56,8 @@ fs::path data_file(const std::string& name) { return fs::path(VOLSTREAM_SOURCE_D
 
 // Regenerates tests/data/ugrid (run with --gtest_also_run_disabled_tests).
 TEST(Ugrid, DISABLED_WriteCommittedFiles) {
-  for (const EncodingCase& e : kEncodings) write_ugrid(data_file(std::string("mixed") + e.suffix), mixed_geometry(), e.encoding);
+  for (const EncodingCase& e : kEncodings)
+    write_ugrid(data_file(std::string("mixed") + e.suffix), mixed_geometry(), e.encoding);
 }
 
 TEST(Ugrid, CommittedFilesReadWithKnownValues) {
@@ -79,7 +80,7 @@ TEST(Ugrid, PyramidAndPrismComeOutInVtkOrder) {
   const auto dir = test::scratch_dir("order");
   spit(dir / "order.ugrid",
        "11 0 0 0 1 1 0\n"
-       "0 0 0\n0 1 0\n0.5 0.5 1\n1 0 0\n1 1 0\n"   // pyramid nodes 1-5
+       "0 0 0\n0 1 0\n0.5 0.5 1\n1 0 0\n1 1 0\n"     // pyramid nodes 1-5
        "0 0 5\n0 1 5\n1 0 5\n0 0 6\n0 1 6\n1 0 6\n"  // prism nodes 6-11
        "1 2 3 4 5\n6 7 8 9 10 11\n");
   const MeshData m = read_ugrid(dir / "order.ugrid");
@@ -154,7 +155,8 @@ TEST(Ugrid, BadInputIsAnInputError) {
   const fs::path f = dir / "bad.ugrid";
   spit(f, kOneTet);
   EXPECT_EQ(read_ugrid(f).cell_count(), 1u);
-  EXPECT_NE(error_of("4 0 0 1 0 0 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 2 3 4\n", f).find("node index 0"), std::string::npos);
+  EXPECT_NE(error_of("4 0 0 1 0 0 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 2 3 4\n", f).find("node index 0"),
+            std::string::npos);
   EXPECT_NE(error_of("4 0 0 1 0 0 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 2 3 5\n", f).find("out of range 1..4"),
             std::string::npos);
   EXPECT_NE(error_of("4 0 0 1 0 0 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 2 -3 4\n", f).find("-3"), std::string::npos);

@@ -1,6 +1,5 @@
 // Legacy VTK: valid files of every writer option (ascii/binary, 4.2/5.1) with one of them patched
 // or truncated.
-
 #include "fuzz_util.h"
 #include "volstream/io/vtk_legacy.h"
 

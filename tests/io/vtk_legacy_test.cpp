@@ -90,7 +90,8 @@ TEST(VtkLegacy, ReadsHandWrittenAscii) {
        "CELLS 2 4\nOFFSETS vtktypeint64\n0 4\nCONNECTIVITY vtktypeint64\n0 1 2 3\n"
        "cell_types 1\n10\n\n"
        "POINT_DATA 4\nSCALARS pair float 2\n1 2 3 4 5 6 7 8\n"
-       "FIELD FieldData 3\nids 1 4 int\n9 8 7 6\nNULL_ARRAY\nvel 3 4 double\n0 0 0 1 1 1 2 2 2 3 3 3\n"
+       "FIELD FieldData 3\nids 1 4 int\n9 8 7 6\nMETADATA\nINFORMATION 0\n\nNULL_ARRAY\nvel 3 4 double\n0 0 0 1 1 1 2 "
+       "2 2 3 3 3\n"
        "CELL_DATA 1\nSCALARS c int\nLOOKUP_TABLE default\n42\n");
   const MeshData m = read_vtk_legacy(dir / "t.vtk");
   ASSERT_EQ(m.point_data.size(), 3u);

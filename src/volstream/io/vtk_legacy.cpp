@@ -382,7 +382,6 @@ void VtkReader::read_field(const std::vector<std::string_view>& args) {
 void VtkReader::read_field_array() {
   std::string name(in_.word("field array name"));
   while (lower(name) == "metadata") {
-    in_.skip_line();
     skip_metadata();
     name = in_.word("field array name");
   }

@@ -9,20 +9,34 @@ namespace vs {
 
 const char* cell_type_name(uint32_t vtk_type) {
   switch (vtk_type) {
-    case 1: return "vertex";
-    case 3: return "line";
-    case 5: return "triangle";
-    case 7: return "polygon";
-    case 9: return "quad";
-    case 10: return "tetra";
-    case 11: return "voxel";
-    case 12: return "hexahedron";
-    case 13: return "wedge";
-    case 14: return "pyramid";
-    case 24: return "quadratic tetra";
-    case 25: return "quadratic hexahedron";
-    case 42: return "polyhedron";
-    default: return "unknown";
+    case 1:
+      return "vertex";
+    case 3:
+      return "line";
+    case 5:
+      return "triangle";
+    case 7:
+      return "polygon";
+    case 9:
+      return "quad";
+    case 10:
+      return "tetra";
+    case 11:
+      return "voxel";
+    case 12:
+      return "hexahedron";
+    case 13:
+      return "wedge";
+    case 14:
+      return "pyramid";
+    case 24:
+      return "quadratic tetra";
+    case 25:
+      return "quadratic hexahedron";
+    case 42:
+      return "polyhedron";
+    default:
+      return "unknown";
   }
 }
 
@@ -31,8 +45,9 @@ namespace {
 void check_cells(const MeshData& m, const std::string& file) {
   const uint64_t n = m.cell_count();
   input_check(n > 0, file, "the mesh has no cells");
-  input_check(m.cell_offsets.size() == n + 1, file,
-              "cell offsets: " + std::to_string(m.cell_offsets.size()) + " entries for " + std::to_string(n) + " cells");
+  input_check(
+      m.cell_offsets.size() == n + 1, file,
+      "cell offsets: " + std::to_string(m.cell_offsets.size()) + " entries for " + std::to_string(n) + " cells");
   std::map<uint32_t, uint64_t> unsupported;
   for (uint64_t i = 0; i < n; ++i)
     if (cell_vertex_count(m.cell_types[i]) == 0) ++unsupported[m.cell_types[i]];
@@ -48,8 +63,8 @@ void check_cells(const MeshData& m, const std::string& file) {
     const uint64_t count = m.cell_offsets[i + 1] - m.cell_offsets[i];
     if (m.cell_offsets[i + 1] < m.cell_offsets[i] || count != uint64_t(cell_vertex_count(m.cell_types[i])))
       input_error(file, "cell " + std::to_string(i) + " (" + cell_type_name(m.cell_types[i]) + ") has " +
-                            std::to_string(int64_t(m.cell_offsets[i + 1] - m.cell_offsets[i])) + " vertices, expected " +
-                            std::to_string(cell_vertex_count(m.cell_types[i])));
+                            std::to_string(int64_t(m.cell_offsets[i + 1] - m.cell_offsets[i])) +
+                            " vertices, expected " + std::to_string(cell_vertex_count(m.cell_types[i])));
   }
   for (uint64_t i = 0; i < m.connectivity.size(); ++i)
     if (m.connectivity[i] >= m.points.size())

@@ -18,11 +18,16 @@ enum class CellType : uint8_t { tet = 10, hex = 12, wedge = 13, pyramid = 14 };
 // Vertices of a supported VTK cell type (4, 8, 6, 5); 0 for any other id.
 constexpr int cell_vertex_count(uint32_t vtk_type) {
   switch (vtk_type) {
-    case 10: return 4;
-    case 12: return 8;
-    case 13: return 6;
-    case 14: return 5;
-    default: return 0;
+    case 10:
+      return 4;
+    case 12:
+      return 8;
+    case 13:
+      return 6;
+    case 14:
+      return 5;
+    default:
+      return 0;
   }
 }
 const char* cell_type_name(uint32_t vtk_type);  // "tetra", "hexahedron", ..., or "unknown"

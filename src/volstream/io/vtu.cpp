@@ -307,7 +307,8 @@ std::vector<Out> read_appended_values(const VtuFile& f, const XmlElement& array,
   if (!f.doc.has_appended) input_error(f.name, what + ": format=\"appended\" but the file has no <AppendedData>");
   const uint64_t offset = uint_attribute(f, array, "offset", what);
   const uint64_t section = f.appended_end - f.doc.appended_begin;
-  if (offset > section) input_error(f.name, what + ": offset " + str(offset) + " is past the appended data");
+  if (offset > section)
+    input_error(f.name, what + ": offset " + str(offset) + " is past the end of the appended data (truncated file?)");
   const std::string_view data = std::string_view(f.text).substr(f.doc.appended_begin + offset, section - offset);
   if (f.appended_base64) return read_binary_values<Out>(f, Base64Reader(data, f.name, what), type, count, what);
   return read_binary_values<Out>(f, RawReader(data, f.name, what), type, count, what);

@@ -111,10 +111,14 @@ std::string vtu_error(const fs::path& file) {
 
 const char* format_name(Format f) {
   switch (f) {
-    case Format::ascii: return "ascii";
-    case Format::base64: return "base64";
-    case Format::appended_base64: return "appended_base64";
-    case Format::appended_raw: return "appended_raw";
+    case Format::ascii:
+      return "ascii";
+    case Format::base64:
+      return "base64";
+    case Format::appended_base64:
+      return "appended_base64";
+    case Format::appended_raw:
+      return "appended_raw";
   }
   return "?";
 }
@@ -162,12 +166,12 @@ TEST(Vtu, DISABLED_WriteDataFiles) {
     Format format;
     bool zlib, header64;
   };
-  for (const File& f : {File{"ascii", Format::ascii, false, true}, File{"base64", Format::base64, false, true},
-                        File{"base64_zlib", Format::base64, true, true},
-                        File{"appended_base64", Format::appended_base64, false, true},
-                        File{"appended_raw", Format::appended_raw, false, true},
-                        File{"appended_raw_zlib", Format::appended_raw, true, true},
-                        File{"uint32_header", Format::appended_base64, true, false}}) {
+  for (const File& f :
+       {File{"ascii", Format::ascii, false, true}, File{"base64", Format::base64, false, true},
+        File{"base64_zlib", Format::base64, true, true}, File{"appended_base64", Format::appended_base64, false, true},
+        File{"appended_raw", Format::appended_raw, false, true},
+        File{"appended_raw_zlib", Format::appended_raw, true, true},
+        File{"uint32_header", Format::appended_base64, true, false}}) {
     VtuWriteOptions o;
     o.format = f.format;
     o.zlib = f.zlib;
@@ -181,8 +185,8 @@ TEST(Vtu, DISABLED_WriteDataFiles) {
 }
 
 TEST(Vtu, ReadsCommittedFiles) {
-  for (const char* name : {"ascii", "base64", "base64_zlib", "appended_base64", "appended_raw", "appended_raw_zlib",
-                           "uint32_header"}) {
+  for (const char* name :
+       {"ascii", "base64", "base64_zlib", "appended_base64", "appended_raw", "appended_raw_zlib", "uint32_header"}) {
     SCOPED_TRACE(name);
     const MeshData m = read_vtu(kDataDir / (std::string(name) + ".vtu"));
     ASSERT_EQ(m.points.size(), 13u);
@@ -302,8 +306,9 @@ TEST(Vtu, UnsupportedCellType) {
 TEST(Vtu, NumberOfPointsMismatch) {
   for (Format format : {Format::ascii, Format::base64, Format::appended_raw}) {
     SCOPED_TRACE(format_name(format));
-    const fs::path file = edited_file("vtu_points", mixed_mesh(), {.format = format},
-                                      [](std::string& text) { replace_once(text, "NumberOfPoints=\"13\"", "NumberOfPoints=\"14\""); });
+    const fs::path file = edited_file("vtu_points", mixed_mesh(), {.format = format}, [](std::string& text) {
+      replace_once(text, "NumberOfPoints=\"13\"", "NumberOfPoints=\"14\"");
+    });
     EXPECT_NE(vtu_error(file).find("Points"), std::string::npos) << vtu_error(file);
   }
 }

@@ -1,0 +1,788 @@
+#include "volstream/io/vtu.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string_view>
+#include <type_traits>
+
+#include "volstream/core/error.h"
+#include "volstream/io/atomic_file.h"
+#include "volstream/io/base64.h"
+#include "volstream/io/binary_file.h"
+#include "volstream/io/xml_scan.h"
+
+namespace vs {
+namespace {
+namespace fs = std::filesystem;
+
+// Limits on untrusted input, far above real meshes.
+constexpr uint64_t kMaxFileBytes = uint64_t(1) << 40;
+constexpr uint64_t kMaxValues = uint64_t(1) << 40;  // per array
+constexpr uint64_t kMaxComponents = 1 << 16;
+// Deflate cannot expand data by more than 1032:1, so a block's declared size beyond that is a lie
+// (checked before the output is allocated).
+constexpr uint64_t kZlibMaxRatio = 1032;
+constexpr uint64_t kZlibSlackBytes = 64;
+
+std::string str(uint64_t v) { return std::to_string(v); }
+
+// ---------------------------------------------------------------------------------------------
+// The numeric types of VTK's XML DataArrays.
+
+enum class Scalar { i8, u8, i16, u16, i32, u32, i64, u64, f32, f64 };
+struct ScalarInfo {
+  std::string_view name;
+  Scalar type;
+  size_t bytes;
+  bool is_float;
+};
+constexpr ScalarInfo kScalars[] = {{"Int8", Scalar::i8, 1, false},    {"UInt8", Scalar::u8, 1, false},
+                                   {"Int16", Scalar::i16, 2, false},  {"UInt16", Scalar::u16, 2, false},
+                                   {"Int32", Scalar::i32, 4, false},  {"UInt32", Scalar::u32, 4, false},
+                                   {"Int64", Scalar::i64, 8, false},  {"UInt64", Scalar::u64, 8, false},
+                                   {"Float32", Scalar::f32, 4, true}, {"Float64", Scalar::f64, 8, true}};
+
+std::optional<ScalarInfo> scalar_info(std::string_view name) {
+  for (const ScalarInfo& s : kScalars)
+    if (s.name == name) return s;
+  return std::nullopt;
+}
+const ScalarInfo& scalar_info(Scalar type) { return kScalars[int(type)]; }
+
+// Calls f with a value of the C++ type stored for `type` (to pick the type, not the value).
+template <typename F>
+decltype(auto) with_scalar_type(Scalar type, F&& f) {
+  switch (type) {
+    case Scalar::i8:
+      return f(int8_t{});
+    case Scalar::u8:
+      return f(uint8_t{});
+    case Scalar::i16:
+      return f(int16_t{});
+    case Scalar::u16:
+      return f(uint16_t{});
+    case Scalar::i32:
+      return f(int32_t{});
+    case Scalar::u32:
+      return f(uint32_t{});
+    case Scalar::i64:
+      return f(int64_t{});
+    case Scalar::u64:
+      return f(uint64_t{});
+    case Scalar::f32:
+      return f(float{});
+    case Scalar::f64:
+      break;
+  }
+  return f(double{});
+}
+
+template <typename T>
+T load(const char* p, bool swap) {
+  char b[sizeof(T)];
+  std::memcpy(b, p, sizeof(T));
+  if (swap) std::reverse(b, b + sizeof(T));
+  T v;
+  std::memcpy(&v, b, sizeof(T));
+  return v;
+}
+
+// =============================================================================================
+// Reading
+
+struct VtuFile {
+  std::string name;  // for errors
+  std::string text;  // the whole file
+  XmlDocument doc;
+  bool swap_bytes = false;  // the file's byte order is not the host's
+  size_t header_bytes = 4;  // UInt32 or UInt64 binary headers
+  bool zlib = false;
+  bool appended_base64 = false;
+  size_t appended_end = 0;  // end of the appended section (base64: the next '<')
+};
+
+// Appended raw bytes, read in order from an offset; the same interface as Base64Reader.
+class RawReader {
+ public:
+  RawReader(std::string_view bytes, const std::string& file, std::string what)
+      : bytes_(bytes), file_(file), what_(std::move(what)) {}
+  void read(void* dst, size_t n) {
+    if (n > bytes_.size() - pos_) input_error(file_, what_ + ": truncated file (the appended data end too early)");
+    std::memcpy(dst, bytes_.data() + pos_, n);
+    pos_ += n;
+  }
+  uint64_t max_remaining() const { return bytes_.size() - pos_; }
+
+ private:
+  std::string_view bytes_;
+  size_t pos_ = 0;
+  const std::string& file_;
+  std::string what_;
+};
+
+template <typename Source>
+uint64_t read_header_word(const VtuFile& f, Source& src) {
+  char b[8];
+  src.read(b, f.header_bytes);
+  return f.header_bytes == 8 ? load<uint64_t>(b, f.swap_bytes) : load<uint32_t>(b, f.swap_bytes);
+}
+
+[[noreturn]] void size_mismatch(const VtuFile& f, const std::string& what, uint64_t bytes, uint64_t expected) {
+  input_error(f.name, what + ": the data hold " + str(bytes) + " bytes, expected " + str(expected));
+}
+
+// Uncompressed binary data: [byte count] [bytes].
+template <typename Source>
+std::string read_plain_blob(const VtuFile& f, Source& src, const std::string& what, uint64_t expected) {
+  const uint64_t bytes = read_header_word(f, src);
+  if (bytes != expected) size_mismatch(f, what, bytes, expected);
+  if (bytes > src.max_remaining()) input_error(f.name, what + ": truncated file (" + str(bytes) + " bytes declared)");
+  std::string out(bytes, '\0');
+  src.read(out.data(), bytes);
+  return out;
+}
+
+// zlib-compressed binary data: [#blocks] [block size] [last block size or 0] [compressed size of
+// each block] [the compressed blocks].
+template <typename Source>
+std::string read_zlib_blob(const VtuFile& f, Source& src, const std::string& what, uint64_t expected) {
+  const uint64_t blocks = read_header_word(f, src);
+  const uint64_t block_size = read_header_word(f, src);
+  const uint64_t last_size = read_header_word(f, src);
+  if (blocks > src.max_remaining() / f.header_bytes)
+    input_error(f.name, what + ": truncated file (" + str(blocks) + " compressed blocks declared)");
+  if (last_size > block_size) input_error(f.name, what + ": bad compression header (last block over block size)");
+  const uint64_t last_bytes = last_size ? last_size : block_size;
+  const bool too_big = blocks > 1 && block_size > 0 && blocks - 1 > (kMaxValues * 8) / block_size;
+  const uint64_t total = blocks == 0 ? 0 : too_big ? UINT64_MAX : (blocks - 1) * block_size + last_bytes;
+  if (total != expected) size_mismatch(f, what, total, expected);
+
+  std::vector<uint64_t> compressed(blocks);
+  uint64_t compressed_total = 0;
+  for (uint64_t b = 0; b < blocks; ++b) {
+    compressed[b] = read_header_word(f, src);
+    const uint64_t block_bytes = b + 1 == blocks ? last_bytes : block_size;
+    const uint64_t room = src.max_remaining();
+    if (compressed[b] > room || compressed_total > room - compressed[b])
+      input_error(f.name, what + ": truncated file (compressed block " + str(b) + " is cut off)");
+    if (block_bytes > compressed[b] * kZlibMaxRatio + kZlibSlackBytes)
+      input_error(f.name, what + ": compressed block " + str(b) + " of " + str(compressed[b]) +
+                              " bytes cannot hold the " + str(block_bytes) + " bytes declared");
+    compressed_total += compressed[b];
+  }
+
+  std::string out(total, '\0');
+  std::string packed;
+  for (uint64_t b = 0, at = 0; b < blocks; ++b) {
+    packed.resize(compressed[b]);
+    src.read(packed.data(), packed.size());
+    uLongf out_bytes = b + 1 == blocks ? last_bytes : block_size;
+    const uLongf want = out_bytes;
+    const int rc = uncompress(reinterpret_cast<Bytef*>(out.data() + at), &out_bytes,
+                              reinterpret_cast<const Bytef*>(packed.data()), uLong(packed.size()));
+    if (rc != Z_OK || out_bytes != want)
+      input_error(f.name, what + ": corrupt zlib data in block " + str(b) + " (" + zError(rc) + ")");
+    at += want;
+  }
+  return out;
+}
+
+template <typename Source>
+std::string read_blob(const VtuFile& f, Source& src, const std::string& what, uint64_t expected) {
+  return f.zlib ? read_zlib_blob(f, src, what, expected) : read_plain_blob(f, src, what, expected);
+}
+
+// Values as the reader wants them: double for coordinates and data, uint64_t for indices (which
+// must then be integers and not negative).
+template <typename Out, typename Stored>
+Out convert_value(const VtuFile& f, Stored v, const std::string& what) {
+  if constexpr (std::is_same_v<Out, double>) {
+    return double(v);
+  } else {
+    if constexpr (std::is_signed_v<Stored>)
+      if (v < 0) input_error(f.name, what + ": negative value " + std::to_string(int64_t(v)));
+    return uint64_t(v);
+  }
+}
+
+template <typename Out>
+std::vector<Out> convert_binary(const VtuFile& f, const std::string& bytes, Scalar type, const std::string& what) {
+  return with_scalar_type(type, [&](auto tag) {
+    using Stored = decltype(tag);
+    std::vector<Out> out(bytes.size() / sizeof(Stored));
+    for (size_t i = 0; i < out.size(); ++i)
+      out[i] = convert_value<Out>(f, load<Stored>(bytes.data() + i * sizeof(Stored), f.swap_bytes), what);
+    return out;
+  });
+}
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+// One ASCII value, parsed as the declared type (a Float32 value as float, as in binary files).
+template <typename Stored>
+Stored parse_token(const VtuFile& f, std::string_view token, const std::string& what) {
+  using Parsed = std::conditional_t<std::is_floating_point_v<Stored>, Stored,
+                                    std::conditional_t<std::is_signed_v<Stored>, int64_t, uint64_t>>;
+  Parsed v{};
+  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+  if (ec != std::errc() || end != token.data() + token.size())
+    input_error(f.name, what + ": bad value '" + std::string(token.substr(0, 32)) + "'");
+  if constexpr (std::is_floating_point_v<Stored>) {
+    return v;
+  } else {
+    if (v < Parsed(std::numeric_limits<Stored>::min()) || v > Parsed(std::numeric_limits<Stored>::max()))
+      input_error(f.name, what + ": value " + std::string(token.substr(0, 32)) + " is out of range for its type");
+    return Stored(v);
+  }
+}
+
+template <typename Out>
+std::vector<Out> parse_ascii(const VtuFile& f, std::string_view text, Scalar type, uint64_t count,
+                             const std::string& what) {
+  return with_scalar_type(type, [&](auto tag) {
+    using Stored = decltype(tag);
+    std::vector<Out> out;
+    out.reserve(std::min<uint64_t>(count, text.size() / 2 + 1));  // a value takes two characters at least
+    for (size_t pos = 0;;) {
+      while (pos < text.size() && is_space(text[pos])) ++pos;
+      if (pos == text.size()) break;
+      size_t end = pos;
+      while (end < text.size() && !is_space(text[end])) ++end;
+      if (out.size() == count) input_error(f.name, what + ": more than the " + str(count) + " values expected");
+      out.push_back(convert_value<Out>(f, parse_token<Stored>(f, text.substr(pos, end - pos), what), what));
+      pos = end;
+    }
+    if (out.size() != count) input_error(f.name, what + ": " + str(out.size()) + " values, expected " + str(count));
+    return out;
+  });
+}
+
+const std::string& required_attribute(const VtuFile& f, const XmlElement& e, std::string_view key,
+                                      const std::string& what) {
+  const std::string* v = e.attribute(key);
+  if (!v) input_error(f.name, what + ": <" + e.name + "> has no " + std::string(key) + " attribute");
+  return *v;
+}
+
+uint64_t parse_uint(const VtuFile& f, const std::string& text, const std::string& what) {
+  uint64_t v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty())
+    input_error(f.name, what + ": '" + text.substr(0, 32) + "' is not a non-negative integer");
+  return v;
+}
+
+uint64_t uint_attribute(const VtuFile& f, const XmlElement& e, std::string_view key, const std::string& what) {
+  return parse_uint(f, required_attribute(f, e, key, what), what + " " + std::string(key));
+}
+
+uint64_t components_of(const VtuFile& f, const XmlElement& array, const std::string& what) {
+  const std::string* text = array.attribute("NumberOfComponents");
+  const uint64_t n = text ? parse_uint(f, *text, what + " NumberOfComponents") : 1;
+  if (n < 1 || n > kMaxComponents) input_error(f.name, what + ": NumberOfComponents " + str(n) + " is out of range");
+  return n;
+}
+
+std::string_view element_text(const VtuFile& f, const XmlElement& e) {
+  return std::string_view(f.text).substr(e.text_begin, e.text_end - e.text_begin);
+}
+
+template <typename Out, typename Source>
+std::vector<Out> read_binary_values(const VtuFile& f, Source&& src, const ScalarInfo& type, uint64_t count,
+                                    const std::string& what) {
+  return convert_binary<Out>(f, read_blob(f, src, what, count * type.bytes), type.type, what);
+}
+
+template <typename Out>
+std::vector<Out> read_appended_values(const VtuFile& f, const XmlElement& array, const ScalarInfo& type, uint64_t count,
+                                      const std::string& what) {
+  if (!f.doc.has_appended) input_error(f.name, what + ": format=\"appended\" but the file has no <AppendedData>");
+  const uint64_t offset = uint_attribute(f, array, "offset", what);
+  const uint64_t section = f.appended_end - f.doc.appended_begin;
+  if (offset > section)
+    input_error(f.name, what + ": offset " + str(offset) + " is past the end of the appended data (truncated file?)");
+  const std::string_view data = std::string_view(f.text).substr(f.doc.appended_begin + offset, section - offset);
+  if (f.appended_base64) return read_binary_values<Out>(f, Base64Reader(data, f.name, what), type, count, what);
+  return read_binary_values<Out>(f, RawReader(data, f.name, what), type, count, what);
+}
+
+// A DataArray's `count` values, whatever its encoding.
+template <typename Out>
+std::vector<Out> read_values(const VtuFile& f, const XmlElement& array, const ScalarInfo& type, uint64_t count,
+                             const std::string& what) {
+  if constexpr (std::is_same_v<Out, uint64_t>)
+    if (type.is_float) input_error(f.name, what + ": must be of an integer type, not " + std::string(type.name));
+  if (count > kMaxValues) input_error(f.name, what + ": " + str(count) + " values is absurdly many");
+  const std::string& format = required_attribute(f, array, "format", what);
+  if (format == "ascii") return parse_ascii<Out>(f, element_text(f, array), type.type, count, what);
+  if (format == "binary")
+    return read_binary_values<Out>(f, Base64Reader(element_text(f, array), f.name, what), type, count, what);
+  if (format == "appended") return read_appended_values<Out>(f, array, type, count, what);
+  input_error(f.name, what + ": unknown format \"" + format + "\"");
+}
+
+ScalarInfo numeric_type(const VtuFile& f, const XmlElement& array, const std::string& what) {
+  const std::string& name = required_attribute(f, array, "type", what);
+  const std::optional<ScalarInfo> type = scalar_info(name);
+  if (!type) input_error(f.name, what + ": unsupported data type " + name);
+  return *type;
+}
+
+const XmlElement& required_child(const VtuFile& f, const XmlElement& parent, std::string_view name,
+                                 const std::string& what) {
+  const XmlElement* e = parent.child(name);
+  if (!e) input_error(f.name, what + ": <" + parent.name + "> has no <" + std::string(name) + ">");
+  return *e;
+}
+
+const XmlElement& named_array(const VtuFile& f, const XmlElement& parent, std::string_view name,
+                              const std::string& what) {
+  for (const XmlElement& e : parent.children) {
+    const std::string* n = e.attribute("Name");
+    if (e.name == "DataArray" && n && *n == name) return e;
+  }
+  input_error(f.name, what + ": <" + parent.name + "> has no DataArray named " + std::string(name));
+}
+
+std::vector<vec3d> read_points(const VtuFile& f, const XmlElement& piece, uint64_t count, const std::string& what) {
+  const std::string where = what + " Points";
+  const XmlElement& array = required_child(f, required_child(f, piece, "Points", what), "DataArray", where);
+  if (components_of(f, array, where) != 3) input_error(f.name, where + ": NumberOfComponents must be 3");
+  const ScalarInfo type = numeric_type(f, array, where);
+  if (!type.is_float) input_error(f.name, where + ": must be Float32 or Float64, not " + std::string(type.name));
+  const std::vector<double> xyz = read_values<double>(f, array, type, count * 3, where);
+  std::vector<vec3d> points(count);
+  for (uint64_t i = 0; i < count; ++i) points[i] = vec3d(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+  return points;
+}
+
+std::vector<uint64_t> read_cell_array(const VtuFile& f, const XmlElement& cells, std::string_view name, uint64_t count,
+                                      const std::string& what) {
+  const std::string where = what + " " + std::string(name);
+  const XmlElement& array = named_array(f, cells, name, what);
+  return read_values<uint64_t>(f, array, numeric_type(f, array, where), count, where);
+}
+
+// Cells in MeshData's form: VTK's offsets are the ends of the cells; CSR adds a leading 0.
+void read_cells(const VtuFile& f, const XmlElement& piece, uint64_t count, MeshData& mesh, const std::string& what) {
+  const XmlElement& cells = required_child(f, piece, "Cells", what);
+  const std::vector<uint64_t> ends = read_cell_array(f, cells, "offsets", count, what);
+  for (uint64_t i = 1; i < count; ++i)
+    if (ends[i] < ends[i - 1]) input_error(f.name, what + " offsets: decrease at cell " + str(i));
+  mesh.connectivity = read_cell_array(f, cells, "connectivity", count ? ends.back() : 0, what);
+  const std::vector<uint64_t> types = read_cell_array(f, cells, "types", count, what);
+  mesh.cell_types.resize(count);
+  for (uint64_t i = 0; i < count; ++i) {
+    if (types[i] > 255) input_error(f.name, what + " types: " + str(types[i]) + " is not a VTK cell type");
+    mesh.cell_types[i] = uint8_t(types[i]);
+  }
+  mesh.cell_offsets.assign(1, 0);
+  mesh.cell_offsets.insert(mesh.cell_offsets.end(), ends.begin(), ends.end());
+}
+
+// The numeric arrays of <PointData> or <CellData>; other types (String, Bit) are skipped.
+std::vector<MeshArray> read_attribute_arrays(const VtuFile& f, const XmlElement* section, uint64_t tuples,
+                                             const std::string& what) {
+  std::vector<MeshArray> arrays;
+  if (!section) return arrays;
+  for (const XmlElement& e : section->children) {
+    if (e.name != "DataArray") continue;
+    const std::string* name = e.attribute("Name");
+    MeshArray a;
+    a.name = name ? *name : "array" + std::to_string(arrays.size());
+    const std::string where = what + " array '" + a.name + "'";
+    const std::optional<ScalarInfo> type = scalar_info(required_attribute(f, e, "type", where));
+    if (!type) continue;
+    a.components = int(components_of(f, e, where));
+    a.values = read_values<double>(f, e, *type, tuples * uint64_t(a.components), where);
+    arrays.push_back(std::move(a));
+  }
+  return arrays;
+}
+
+MeshData read_piece(const VtuFile& f, const XmlElement& piece, size_t index) {
+  const std::string what = "Piece " + std::to_string(index);
+  const uint64_t points = uint_attribute(f, piece, "NumberOfPoints", what);
+  const uint64_t cells = uint_attribute(f, piece, "NumberOfCells", what);
+  MeshData mesh;
+  mesh.points = read_points(f, piece, points, what);
+  read_cells(f, piece, cells, mesh, what);
+  for (uint64_t i = 0; i < mesh.connectivity.size(); ++i)
+    if (mesh.connectivity[i] >= points)
+      input_error(f.name, what + ": connectivity entry " + str(i) + " = " + str(mesh.connectivity[i]) +
+                              " is out of range (" + str(points) + " points)");
+  mesh.point_data = read_attribute_arrays(f, piece.child("PointData"), points, what + " point");
+  mesh.cell_data = read_attribute_arrays(f, piece.child("CellData"), cells, what + " cell");
+  return mesh;
+}
+
+bool same_layout(const std::vector<MeshArray>& a, const std::vector<MeshArray>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (a[i].name != b[i].name || a[i].components != b[i].components) return false;
+  return true;
+}
+
+void append_arrays(std::vector<MeshArray>& to, const std::vector<MeshArray>& from) {
+  for (size_t i = 0; i < to.size(); ++i)
+    to[i].values.insert(to[i].values.end(), from[i].values.begin(), from[i].values.end());
+}
+
+// Later pieces follow the first: their point indices and connectivity offsets move up.
+void append_piece(const VtuFile& f, MeshData& mesh, const MeshData& piece, size_t index) {
+  if (!same_layout(mesh.point_data, piece.point_data) || !same_layout(mesh.cell_data, piece.cell_data))
+    input_error(f.name, "Piece " + std::to_string(index) + " has other point or cell arrays than Piece 0");
+  const uint64_t point_base = mesh.points.size(), connectivity_base = mesh.connectivity.size();
+  mesh.points.insert(mesh.points.end(), piece.points.begin(), piece.points.end());
+  for (uint64_t v : piece.connectivity) mesh.connectivity.push_back(v + point_base);
+  for (size_t i = 1; i < piece.cell_offsets.size(); ++i)
+    mesh.cell_offsets.push_back(piece.cell_offsets[i] + connectivity_base);
+  mesh.cell_types.insert(mesh.cell_types.end(), piece.cell_types.begin(), piece.cell_types.end());
+  append_arrays(mesh.point_data, piece.point_data);
+  append_arrays(mesh.cell_data, piece.cell_data);
+}
+
+// The VTKFile attributes that say how binary data are stored.
+void read_file_attributes(VtuFile& f) {
+  const XmlElement& root = f.doc.root;
+  if (root.name != "VTKFile") input_error(f.name, "not a VTK XML file (root element <" + root.name + ">)");
+  const std::string* type = root.attribute("type");
+  if (!type || *type != "UnstructuredGrid")
+    input_error(f.name, "not a VTK UnstructuredGrid file (type \"" + (type ? *type : std::string()) + "\")");
+  const std::string* order = root.attribute("byte_order");
+  if (order && *order != "LittleEndian" && *order != "BigEndian") input_error(f.name, "unknown byte_order " + *order);
+  const bool big = order && *order == "BigEndian";
+  f.swap_bytes = big != (std::endian::native == std::endian::big);
+  const std::string* header = root.attribute("header_type");
+  if (header && *header != "UInt32" && *header != "UInt64") input_error(f.name, "unknown header_type " + *header);
+  f.header_bytes = header && *header == "UInt64" ? 8 : 4;
+  const std::string* compressor = root.attribute("compressor");
+  if (compressor && !compressor->empty() && *compressor != "vtkZLibDataCompressor")
+    input_error(f.name, "unsupported compressor " + *compressor + " (volstream reads vtkZLibDataCompressor)");
+  f.zlib = compressor && !compressor->empty();
+  if (f.doc.has_appended) {
+    const std::string* encoding = f.doc.appended.attribute("encoding");
+    if (!encoding || (*encoding != "raw" && *encoding != "base64"))
+      input_error(f.name, "<AppendedData> encoding must be raw or base64");
+    f.appended_base64 = *encoding == "base64";
+    f.appended_end =
+        f.appended_base64 ? std::min(f.text.find('<', f.doc.appended_begin), f.text.size()) : f.text.size();
+  }
+}
+
+std::string read_whole_file(const fs::path& file) {
+  const uint64_t size = file_size_checked(file, kMaxFileBytes);
+  std::string text(size, '\0');
+  if (size) read_exact(file, 0, text.data(), size);
+  return text;
+}
+
+}  // namespace
+
+MeshData read_vtu(const std::filesystem::path& file) {
+  VtuFile f;
+  f.name = file.string();
+  f.text = read_whole_file(file);
+  f.doc = scan_xml(f.text, f.name);
+  read_file_attributes(f);
+  const XmlElement& grid = required_child(f, f.doc.root, "UnstructuredGrid", "VTKFile");
+  MeshData mesh;
+  size_t pieces = 0;
+  for (const XmlElement& e : grid.children) {
+    if (e.name != "Piece") continue;
+    MeshData piece = read_piece(f, e, pieces);
+    if (pieces++ == 0)
+      mesh = std::move(piece);
+    else
+      append_piece(f, mesh, piece, pieces - 1);
+  }
+  if (pieces == 0) input_error(f.name, "the UnstructuredGrid has no <Piece>");
+  check_mesh(mesh, f.name);
+  return mesh;
+}
+
+// =============================================================================================
+// Writing
+
+namespace {
+
+std::string xml_escape(std::string_view s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+template <typename T>
+void append_bytes(std::string& out, T v) {
+  out.append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
+// Values packed as the file's type, in host byte order; `max` guards narrowing of indices.
+template <typename T, typename Range>
+std::string pack(const Range& values, const char* what) {
+  std::string out;
+  out.reserve(values.size() * sizeof(T));
+  for (const auto v : values) {
+    if constexpr (std::is_integral_v<T>)
+      if (uint64_t(v) > uint64_t(std::numeric_limits<T>::max()))
+        throw std::invalid_argument(std::string("write_vtu: ") + what + " value " + std::to_string(v) +
+                                    " does not fit the index type");
+    append_bytes(out, T(v));
+  }
+  return out;
+}
+
+// One array's values as VTK writes them: type, name, components and the packed values.
+struct OutArray {
+  Scalar type;
+  std::string name;
+  int components;
+  std::string bytes;
+};
+
+std::string ascii_text(const OutArray& a, const std::string& indent) {
+  return with_scalar_type(a.type, [&](auto tag) {
+    using T = decltype(tag);
+    std::string out;
+    char buffer[64];
+    const size_t count = a.bytes.size() / sizeof(T);
+    for (size_t i = 0; i < count; ++i) {
+      out += i % 9 == 0 ? "\n" + indent : " ";
+      const auto end =
+          std::to_chars(buffer, buffer + sizeof(buffer), load<T>(a.bytes.data() + i * sizeof(T), false)).ptr;
+      out.append(buffer, end);
+    }
+    return out + "\n" + indent.substr(2);
+  });
+}
+
+class VtuWriter {
+ public:
+  VtuWriter(const VtuWriteOptions& options) : o_(options) {
+    if (o_.zlib && o_.zlib_block_size == 0) throw std::invalid_argument("write_vtu: zlib_block_size must be > 0");
+  }
+
+  std::string document(const MeshData& mesh) {
+    std::string xml = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"";
+    xml += std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
+    xml += std::string("\" header_type=\"") + (o_.header_uint64 ? "UInt64" : "UInt32") + "\"";
+    if (compressed()) xml += " compressor=\"vtkZLibDataCompressor\"";
+    xml += ">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" + std::to_string(mesh.points.size()) +
+           "\" NumberOfCells=\"" + std::to_string(mesh.cell_count()) + "\">\n";
+    xml += section("PointData", data_arrays(mesh.point_data));
+    xml += section("CellData", data_arrays(mesh.cell_data));
+    xml += section("Points", {points_array(mesh)});
+    xml += section("Cells", cell_arrays(mesh));
+    xml += "    </Piece>\n  </UnstructuredGrid>\n";
+    if (appended()) {
+      xml += std::string("  <AppendedData encoding=\"") +
+             (o_.format == VtuWriteOptions::Format::appended_raw ? "raw" : "base64") + "\">\n   _" + appended_ +
+             "\n  </AppendedData>\n";
+    }
+    return xml + "</VTKFile>\n";
+  }
+
+ private:
+  using Format = VtuWriteOptions::Format;
+  bool appended() const { return o_.format == Format::appended_raw || o_.format == Format::appended_base64; }
+  bool compressed() const { return o_.zlib && o_.format != Format::ascii; }
+
+  std::vector<OutArray> data_arrays(const std::vector<MeshArray>& arrays) const {
+    std::vector<OutArray> out;
+    for (const MeshArray& a : arrays) out.push_back({Scalar::f32, a.name, a.components, pack<float>(a.values, "data")});
+    return out;
+  }
+
+  OutArray points_array(const MeshData& mesh) const {
+    std::vector<double> xyz;
+    xyz.reserve(mesh.points.size() * 3);
+    for (const vec3d& p : mesh.points) xyz.insert(xyz.end(), {p.x, p.y, p.z});
+    if (o_.points_float64) return {Scalar::f64, "Points", 3, pack<double>(xyz, "point")};
+    return {Scalar::f32, "Points", 3, pack<float>(xyz, "point")};
+  }
+
+  OutArray index_array(const char* name, const std::vector<uint64_t>& values) const {
+    if (o_.indices_int64) return {Scalar::i64, name, 1, pack<int64_t>(values, name)};
+    return {Scalar::i32, name, 1, pack<int32_t>(values, name)};
+  }
+
+  std::vector<OutArray> cell_arrays(const MeshData& mesh) const {
+    // VTK stores the end of each cell; MeshData's CSR offsets have a leading 0.
+    const std::vector<uint64_t> ends(mesh.cell_offsets.begin() + (mesh.cell_offsets.empty() ? 0 : 1),
+                                     mesh.cell_offsets.end());
+    return {index_array("connectivity", mesh.connectivity),
+            index_array("offsets", ends),
+            {Scalar::u8, "types", 1, pack<uint8_t>(mesh.cell_types, "types")}};
+  }
+
+  std::string section(const char* name, const std::vector<OutArray>& arrays) {
+    std::string xml = std::string("      <") + name + ">\n";
+    for (const OutArray& a : arrays) xml += data_array(a);
+    return xml + "      </" + name + ">\n";
+  }
+
+  std::string data_array(const OutArray& a) {
+    std::string xml = "        <DataArray type=\"" + std::string(scalar_info(a.type).name) + "\" Name=\"" +
+                      xml_escape(a.name) + "\" NumberOfComponents=\"" + std::to_string(a.components) + "\" format=\"";
+    switch (o_.format) {
+      case Format::ascii:
+        return xml + "ascii\">" + ascii_text(a, "          ") + "</DataArray>\n";
+      case Format::base64:
+        return xml + "binary\">\n          " + encoded(a.bytes, true) + "\n        </DataArray>\n";
+      case Format::appended_base64:
+      case Format::appended_raw:
+        break;
+    }
+    xml += "appended\" offset=\"" + std::to_string(appended_.size()) + "\"/>\n";
+    appended_ += encoded(a.bytes, o_.format == Format::appended_base64);
+    return xml;
+  }
+
+  void append_header_word(std::string& out, uint64_t v) const {
+    if (o_.header_uint64) return append_bytes(out, v);
+    if (v > UINT32_MAX) throw std::invalid_argument("write_vtu: an array is too large for a UInt32 header");
+    append_bytes(out, uint32_t(v));
+  }
+
+  // Header and data; with base64 each is encoded on its own, as VTK does (its readers decode the
+  // header before they know where the data begin).
+  std::string encoded(const std::string& bytes, bool base64) const {
+    std::string header, data;
+    if (compressed()) {
+      compress_blocks(bytes, header, data);
+    } else {
+      append_header_word(header, bytes.size());
+      data = bytes;
+    }
+    return base64 ? base64_encode(header) + base64_encode(data) : header + data;
+  }
+
+  void compress_blocks(const std::string& bytes, std::string& header, std::string& data) const {
+    const uint64_t block = o_.zlib_block_size;
+    const uint64_t blocks = (bytes.size() + block - 1) / block;
+    append_header_word(header, blocks);
+    append_header_word(header, block);
+    append_header_word(header, bytes.size() % block);  // 0: the last block is full
+    std::string packed;
+    for (uint64_t b = 0; b < blocks; ++b) {
+      const uint64_t size = std::min<uint64_t>(block, bytes.size() - b * block);
+      uLongf packed_size = compressBound(uLong(size));
+      packed.resize(packed_size);
+      if (compress2(reinterpret_cast<Bytef*>(packed.data()), &packed_size,
+                    reinterpret_cast<const Bytef*>(bytes.data() + b * block), uLong(size),
+                    Z_DEFAULT_COMPRESSION) != Z_OK)
+        throw std::runtime_error("write_vtu: zlib compression failed");
+      append_header_word(header, packed_size);
+      data.append(packed.data(), packed_size);
+    }
+  }
+
+  const VtuWriteOptions& o_;
+  std::string appended_;
+};
+
+void write_text_atomic(const fs::path& file, const std::string& text) {
+  AtomicFile out(file);
+  out.write(text);
+  out.commit();
+}
+
+}  // namespace
+
+void write_vtu(const std::filesystem::path& file, const MeshData& mesh, const VtuWriteOptions& options) {
+  write_text_atomic(file, VtuWriter(options).document(mesh));
+}
+
+// =============================================================================================
+// ParaView collections
+
+namespace {
+
+double parse_time(const std::string& file, const std::string& text, size_t index) {
+  double t = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), t);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty() || !std::isfinite(t))
+    input_error(file, "DataSet " + std::to_string(index) + ": bad timestep \"" + text.substr(0, 32) + "\"");
+  return t;
+}
+
+PvdStep read_dataset(const std::string& name, const fs::path& dir, const XmlElement& e, size_t index) {
+  const std::string what = "DataSet " + std::to_string(index);
+  const std::string* time = e.attribute("timestep");
+  const std::string* path = e.attribute("file");
+  const std::string* part = e.attribute("part");
+  if (!time) input_error(name, what + " has no timestep attribute");
+  if (!path || path->empty()) input_error(name, what + " has no file attribute");
+  if (part && *part != "0" && !part->empty())
+    input_error(name, what + ": part " + part->substr(0, 32) + " (volstream reads collections of part 0 only)");
+  const fs::path step_file(*path);
+  return {parse_time(name, *time, index), step_file.is_absolute() ? step_file : dir / step_file};
+}
+
+}  // namespace
+
+std::vector<PvdStep> read_pvd(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  const std::string text = read_text_file(file);
+  const XmlDocument doc = scan_xml(text, name);
+  const std::string* type = doc.root.attribute("type");
+  if (doc.root.name != "VTKFile" || !type || *type != "Collection")
+    input_error(name, "not a VTK Collection (.pvd) file");
+  const XmlElement* collection = doc.root.child("Collection");
+  if (!collection) input_error(name, "<VTKFile> has no <Collection>");
+  std::vector<PvdStep> steps;
+  for (const XmlElement& e : collection->children)
+    if (e.name == "DataSet") steps.push_back(read_dataset(name, file.parent_path(), e, steps.size()));
+  if (steps.empty()) input_error(name, "the collection has no DataSet entries");
+  std::stable_sort(steps.begin(), steps.end(), [](const PvdStep& a, const PvdStep& b) { return a.time < b.time; });
+  for (size_t i = 1; i < steps.size(); ++i)
+    if (steps[i].time == steps[i - 1].time)
+      input_error(name, "two DataSet entries have timestep " + std::to_string(steps[i].time));
+  return steps;
+}
+
+void write_pvd(const std::filesystem::path& file, const std::vector<PvdStep>& steps) {
+  const fs::path dir = fs::absolute(file).parent_path().lexically_normal();
+  std::string xml =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      "  <Collection>\n";
+  for (const PvdStep& s : steps) {
+    const fs::path absolute = fs::absolute(s.file).lexically_normal();
+    const fs::path relative = absolute.lexically_relative(dir);
+    char time[64];
+    const auto end = std::to_chars(time, time + sizeof(time), s.time).ptr;
+    xml += "    <DataSet timestep=\"" + std::string(time, end) + "\" group=\"\" part=\"0\" file=\"" +
+           xml_escape((relative.empty() ? absolute : relative).generic_string()) + "\"/>\n";
+  }
+  write_text_atomic(file, xml + "  </Collection>\n</VTKFile>\n");
+}
+
+}  // namespace vs

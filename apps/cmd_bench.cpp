@@ -64,7 +64,7 @@ CacheState drop_cache(const std::vector<std::filesystem::path>& files) {
 
 // Plain sequential O_DIRECT reads of the same files into one aligned buffer: the disk's bandwidth.
 double raw_read_gbps(const Dataset& ds, const std::vector<std::filesystem::path>& files, bool& direct) {
-  StepReader reader(ds.manifest().cell_count, ReadMode::direct);
+  StepReader reader(ds.manifest().value_count(), ReadMode::direct);
   HostBuffer buffer(reader.padded_bytes(), false);
   const Stopwatch watch;
   for (size_t i = 0; i < files.size(); ++i) reader.read(files[i], int(i), buffer.data());
@@ -147,7 +147,7 @@ void run_bench_stream(const BenchStreamArgs& a) {
   const auto& fs = setup.settings;
   std::printf("bench stream: %s, field %s, %zu frames, %ux%u on %s, %.1f MiB per step\n", a.dir.c_str(),
               ds.manifest().fields[size_t(r.request.field)].name.c_str(), steps.size(), fs.width, fs.height,
-              to_string(setup.device), double(ds.manifest().cell_count) * 4 / (1 << 20));
+              to_string(setup.device), double(ds.manifest().value_count()) * 4 / (1 << 20));
   const CacheState before = drop_cache(files);
   bool direct = false;
   const double raw = raw_read_gbps(ds, files, direct);

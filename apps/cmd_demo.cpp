@@ -3,16 +3,37 @@
 
 #include "commands.h"
 #include "volstream/amr/demo.h"
+#include "volstream/core/error.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/mesh_convert.h"
+#include "volstream/io/ugrid.h"
+#include "volstream/io/vtk_legacy.h"
+#include "volstream/io/vtu.h"
 
 namespace vs::cli {
+
+namespace {
+void write_mesh_file(const std::filesystem::path& file, const MeshData& mesh) {
+  const std::string name = file.filename().string();
+  auto ends_with = [&](const std::string& suffix) {
+    return name.size() >= suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  if (ends_with(".vtu")) return write_vtu(file, mesh);
+  if (ends_with(".vtk")) return write_vtk_legacy(file, mesh);
+  if (ends_with(".lb8.ugrid")) return write_ugrid(file, mesh, UgridEncoding::lb8);
+  if (ends_with(".b8.ugrid")) return write_ugrid(file, mesh, UgridEncoding::b8);
+  if (ends_with(".lb4.ugrid")) return write_ugrid(file, mesh, UgridEncoding::lb4);
+  if (ends_with(".ugrid")) return write_ugrid(file, mesh, UgridEncoding::ascii);
+  throw UsageError("--write-mesh: cannot tell the format of " + name + " (.vtu, .vtk, .ugrid)");
+}
+}  // namespace
 
 void add_demo_command(CLI::App& app) {
   struct Args {
     std::string name;
     double cells = 1e6;
     double elements = 1e5;
+    std::vector<std::string> mesh_files;
     int steps = 4;
     std::string out;
     bool quiet = false;
@@ -32,6 +53,9 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--elements", args->elements, "mesh demos: approximate number of elements")->capture_default_str();
   cmd->add_option("--steps", args->steps, "number of time steps")->capture_default_str()->check(CLI::Range(1, 100000));
   cmd->add_option("-o,--output", args->out, "output dataset directory")->required();
+  cmd->add_option("--write-mesh", args->mesh_files,
+                  "mesh demos: also write step 0 as a mesh file (.vtu appended raw, .vtk binary 5.1, "
+                  "NAME.{lb8,b8,lb4}.ugrid or ascii .ugrid: the format from the name); repeatable");
   cmd->add_flag("--file-order", args->file_order,
                 "also write every step in the generator's cell order and the permutation to device order "
                 "(file_index.bin), for the streaming pipeline's flatten pass (doubles the values on disk)");
@@ -40,6 +64,7 @@ void add_demo_command(CLI::App& app) {
   cmd->callback([args] {
     if (is_mesh_demo(args->name)) {
       MeshDemoOptions o{args->name, uint64_t(std::clamp(args->elements, 0.0, 1e12)), args->steps};
+      for (const std::string& file : args->mesh_files) write_mesh_file(file, make_mesh_demo(o, 0));
       auto series = make_mesh_demo_series(o);
       const MeshConvertStats stats =
           convert_mesh_to_dataset(*series, args->out, {args->quiet, args->file_order, args->fields});

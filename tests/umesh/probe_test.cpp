@@ -74,6 +74,25 @@ TEST_P(MeshProbeTest, LinearFieldIsReproducedEverywhereInside) {
   }
 }
 
+// Independent of the brute force (which shares the inside test): every element holds the mean
+// of its corners, so no probe there may be NaN, and the linear field is exact there.
+TEST_P(MeshProbeTest, EveryElementCentroidIsFound) {
+  const DemoMesh d = demo(GetParam(), 3000);
+  const UMeshRenderer renderer(d.mesh, d.transform);
+  std::vector<vec3f> centroids;
+  for (const UElement& e : d.mesh.elements) {
+    vec3f c(0.f);
+    for (int k = 0; k < e.vertex_count(); ++k) c = c + d.mesh.vertices[e.v[k]];
+    centroids.push_back(c * (1.f / float(e.vertex_count())));
+  }
+  const std::vector<float> f = renderer.probe(d.linear.data(), centroids);
+  for (size_t i = 0; i < f.size(); ++i) {
+    const vec3d w = d.transform.to_world(vec3d(centroids[i]));
+    ASSERT_FALSE(std::isnan(f[i])) << "element " << i << " does not hold its centroid";
+    EXPECT_NEAR(f[i], w.x + 2 * w.y + 3 * w.z, 1e-4) << "element " << i;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Demos, MeshProbeTest, ::testing::Values("tets", "mixed", "holes"));
 
 TEST(MeshProbe, HolesAndGapsAreNan) {

@@ -66,8 +66,8 @@ TEST_P(ShapeTest, PointsOutsideAreRefused) {
   std::mt19937 rng(100 + n);
   const std::vector<vec3f> x = element(n, rng, 0.f);
   float w[8];
-  for (const vec3f& p : {vec3f(-0.1f, 0.5f, 0.5f), vec3f(0.5f, 0.5f, 1.2f), vec3f(0.5f, -0.05f, 0.3f),
-                         vec3f(2.f, 2.f, 2.f)})
+  for (const vec3f& p :
+       {vec3f(-0.1f, 0.5f, 0.5f), vec3f(0.5f, 0.5f, 1.2f), vec3f(0.5f, -0.05f, 0.3f), vec3f(2.f, 2.f, 2.f)})
     EXPECT_FALSE(shape::locate_in_element(n, x.data(), p, w)) << p.x << " " << p.y << " " << p.z;
 }
 

@@ -1,11 +1,15 @@
 #include "volstream/io/mesh_convert.h"
 
 #include <algorithm>
+#include <cctype>
 
 #include "volstream/core/error.h"
 #include "volstream/core/progress.h"
 #include "volstream/core/stopwatch.h"
 #include "volstream/io/atomic_file.h"
+#include "volstream/io/ugrid.h"
+#include "volstream/io/vtk_legacy.h"
+#include "volstream/io/vtu.h"
 #include "volstream/umesh/from_mesh_data.h"
 
 namespace vs {
@@ -37,7 +41,76 @@ std::vector<MeshFieldRef> selected(const std::vector<MeshFieldRef>& all, const s
   return out;
 }
 
+std::string lower_extension(const fs::path& file) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+MeshData read_mesh_file(const fs::path& file) {
+  const std::string ext = lower_extension(file);
+  if (ext == ".vtu") return read_vtu(file);
+  if (ext == ".vtk") return read_vtk_legacy(file);
+  if (ext == ".ugrid") return read_ugrid(file);
+  input_error(file.string(), "not a mesh file (.vtu, .vtk, .ugrid, or a .pvd collection of them)");
+}
+
+class FileSeries : public MeshSeries {
+ public:
+  FileSeries(std::vector<PvdStep> steps, std::vector<RawScalars> scalars, std::string description)
+      : steps_(std::move(steps)), scalars_(std::move(scalars)), description_(std::move(description)) {}
+  int step_count() const override { return int(steps_.size()); }
+  double step_time(int step) const override { return steps_.at(size_t(step)).time; }
+  MeshData read_step(int step) override {
+    MeshData m = read_mesh_file(steps_.at(size_t(step)).file);
+    for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
+    return m;
+  }
+  std::string origin(int step) const override { return steps_.at(size_t(step)).file.string(); }
+  std::string description() const override { return description_; }
+
+ private:
+  std::vector<PvdStep> steps_;
+  std::vector<RawScalars> scalars_;
+  std::string description_;
+};
+
+std::string format_name(const fs::path& file) {
+  const std::string ext = lower_extension(file);
+  if (ext == ".vtu") return "VTK XML unstructured grid";
+  if (ext == ".vtk") return "legacy VTK unstructured grid";
+  if (ext == ".pvd") return "ParaView collection";
+  return "UGRID";
+}
+
 }  // namespace
+
+bool is_mesh_file(const fs::path& file) {
+  const std::string ext = lower_extension(file);
+  return ext == ".vtu" || ext == ".vtk" || ext == ".pvd" || ext == ".ugrid";
+}
+
+RawScalars parse_raw_scalars(const std::string& spec) {
+  const size_t eq = spec.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size())
+    throw UsageError("--scalars takes NAME=FILE (a raw float32 file, one value per point), not '" + spec + "'");
+  return {spec.substr(0, eq), spec.substr(eq + 1)};
+}
+
+std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
+                                            const std::vector<RawScalars>& scalars) {
+  if (files.empty()) throw UsageError("no mesh files given");
+  std::vector<PvdStep> steps;
+  if (lower_extension(files.front()) == ".pvd") {
+    if (files.size() > 1) throw UsageError("a .pvd collection is converted on its own");
+    steps = read_pvd(files.front());
+  } else {
+    for (size_t i = 0; i < files.size(); ++i) steps.push_back({double(i), files[i]});
+  }
+  std::string description = format_name(files.front()) + " " + files.front().filename().string();
+  if (steps.size() > 1) description += " (" + std::to_string(steps.size()) + " steps)";
+  return std::make_unique<FileSeries>(std::move(steps), scalars, description);
+}
 
 std::unique_ptr<MeshSeries> make_mesh_demo_series(const MeshDemoOptions& options) {
   return std::make_unique<DemoSeries>(options);

@@ -25,6 +25,23 @@ class MeshSeries {
 
 std::unique_ptr<MeshSeries> make_mesh_demo_series(const MeshDemoOptions& options);
 
+// True for the file names the mesh readers take: .vtu, .vtk, .pvd, .ugrid (any UGRID encoding).
+bool is_mesh_file(const std::filesystem::path& file);
+
+// Raw float32 per-point scalars for a UGRID grid (`--scalars NAME=FILE`).
+struct RawScalars {
+  std::string name;
+  std::filesystem::path file;
+};
+// RawScalars from "NAME=FILE" (UsageError otherwise).
+RawScalars parse_raw_scalars(const std::string& spec);
+
+// The steps of mesh files: one .vtu/.vtk/.ugrid file (one step), several (one step each, in the
+// order given), or one .pvd collection (its steps, by time). `scalars` are attached to every
+// step (UGRID carries no data of its own). Headers are read when a step is read.
+std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<std::filesystem::path>& files,
+                                            const std::vector<RawScalars>& scalars = {});
+
 struct MeshConvertStats {
   double read_seconds = 0, encode_seconds = 0, values_seconds = 0;
   uint64_t elements = 0, vertices = 0;

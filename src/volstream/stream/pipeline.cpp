@@ -66,7 +66,7 @@ Pipeline::Pipeline(const Dataset& dataset, int field, PipelineFlags flags, Frame
       flags_(flags),
       stages_(stages),
       timeline_(timeline),
-      reader_(dataset.manifest().cell_count, flags.direct_io ? ReadMode::direct : ReadMode::buffered) {
+      reader_(dataset.manifest().value_count(), flags.direct_io ? ReadMode::direct : ReadMode::buffered) {
   if (flags_.overlap) flags_.async_io = true;  // the overlapped upload runs on the loader thread
   const int slots = flags_.async_io ? 2 : 1;
   // A buffer that the loader writes while the frame thread may still use the other one needs two
@@ -86,7 +86,7 @@ Pipeline::Pipeline(const Dataset& dataset, int field, PipelineFlags flags, Frame
     if (file_order_) {
       flatten_index_ = dataset.load_file_index();  // checked to be a permutation
     } else {
-      flatten_index_.resize(dataset.manifest().cell_count);
+      flatten_index_.resize(dataset.manifest().value_count());
       std::iota(flatten_index_.begin(), flatten_index_.end(), 0u);
     }
   }
@@ -173,7 +173,7 @@ void Pipeline::load(Slot& slot, int step, Phase upto, int lane) {
   if (upto >= Phase::uploaded && slot.done < Phase::uploaded) {
     Timeline::Scope s(timeline_, Stage::upload, step, lane);
     if (!flags_.preordered) flatten(slot);
-    device_values_->upload(slot.device, slot.staging, dataset_.manifest().cell_count);
+    device_values_->upload(slot.device, slot.staging, dataset_.manifest().value_count());
     slot.done = Phase::uploaded;
   }
 }

@@ -223,7 +223,7 @@ RendererStages::~RendererStages() = default;
 
 std::unique_ptr<ValueStore> RendererStages::make_value_store(int count, uint64_t bytes_each) {
   if (renderer_.device() != Device::cuda) return make_host_value_store(count, bytes_each);
-  return std::make_unique<GpuValueStore>(count, dataset_.manifest().cell_count);
+  return std::make_unique<GpuValueStore>(count, dataset_.manifest().value_count());
 }
 
 void RendererStages::ranges(const FrameData& frame) {

@@ -81,25 +81,33 @@ VS_HOST_DEVICE inline vec3f centre_params(int n) {
 // neighbour that only takes it within the tolerance (and extrapolates a little).
 VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f& p, float* w,
                                              float* outside = nullptr) {
+  // Relative to corner 0: coordinates of the element's size, so float rounding stays far below
+  // the Newton tolerance however far the element is from the grid's origin.
+  vec3f local[8];
+  for (int i = 0; i < n; ++i) local[i] = x[i] - x[0];
+  const vec3f target = p - x[0];
   vec3f d[8];
   vec3f pc = centre_params(n);
   const int iterations = n == 4 ? 1 : kNewtonIterations;  // the tet's map is linear: one step is exact
-  bool converged = false;
-  for (int it = 0; it < iterations && !converged; ++it) {
+  float step = 0.f;
+  for (int it = 0; it < iterations; ++it) {
     weights(n, pc.x, pc.y, pc.z, w, d);
     vec3f pos{0.f, 0.f, 0.f}, jr{0.f, 0.f, 0.f}, js{0.f, 0.f, 0.f}, jt{0.f, 0.f, 0.f};
     for (int i = 0; i < n; ++i) {
-      pos = pos + x[i] * w[i];
-      jr = jr + x[i] * d[i].x;
-      js = js + x[i] * d[i].y;
-      jt = jt + x[i] * d[i].z;
+      pos = pos + local[i] * w[i];
+      jr = jr + local[i] * d[i].x;
+      js = js + local[i] * d[i].y;
+      jt = jt + local[i] * d[i].z;
     }
     vec3f delta;
-    if (!solve3(jr, js, jt, p - pos, delta)) return false;
+    if (!solve3(jr, js, jt, target - pos, delta)) return false;
     pc = pc + delta;
-    converged = n == 4 || fabsf(delta.x) + fabsf(delta.y) + fabsf(delta.z) < 1e-6f;
+    step = fabsf(delta.x) + fabsf(delta.y) + fabsf(delta.z);
+    if (step < 1e-6f) break;
     if (!(fabsf(pc.x) < 4.f && fabsf(pc.y) < 4.f && fabsf(pc.z) < 4.f)) return false;  // diverging: far outside
   }
+  // Newton converges quadratically: a last step this small is float noise, not a slow approach.
+  const bool converged = n == 4 || step < 1e-4f;
   if (!converged) return false;
   const float o = params_outside(n, pc.x, pc.y, pc.z);
   if (!(o <= kParamTolerance)) return false;

@@ -88,9 +88,26 @@ struct UMeshView {
     return hit;
   }
 
+  // locate(p), trying element `hint` first (the ray's previous sample's): when it holds p
+  // strictly the search is skipped; the element found is the next hint.
+  VS_HOST_DEVICE ElementHit locate(const vec3f& p, int64_t& hint) const {
+    if (hint >= 0) {
+      ElementHit hit;
+      float best = INFINITY;
+      if (consider(uint32_t(hint), p, hit, best)) return hit;
+    }
+    const ElementHit hit = locate(p);
+    if (hit.element >= 0) hint = hit.element;
+    return hit;
+  }
+
   // The field's value at p, NaN outside every element.
   VS_HOST_DEVICE float sample(const float* values, const vec3f& p) const {
-    const ElementHit hit = locate(p);
+    int64_t no_hint = -1;
+    return sample(values, p, no_hint);
+  }
+  VS_HOST_DEVICE float sample(const float* values, const vec3f& p, int64_t& hint) const {
+    const ElementHit hit = locate(p, hint);
     if (hit.element < 0) return NAN;
     const UElement& el = elements[hit.element];
     const int n = el.vertex_count();

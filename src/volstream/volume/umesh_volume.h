@@ -26,6 +26,13 @@ struct UMeshVolume {
 
   VS_HOST_DEVICE float sample(int field, uint32_t, const vec3f& p) const { return mesh.sample(fields[field], p); }
   VS_HOST_DEVICE float sample_near(int field, uint32_t, const vec3f& p) const { return mesh.sample(fields[field], p); }
+  // With the ray's hint (integrator.h): the element of the ray's previous sample is tried first.
+  VS_HOST_DEVICE float sample(int field, uint32_t, const vec3f& p, int64_t& hint) const {
+    return mesh.sample(fields[field], p, hint);
+  }
+  VS_HOST_DEVICE float sample_near(int field, uint32_t, const vec3f& p, int64_t& hint) const {
+    return mesh.sample(fields[field], p, hint);
+  }
   VS_HOST_DEVICE float step_width(uint32_t region) const { return step_widths[region]; }
   VS_HOST_DEVICE int64_t locate(const vec3f& p) const {
     if (!grid.bounds.contains(p)) return -1;

@@ -70,22 +70,6 @@ struct Ray {
   VS_HOST_DEVICE vec3f at(float t) const { return org + dir * t; }
 };
 
-// Gradient in world units by central differences (one-sided at the volume's edge).
-template <typename V>
-VS_HOST_DEVICE inline vec3f world_gradient(const FrameView<V>& v, uint32_t region, const vec3f& p, float f) {
-  const float h = 0.5f * v.volume.step_width(region);
-  vec3f g;
-  for (int a = 0; a < 3; ++a) {
-    vec3f pp = p, pm = p;
-    pp[a] += h;
-    pm[a] -= h;
-    const float fp = v.volume.sample_near(0, region, pp), fm = v.volume.sample_near(0, region, pm);
-    const bool okp = !is_nan(fp), okm = !is_nan(fm);
-    g[a] = okp && okm ? (fp - fm) / (2.f * h) : okp ? (fp - f) / h : okm ? (f - fm) / h : 0.f;
-  }
-  return g * v.grid.inv_cell_size;  // d/dworld = d/dgrid * dgrid/dworld
-}
-
 // Headlight Blinn-Phong, two-sided: the light sits at the eye, so the half vector is the view
 // direction and only |n . view| matters.
 VS_HOST_DEVICE inline Rgba headlight(const Rgba& c, const vec3f& gradient, const vec3f& view_dir, float ambient,
@@ -111,7 +95,43 @@ struct RayState {
   Accum acc;
   PrevSample prev;
   uint32_t samples = 0;
+  // Where the volume found the ray's last sample (an unstructured mesh's element), for volumes
+  // that take a hint (volume.h): consecutive samples are close, so it is often right.
+  int64_t hint = -1;
 };
+
+// A volume's reconstruction at p, with the ray's hint where the volume takes one.
+template <typename V>
+VS_HOST_DEVICE inline float sample(const V& volume, int field, uint32_t region, const vec3f& p, RayState& s) {
+  if constexpr (requires { volume.sample(field, region, p, s.hint); })
+    return volume.sample(field, region, p, s.hint);
+  else
+    return volume.sample(field, region, p);
+}
+template <typename V>
+VS_HOST_DEVICE inline float sample_near(const V& volume, int field, uint32_t region, const vec3f& p, RayState& s) {
+  if constexpr (requires { volume.sample_near(field, region, p, s.hint); })
+    return volume.sample_near(field, region, p, s.hint);
+  else
+    return volume.sample_near(field, region, p);
+}
+
+// Gradient in world units by central differences (one-sided at the volume's edge).
+template <typename V>
+VS_HOST_DEVICE inline vec3f world_gradient(const FrameView<V>& v, uint32_t region, const vec3f& p, float f,
+                                           RayState& s) {
+  const float h = 0.5f * v.volume.step_width(region);
+  vec3f g;
+  for (int a = 0; a < 3; ++a) {
+    vec3f pp = p, pm = p;
+    pp[a] += h;
+    pm[a] -= h;
+    const float fp = sample_near(v.volume, 0, region, pp, s), fm = sample_near(v.volume, 0, region, pm, s);
+    const bool okp = !is_nan(fp), okm = !is_nan(fm);
+    g[a] = okp && okm ? (fp - fm) / (2.f * h) : okp ? (fp - f) / h : okm ? (f - fm) / h : 0.f;
+  }
+  return g * v.grid.inv_cell_size;  // d/dworld = d/dgrid * dgrid/dworld
+}
 
 // f between sample a (in region_a, whose interval ends at end_a) and sample b (region_b).
 struct Bracket {
@@ -129,7 +149,7 @@ VS_HOST_DEVICE inline float refine_root(const FrameView<V>& v, const Ray& ray, c
                                         RayState& s) {
   auto g = [&](float t) {
     ++s.samples;
-    return v.volume.sample(0, br.region_at(t), ray.at(t)) - iso;
+    return sample(v.volume, 0, br.region_at(t), ray.at(t), s) - iso;
   };
   float ta = br.ta, ga = br.fa - iso, tb = br.tb, gb = br.fb - iso;
   for (int i = 0; i < 4; ++i) {
@@ -173,10 +193,10 @@ VS_HOST_DEVICE inline void isosurfaces(const FrameView<V>& v, const Ray& ray, co
     const vec3f p = ray.at(hit_t[k]);
     Rgba c = v.optics.tf.lookup(st.iso[hit_iso[k]]);
     if (v.color_isosurfaces) {
-      const float cf = v.volume.sample_near(1, region, p);
+      const float cf = sample_near(v.volume, 1, region, p, s);
       if (!is_nan(cf)) c = v.color_tf.lookup(cf);
     }
-    const vec3f g = world_gradient(v, region, p, st.iso[hit_iso[k]]);
+    const vec3f g = world_gradient(v, region, p, st.iso[hit_iso[k]], s);
     s.samples += 6;
     const Rgba lit = headlight(c, g, ray.dir_w, 0.2f, 0.35f);
     s.acc.blend(lit.r, lit.g, lit.b, st.iso_alpha);
@@ -192,7 +212,7 @@ VS_HOST_DEVICE inline void close_interval(const FrameView<V>& v, const Ray& ray,
   // Just inside the exit face: on a face where two bricks' supports meet edge to edge the
   // weights vanish and f is 0/0, while it is defined arbitrarily close to it.
   const float t_end = p.end - kFaceInset * (p.end - p.t);
-  const float f_end = v.volume.sample(0, p.region, ray.at(t_end));
+  const float f_end = sample(v.volume, 0, p.region, ray.at(t_end), s);
   ++s.samples;
   if (!is_nan(f_end) && t_end > p.t) isosurfaces(v, ray, {p.t, p.f, t_end, f_end, p.end, p.region, p.region}, s);
   s.prev.valid = false;
@@ -209,7 +229,7 @@ VS_HOST_DEVICE inline void take_sample(const FrameView<V>& v, const Ray& ray, ui
   // just composited may have made the ray opaque.
   if (!iso || !s.acc.opaque()) {
     if constexpr (kOptics == OpticsKind::blackbody) {
-      const float temperature = v.volume.sample(1, region, ray.at(t));
+      const float temperature = sample(v.volume, 1, region, ray.at(t), s);
       ++s.samples;
       blackbody_step(v.optics.bb, f, temperature, len_ref, s.acc);
     } else {
@@ -217,7 +237,7 @@ VS_HOST_DEVICE inline void take_sample(const FrameView<V>& v, const Ray& ray, ui
       if (c.a > 0.f) {
         const float alpha = corrected_alpha(c.a, len_ref);
         if (v.settings.shade) {
-          c = headlight(c, world_gradient(v, region, ray.at(t), f), ray.dir_w, 0.35f, 0.25f);
+          c = headlight(c, world_gradient(v, region, ray.at(t), f, s), ray.dir_w, 0.35f, 0.25f);
           s.samples += 6;
         }
         s.acc.blend_gray(c.r, c.g, c.b, alpha);
@@ -275,7 +295,7 @@ VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray,
     if (s.prev.valid && iv.t0 - s.prev.end > 1e-4f * steps.dt) close_interval(v, ray, s);
     if (!s.prev.valid) {  // start the crossing test at the interval's entry face (just inside)
       const float t0 = iv.t0 + kFaceInset * steps.dt;
-      const float f0 = v.volume.sample(0, iv.region, ray.at(t0));
+      const float f0 = sample(v.volume, 0, iv.region, ray.at(t0), s);
       ++s.samples;
       if (!is_nan(f0)) s.prev = {true, t0, f0, iv.region, iv.t1};
     }
@@ -283,7 +303,7 @@ VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray,
   for (uint32_t k = 0; k < steps.n; ++k) {
     float t, len_ref;
     steps.at(k, jitter, t, len_ref);
-    const float f = v.volume.sample(0, iv.region, ray.at(t));
+    const float f = sample(v.volume, 0, iv.region, ray.at(t), s);
     ++s.samples;
     if (is_nan(f)) {  // outside the volume's data (e.g. beyond every cell's support)
       s.prev.valid = false;

@@ -62,17 +62,24 @@ void print_report(const Dataset& ds, const FrameRequest& r, const FrameReport& r
                   const std::string& output) {
   const TransferFunctionSpec& spec = r.tf;
   std::printf("device: %s\n", describe(rep.device).c_str());
-  const bool abr = r.kind == IntegratorKind::abr;
+  const bool mesh = ds.is_mesh(), abr = r.kind == IntegratorKind::abr && !mesh, skips = abr || mesh;
   std::printf("field %s step %d, range [%g, %g]%s, %llu of %llu %s visible%s\n",
               ds.manifest().fields[size_t(r.field)].name.c_str(), r.step, spec.lo, spec.hi,
               spec.log_scale ? " (log)" : "", (unsigned long long)rep.visible_regions,
-              (unsigned long long)rep.region_count, abr ? "ABRs" : "blocks", abr && !r.skip ? " (no skipping)" : "");
-  std::printf("integrator %s%s, %s optics\n", abr ? "abr" : "blocks",
-              abr ? "" : (r.reconstruction == Reconstruction::nearest ? " (nearest)" : " (trilinear)"),
+              (unsigned long long)rep.region_count,
+              mesh  ? "macrocells"
+              : abr ? "ABRs"
+                    : "blocks",
+              skips && !r.skip ? " (no skipping)" : "");
+  std::printf("integrator %s%s, %s optics\n",
+              mesh  ? "mesh (element BVH, VTK shape functions)"
+              : abr ? "abr"
+                    : "blocks",
+              skips ? "" : (r.reconstruction == Reconstruction::nearest ? " (nearest)" : " (trilinear)"),
               r.optics == OpticsKind::blackbody ? "blackbody" : "tf");
   const FrameTimes& t = rep.seconds;
   std::printf("load %.3fs, ranges %.4fs%s, classify %.4fs, refit %.4fs, upload %.4fs\n", open_s + t.read, t.ranges,
-              r.stored_ranges ? " (stored)" : (abr ? "" : " (vertex values)"), t.classify, t.refit, t.upload);
+              r.stored_ranges ? " (stored)" : (skips ? "" : " (vertex values)"), t.classify, t.refit, t.upload);
   std::printf("render %ux%u: %.3fs (%.3fs CPU time), %.1f M samples, %.1f M samples/s -> %s\n", r.width, r.height,
               t.render, cpu_s, rep.samples * 1e-6, rep.samples * 1e-6 / std::max(t.render, 1e-9), output.c_str());
   std::printf("memory: %s\n", format_memory(memory_ledger().snapshot()).c_str());

@@ -1,0 +1,41 @@
+// The native dataset reader on a mesh dataset (kind umesh): a small mixed mesh with one of its
+// files patched, then opened, its BVH and macrocells built, probed and rendered.
+#include "fuzz_util.h"
+#include "volstream/frame/frame_renderer.h"
+#include "volstream/frame/look.h"
+#include "volstream/io/dataset.h"
+#include "volstream/io/mesh_convert.h"
+
+#include <vector>
+
+namespace {
+std::filesystem::path make_base(const std::filesystem::path& dir) {
+  using namespace vs;
+  auto series = make_mesh_demo_series({"mixed", 60, 1});
+  convert_mesh_to_dataset(*series, dir / "base", ConvertOptions::silent());
+  return dir / "base";
+}
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace vs;
+  static const auto dir = fuzz::scratch("mesh_dataset");
+  static const auto base = make_base(dir);
+  const auto work = dir / "work";
+  fuzz::copy_tree(base, work);
+  const std::vector<std::filesystem::path> files = {work / "manifest.json", work / "mesh_vertices.bin",
+                                                    work / "mesh_elements.bin",
+                                                    work / "fields/0_density/step_000000.f32"};
+  if (!fuzz::apply_patch(files, data, size)) return 0;
+  fuzz::expect_clean([&] {
+    Dataset ds(work);
+    FrameRenderer renderer(ds, Device::cpu);
+    (void)renderer.probe(0, 0, {vec3d(0.5, 0.5, 0.5), vec3d(0.1, 0.9, 0.2)});
+    FrameRequest r;
+    r.width = r.height = 8;
+    r.tf = make_transfer_function(ds.manifest(), 0, {0}, {});
+    r.camera = default_view(ds, r.width, r.height);
+    (void)renderer.render(r);
+  });
+  return 0;
+}

@@ -1,0 +1,113 @@
+// FrameRenderer on unstructured-mesh datasets: the same integrator draws DVR, isosurfaces and the
+// blackbody model through the mesh; empty-space skipping over macrocells changes nothing in the
+// picture; the stages are redone only when a change needs them; a time step changes only values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_util.h"
+#include "volstream/frame/frame_renderer.h"
+#include "volstream/frame/look.h"
+#include "volstream/io/mesh_convert.h"
+
+namespace vs {
+namespace {
+
+const Dataset& holes() {
+  static const Dataset ds = [] {
+    const auto dir = test::scratch_dir("mesh_frame_holes");
+    auto series = make_mesh_demo_series({"holes", 20000, 2});
+    convert_mesh_to_dataset(*series, dir, ConvertOptions::silent());
+    return Dataset(dir);
+  }();
+  return ds;
+}
+
+FrameRequest request(const Dataset& ds) {
+  FrameRequest r;
+  r.width = 40;
+  r.height = 32;
+  r.field = ds.manifest().field_index("density");
+  TransferFunctionRequest tf;
+  tf.color_map = "viridis";
+  tf.opacity = {{0.03, 0.0}, {0.3, 0.2}, {1.1, 0.6}};
+  r.tf = make_transfer_function(ds.manifest(), r.field, {0, 1}, tf);
+  r.camera = default_view(ds, r.width, r.height);
+  return r;
+}
+
+double mean_alpha(const Image& img) {
+  double sum = 0;
+  for (size_t i = 3; i < img.rgba.size(); i += 4) sum += img.rgba[i];
+  return sum / double(img.width * img.height);
+}
+
+double max_difference(const Image& a, const Image& b) {
+  double worst = 0;
+  for (size_t i = 0; i < a.rgba.size(); ++i) worst = std::max(worst, double(std::fabs(a.rgba[i] - b.rgba[i])));
+  return worst;
+}
+
+TEST(MeshFrame, SkippingMacrocellsLeavesThePictureAlone) {
+  FrameRenderer fr(holes(), Device::cpu);
+  FrameRequest r = request(holes());
+  FrameReport skipped, all;
+  const Image a = fr.render(r, &skipped);
+  r.skip = false;
+  const Image b = fr.render(r, &all);
+  EXPECT_GT(mean_alpha(a), 0.003);  // the blobs (the cavity takes much of them)
+  EXPECT_LT(skipped.visible_regions, all.visible_regions);
+  EXPECT_EQ(all.visible_regions, all.region_count);
+  EXPECT_LT(max_difference(a, b), 1e-6);
+}
+
+TEST(MeshFrame, RedoesOnlyWhatAChangeNeeds) {
+  FrameRenderer fr(holes(), Device::cpu);
+  FrameRequest r = request(holes());
+  FrameReport first, moved, next_step;
+  fr.render(r, &first);
+  EXPECT_GT(first.seconds.read, 0);
+  EXPECT_GT(first.seconds.ranges, 0);
+  r.camera.position = r.camera.position * 1.1;
+  fr.render(r, &moved);
+  EXPECT_EQ(moved.seconds.read + moved.seconds.ranges + moved.seconds.classify + moved.seconds.refit, 0);
+  r.step = 1;
+  fr.render(r, &next_step);
+  EXPECT_GT(next_step.seconds.read, 0);
+  EXPECT_GT(next_step.seconds.ranges, 0);
+}
+
+TEST(MeshFrame, IsosurfacesOfTheLinearFieldAndBlackbodyDraw) {
+  FrameRenderer fr(holes(), Device::cpu);
+  FrameRequest r = request(holes());
+  r.field = holes().manifest().field_index("linear");
+  r.tf = make_transfer_function(holes().manifest(), r.field, {0}, {"viridis", Range{0.f, 7.f}, false, {{0, 0}, {7, 0}}});
+  r.integrator.iso_count = 1;
+  r.integrator.iso[0] = 3.f;
+  const Image iso = fr.render(r);
+  EXPECT_GT(mean_alpha(iso), 0.1);  // the plane x + 2y + 3z = 3 crosses the box
+
+  FrameRequest bb = request(holes());
+  bb.optics = OpticsKind::blackbody;
+  bb.second_field = holes().manifest().field_index("linear");  // any positive "temperature"
+  bb.blackbody = make_blackbody_params(bb.tf, DensityScale::linear, 4, 0.25, 0);
+  const Image glow = fr.render(bb);
+  EXPECT_GT(mean_alpha(glow), 0.001);
+}
+
+TEST(MeshFrame, ProbeMatchesTheBruteForce) {
+  FrameRenderer fr(holes(), Device::cpu);
+  std::vector<vec3d> points;
+  for (int i = 0; i < 200; ++i) points.push_back({0.013 * i - 0.1, 0.37 + 0.002 * i, 0.55 - 0.001 * i});
+  const std::vector<float> fast = fr.probe(0, 1, points);
+  const std::vector<double> reference = probe_brute_force(holes(), 0, 1, points);
+  for (size_t i = 0; i < points.size(); ++i) {
+    ASSERT_EQ(std::isnan(fast[i]), std::isnan(reference[i])) << i;
+    if (!std::isnan(fast[i])) {
+      EXPECT_NEAR(fast[i], reference[i], 1e-5 * std::max(1.0, std::fabs(reference[i])));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace vs

@@ -24,6 +24,7 @@ struct ElementBvhNode {
 struct ElementBvh {
   std::vector<ElementBvhNode> nodes;  // nodes[0] is the root
   std::vector<uint32_t> items;        // element indices in leaf order
+  std::vector<uint32_t> parents;      // per node: its parent (the root's is 0); for searches from a leaf
 };
 
 ElementBvh build_element_bvh(const std::vector<box3f>& element_boxes);
@@ -41,6 +42,7 @@ struct UMeshView {
   const ElementBvhNode* nodes = nullptr;
   const uint32_t* items = nullptr;
   uint32_t node_count = 0;
+  const uint32_t* parents = nullptr;  // per node (the root's unused); null: searches start at the root
 
   // Weights of element e at p (false: p is outside it, or outside its corners' box, which the
   // BVH's boxes are made of). `outside` as in shape::locate_in_element.
@@ -67,37 +69,54 @@ struct UMeshView {
     return outside <= 0.f;
   }
 
-  VS_HOST_DEVICE ElementHit locate(const vec3f& p) const {
-    ElementHit hit;
-    float best = INFINITY;
-    if (node_count == 0) return hit;
+  // Searches the subtree under node `root` for p (hit and best as in consider): true on a strict
+  // hit. `leaf` is set to the leaf of the best hit found.
+  VS_HOST_DEVICE bool search(uint32_t root, const vec3f& p, ElementHit& hit, float& best, uint32_t& leaf) const {
     uint32_t stack[64];
     int top = 0;
-    stack[top++] = 0;
+    stack[top++] = root;
     while (top > 0) {
-      const ElementBvhNode& node = nodes[stack[--top]];
+      const uint32_t index = stack[--top];
+      const ElementBvhNode& node = nodes[index];
       if (!node.box.contains(p)) continue;
       if (node.count == 0) {
         stack[top++] = node.first + 1;
         stack[top++] = node.first;
         continue;
       }
-      for (uint32_t k = 0; k < node.count; ++k)
-        if (consider(items[node.first + k], p, hit, best)) return hit;
+      for (uint32_t k = 0; k < node.count; ++k) {
+        const int64_t before = hit.element;
+        const bool strict = consider(items[node.first + k], p, hit, best);
+        if (hit.element != before) leaf = index;
+        if (strict) return true;
+      }
     }
-    return hit;
+    return false;
   }
 
-  // locate(p), trying element `hint` first (the ray's previous sample's): when it holds p
-  // strictly the search is skipped; the element found is the next hint.
+  VS_HOST_DEVICE ElementHit locate(const vec3f& p) const {
+    int64_t no_hint = -1;
+    return locate(p, no_hint);
+  }
+
+  // locate(p) starting at leaf `hint` (the leaf of the ray's previous sample; -1: none), then
+  // the sibling subtrees on the way up to the root: consecutive samples are close, so the
+  // search usually ends a few levels up instead of descending from the root. It is exhaustive
+  // all the same (a strict hit wins wherever it is). The leaf found is the next hint.
   VS_HOST_DEVICE ElementHit locate(const vec3f& p, int64_t& hint) const {
-    if (hint >= 0) {
-      ElementHit hit;
-      float best = INFINITY;
-      if (consider(uint32_t(hint), p, hit, best)) return hit;
+    ElementHit hit;
+    float best = INFINITY;
+    uint32_t leaf = 0;
+    if (node_count == 0) return hit;
+    uint32_t node = hint >= 0 && parents ? uint32_t(hint) : 0u;
+    bool strict = search(node, p, hit, best, leaf);
+    while (!strict && node != 0) {
+      const uint32_t parent = parents[node];
+      const uint32_t sibling = nodes[parent].first == node ? node + 1 : node - 1;
+      strict = search(sibling, p, hit, best, leaf);
+      node = parent;
     }
-    const ElementHit hit = locate(p);
-    if (hit.element >= 0) hint = hit.element;
+    if (hit.element >= 0) hint = leaf;
     return hit;
   }
 

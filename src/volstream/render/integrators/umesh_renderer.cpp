@@ -37,8 +37,8 @@ UMeshRenderer::UMeshRenderer(const UMesh& mesh, const WorldTransform& transform)
 }
 
 UMeshView UMeshRenderer::mesh_view() const {
-  return {mesh_.vertices.data(), mesh_.elements.data(), bvh_.nodes.data(), bvh_.items.data(),
-          uint32_t(bvh_.nodes.size())};
+  return {mesh_.vertices.data(), mesh_.elements.data(),       bvh_.nodes.data(),
+          bvh_.items.data(),     uint32_t(bvh_.nodes.size()), bvh_.parents.data()};
 }
 
 FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
@@ -69,7 +69,7 @@ UMeshBytes UMeshRenderer::bytes() const {
   UMeshBytes b;
   b.vertices = mesh_.vertices.size() * sizeof(vec3f);
   b.elements = mesh_.elements.size() * sizeof(UElement);
-  b.bvh_nodes = bvh_.nodes.size() * sizeof(ElementBvhNode);
+  b.bvh_nodes = bvh_.nodes.size() * (sizeof(ElementBvhNode) + sizeof(uint32_t));  // with parent links
   b.bvh_items = bvh_.items.size() * sizeof(uint32_t);
   b.macrocells = cells_.bytes();
   b.region_bvh = 2 * skipping_.template_bvh().nodes.size() * sizeof(BvhNode);  // template + refit copy
@@ -78,7 +78,7 @@ UMeshBytes UMeshRenderer::bytes() const {
 }
 
 std::vector<double> probe_brute_force(const UMesh& mesh, const float* values, const std::vector<vec3f>& points) {
-  const UMeshView view{mesh.vertices.data(), mesh.elements.data(), nullptr, nullptr, 0};
+  const UMeshView view{mesh.vertices.data(), mesh.elements.data(), nullptr, nullptr, 0, nullptr};
   std::vector<double> out(points.size(), NAN);
   parallel_for("probe_brute_force", int64_t(points.size()), [&](int64_t i) {
     ElementHit hit;

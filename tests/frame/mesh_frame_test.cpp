@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "test_util.h"
+#include "volstream/cuda/backend.h"
 #include "volstream/frame/frame_renderer.h"
 #include "volstream/frame/look.h"
 #include "volstream/io/mesh_convert.h"
@@ -81,7 +82,8 @@ TEST(MeshFrame, IsosurfacesOfTheLinearFieldAndBlackbodyDraw) {
   FrameRenderer fr(holes(), Device::cpu);
   FrameRequest r = request(holes());
   r.field = holes().manifest().field_index("linear");
-  r.tf = make_transfer_function(holes().manifest(), r.field, {0}, {"viridis", Range{0.f, 7.f}, false, {{0, 0}, {7, 0}}});
+  r.tf =
+      make_transfer_function(holes().manifest(), r.field, {0}, {"viridis", Range{0.f, 7.f}, false, {{0, 0}, {7, 0}}});
   r.integrator.iso_count = 1;
   r.integrator.iso[0] = 3.f;
   const Image iso = fr.render(r);
@@ -105,6 +107,33 @@ TEST(MeshFrame, ProbeMatchesTheBruteForce) {
     ASSERT_EQ(std::isnan(fast[i]), std::isnan(reference[i])) << i;
     if (!std::isnan(fast[i])) {
       EXPECT_NEAR(fast[i], reference[i], 1e-5 * std::max(1.0, std::fabs(reference[i])));
+    }
+  }
+}
+
+// The GPU renders and probes a mesh as the CPU does (the same kernel source, compiled twice).
+TEST(MeshFrameCuda, EqualsTheCpu) {
+  if (!cuda::cuda_available()) GTEST_SKIP() << "no CUDA device";
+  const Dataset& ds = holes();
+  FrameRenderer cpu(ds, Device::cpu), gpu(ds, Device::cuda);
+  FrameRequest dvr = request(ds), iso = request(ds);
+  iso.integrator.iso_count = 1;
+  iso.integrator.iso[0] = 0.4f;
+  iso.integrator.shade = 1;
+  for (const FrameRequest& r : {dvr, iso}) {
+    const Image a = cpu.render(r), b = gpu.render(r);
+    EXPECT_GT(mean_alpha(a), 0.003);
+    double sum = 0;
+    for (size_t i = 0; i < a.rgba.size(); ++i) sum += std::fabs(a.rgba[i] - b.rgba[i]);
+    EXPECT_LT(sum / double(a.rgba.size()), 1e-3);
+  }
+  std::vector<vec3d> points;
+  for (int i = 0; i < 500; ++i) points.push_back({0.0027 * i, 0.31 + 0.001 * i, 0.6 - 0.0007 * i});
+  const std::vector<float> a = cpu.probe(0, 1, points), b = gpu.probe(0, 1, points);
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(std::isnan(a[i]), std::isnan(b[i])) << i;
+    if (!std::isnan(a[i])) {
+      EXPECT_NEAR(a[i], b[i], 1e-5 * std::max(1.f, std::fabs(a[i])));
     }
   }
 }

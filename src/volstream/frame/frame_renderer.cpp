@@ -9,6 +9,7 @@
 #include "volstream/core/error.h"
 #include "volstream/core/stopwatch.h"
 #include "volstream/cuda/backend.h"
+#include "volstream/cuda/umesh_backend.h"
 #include "volstream/frame/look.h"
 #include "volstream/io/image.h"
 #include "volstream/render/integrators/umesh_renderer.h"
@@ -94,7 +95,8 @@ struct FrameRenderer::Impl {
   OpticsKind classified_optics = OpticsKind::tf;
   BlackbodyParams classified_bb;
 
-  std::unique_ptr<UMeshRenderer> umesh;  // a mesh dataset: its BVH and macrocells
+  std::unique_ptr<UMeshRenderer> umesh;           // a mesh dataset: its BVH and macrocells
+  std::unique_ptr<cuda::DeviceMesh> device_mesh;  // CUDA: the mesh, its BVH and macrocells
 
   std::unique_ptr<BlockRenderer> blocks;
   uint64_t block_generation[kVolumeFields] = {};
@@ -123,10 +125,36 @@ struct FrameRenderer::Impl {
 
   UMeshRenderer& umesh_renderer() {
     if (!umesh) {
-      if (device == Device::cuda) throw UsageError("meshes render on the CPU only so far (--device cpu)");
       umesh = std::make_unique<UMeshRenderer>(dataset.mesh(), dataset.manifest().transform);
+      device_mesh.reset();
     }
     return *umesh;
+  }
+  cuda::DeviceMesh& mesh_on_device() {
+    UMeshRenderer& mesh = umesh_renderer();
+    if (!device_mesh)
+      device_mesh = std::make_unique<cuda::DeviceMesh>(dataset.mesh(), mesh.element_bvh(), mesh.macrocells());
+    return *device_mesh;
+  }
+  // A mesh frame: on the CPU, or on the GPU through the same kernel source.
+  Image render_mesh(const FrameView<UMeshVolume>& host_view, FrameReport& report) {
+    if (device == Device::cpu) {
+      FrameStats stats;
+      Image img = umesh->render(host_view, &stats);
+      report.seconds.render += stats.render_seconds;
+      report.samples = stats.samples;
+      return img;
+    }
+    FrameView<UMeshVolume> view = host_view;
+    Image img(view.width, view.height);
+    std::vector<uint32_t> counts(size_t(view.width) * view.height);
+    view.rgba = img.rgba.data();
+    view.sample_counts = counts.data();
+    const cuda::RenderTimes t = mesh_on_device().render(view);
+    report.seconds.upload += t.upload_seconds;
+    report.seconds.render += t.kernel_seconds;
+    report.samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
+    return img;
   }
   // A mesh frame's classification (ranges as for ABRs; the blackbody model by density).
   uint64_t classify_mesh(const FrameRequest& r, const TransferTable& table, FrameStats& stats) {
@@ -185,7 +213,7 @@ struct FrameRenderer::Impl {
     const FieldSlot& slot = slots[s];
     if (slot.field < 0) return nullptr;
     if (slot.external && device == Device::cuda)
-      throw UsageError("the block integrator on CUDA needs the values in host memory (use render, not play)");
+      throw UsageError("meshes and the block integrator on CUDA need the values in host memory (use render, not play)");
     return slot.external ? slot.external : slot.host.data();
   }
 
@@ -245,7 +273,7 @@ void FrameRenderer::compute_ranges(const FrameRequest& r, FrameReport* report) {
     return;
   Stopwatch watch;
   if (dataset_.is_mesh()) {
-    m.ranges = m.umesh->ranges(m.kernel_values(0));
+    m.ranges = m.umesh->ranges(m.host_values(0));  // host values: also on CUDA (ranges on the host)
   } else if (r.stored_ranges) {
     if (m.slots[0].field < 0) throw UsageError("stored ranges need a dataset step, not streamed values");
     m.ranges = m.dataset.load_abr_ranges(m.slots[0].field, m.slots[0].step);
@@ -356,12 +384,9 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
   if (r.optics == OpticsKind::blackbody) optics.bb = default_blackbody_table().view(r.blackbody);
   if (dataset_.is_mesh()) {
     UMeshRenderer& mesh = m.umesh_renderer();
-    FrameStats stats;
-    img = mesh.render(mesh.view({m.kernel_values(0), m.kernel_values(1)}, optics, color_iso ? &color_view : nullptr,
-                                r.camera, frame_settings(r)),
-                      &stats);
-    local.seconds.render += stats.render_seconds;
-    local.samples = stats.samples;
+    img = m.render_mesh(mesh.view({m.kernel_values(0), m.kernel_values(1)}, optics, color_iso ? &color_view : nullptr,
+                                  r.camera, frame_settings(r)),
+                        local);
     local.visible_regions = visible_;
     local.region_count = mesh.region_count();
   } else if (r.kind == IntegratorKind::blocks) {
@@ -422,7 +447,9 @@ std::vector<float> FrameRenderer::probe(int field, int step, const std::vector<v
   FrameTimes ignored;
   m.load(0, field, step, ignored);
   const std::vector<vec3f> grid = grid_points(dataset_.manifest().transform, world);
-  if (dataset_.is_mesh()) return m.umesh_renderer().probe(m.kernel_values(0), grid);
+  if (dataset_.is_mesh())
+    return device_ == Device::cuda ? m.mesh_on_device().probe(m.kernel_values(0), grid)
+                                   : m.umesh_renderer().probe(m.kernel_values(0), grid);
   const AmrRenderer& abr = m.abr_renderer();  // its BVH template locates the points
   if (device_ == Device::cuda) return m.device_scene().probe(m.kernel_values(0), grid);
   return probe_points(dataset_.topology(), abr.template_bvh(), m.kernel_values(0), grid);

@@ -211,7 +211,7 @@ struct FrameRenderer::Impl {
   }
   const float* host_values(int s) const {
     const FieldSlot& slot = slots[s];
-    if (slot.field < 0) return nullptr;
+    if (slot.field < 0 && !slot.external) return nullptr;
     if (slot.external && device == Device::cuda)
       throw UsageError("meshes and the block integrator on CUDA need the values in host memory (use render, not play)");
     return slot.external ? slot.external : slot.host.data();

@@ -33,7 +33,7 @@ double jacobian_det(int n, const vec3d* x, const vec3f& pc) {
 // +1 or -1: the sign of every corner's Jacobian; 0: degenerate; 2: tangled (mixed signs).
 int element_orientation(int n, const vec3d* x) {
   const vec3f* corners = n == 4 ? kCorners4 : n == 5 ? kCorners5 : n == 6 ? kCorners6 : kCorners8;
-  const int count = n == 4 ? 1 : n + 1;
+  const int count = n == 4 ? 1 : n == 5 ? 5 : n + 1;  // corners (the pyramid's four) and the centre
   box3f b = box3f::make_empty();
   for (int i = 0; i < n; ++i) b.extend(vec3f(x[i]));
   const double extent = reduce_max(b.size());

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <cfloat>
 #include <cmath>
 
 #include "volstream/backend/parallel.h"
@@ -58,9 +59,9 @@ MacroGrid make_grid(const std::vector<box3f>& boxes) {
 }  // namespace
 
 float element_size(const box3f& b) {
-  const vec3f s = b.size();
-  const float volume_root = std::cbrt(s.x * s.y * s.z);
-  return std::max(volume_root, 1e-3f * reduce_max(s));
+  const vec3d s(b.size());  // double: the product of three large extents overflows a float
+  const double size = std::max(std::cbrt(s.x * s.y * s.z), 1e-3 * reduce_max(s));
+  return float(std::min(size, double(FLT_MAX)));
 }
 
 MacroCells build_macrocells(const std::vector<box3f>& boxes) {
@@ -78,7 +79,7 @@ MacroCells build_macrocells(const std::vector<box3f>& boxes) {
       for (int x = 0; x < m.grid.dims.x; ++x) {
         const uint64_t c = m.grid.index({x, y, z});
         const float width = from_ordered(finest[c]);
-        if (!(width < INFINITY)) continue;
+        if (finest[c] == ordered(INFINITY)) continue;  // no element overlaps it
         m.region_of_cell[c] = int32_t(m.boxes.size());
         const vec3f lower = m.grid.bounds.lower + vec3f(float(x), float(y), float(z)) * m.grid.cell_size;
         // The last layer ends exactly on the bounds (no rounding gap at the far faces).
@@ -105,6 +106,7 @@ std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& m, cons
     const uint32_t olo = ordered(elo), ohi = ordered(ehi);
     for_each_cell(m.grid, element_box(mesh.vertices.data(), e), [&](uint64_t c) {
       const int32_t r = m.region_of_cell[c];
+      if (r < 0) return;  // cannot happen for the mesh the cells were built from; never index -1
       atomic_min(lo[size_t(r)], olo);
       atomic_max(hi[size_t(r)], ohi);
     });

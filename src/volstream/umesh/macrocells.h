@@ -25,9 +25,9 @@ struct MacroGrid {
   // Grid cell of p, clamped into the grid.
   VS_HOST_DEVICE vec3i cell_of(const vec3f& p) const {
     vec3i c;
-    for (int a = 0; a < 3; ++a) {
-      const int i = int(floorf((p[a] - bounds.lower[a]) / cell_size[a]));
-      c[a] = i < 0 ? 0 : (i >= dims[a] ? dims[a] - 1 : i);
+    for (int a = 0; a < 3; ++a) {  // clamped as floats: far points must not overflow an int
+      const float i = floorf((p[a] - bounds.lower[a]) / cell_size[a]);
+      c[a] = i >= 0.f ? (i < float(dims[a]) ? int(i) : dims[a] - 1) : 0;
     }
     return c;
   }

@@ -27,6 +27,7 @@ void add_mesh_resident_bytes(const Dataset& ds, nlohmann::json& summary) {
                                {"elements", b.elements},
                                {"element_bvh_nodes", b.bvh_nodes},
                                {"element_bvh_items", b.bvh_items},
+                               {"face_neighbors", b.face_neighbors},
                                {"macrocells", b.macrocells},
                                {"macrocell_bvh", b.region_bvh},
                                {"one_field", b.field},

@@ -14,7 +14,7 @@ struct DeviceMesh::Impl {
   Buffer<UElement> elements{Device::cuda, "mesh"};
   Buffer<ElementBvhNode> nodes{Device::cuda, "mesh BVH and macrocells"};
   Buffer<uint32_t> items{Device::cuda, "mesh BVH and macrocells"};
-  Buffer<uint32_t> parents{Device::cuda, "mesh BVH and macrocells"};
+  Buffer<uint32_t> neighbors{Device::cuda, "mesh BVH and macrocells"};
   Buffer<float> step_widths{Device::cuda, "mesh BVH and macrocells"};
   Buffer<int32_t> region_of_cell{Device::cuda, "mesh BVH and macrocells"};
   Buffer<BvhNode> region_nodes{Device::cuda, "BVH"};
@@ -24,17 +24,18 @@ struct DeviceMesh::Impl {
   Buffer<float> probed{Device::cuda, "probe points"};
 
   UMeshView view() const {
-    return {vertices.data(), elements.data(), nodes.data(), items.data(), uint32_t(nodes.size()), parents.data()};
+    return {vertices.data(), elements.data(), nodes.data(), items.data(), uint32_t(nodes.size()), neighbors.data()};
   }
 };
 
-DeviceMesh::DeviceMesh(const UMesh& mesh, const ElementBvh& bvh, const MacroCells& cells)
+DeviceMesh::DeviceMesh(const UMesh& mesh, const ElementBvh& bvh, const std::vector<uint32_t>& neighbors,
+                       const MacroCells& cells)
     : impl_(std::make_unique<Impl>()) {
   impl_->vertices.upload(mesh.vertices);
   impl_->elements.upload(mesh.elements);
   impl_->nodes.upload(bvh.nodes);
   impl_->items.upload(bvh.items);
-  impl_->parents.upload(bvh.parents);
+  impl_->neighbors.upload(neighbors);
   impl_->step_widths.upload(cells.step_width);
   impl_->region_of_cell.upload(cells.region_of_cell);
 }

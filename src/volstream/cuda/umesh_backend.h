@@ -23,7 +23,8 @@ namespace vs::cuda {
 
 class DeviceMesh {
  public:
-  DeviceMesh(const UMesh& mesh, const ElementBvh& bvh, const MacroCells& cells);  // uploads; keeps no reference
+  // Uploads the mesh, its BVH, face adjacency and macrocells; keeps no reference.
+  DeviceMesh(const UMesh& mesh, const ElementBvh& bvh, const std::vector<uint32_t>& neighbors, const MacroCells& cells);
   ~DeviceMesh();
   DeviceMesh(const DeviceMesh&) = delete;
   DeviceMesh& operator=(const DeviceMesh&) = delete;

@@ -133,7 +133,8 @@ struct FrameRenderer::Impl {
   cuda::DeviceMesh& mesh_on_device() {
     UMeshRenderer& mesh = umesh_renderer();
     if (!device_mesh)
-      device_mesh = std::make_unique<cuda::DeviceMesh>(dataset.mesh(), mesh.element_bvh(), mesh.macrocells());
+      device_mesh = std::make_unique<cuda::DeviceMesh>(dataset.mesh(), mesh.element_bvh(), mesh.face_neighbors(),
+                                                       mesh.macrocells());
     return *device_mesh;
   }
   // A mesh frame: on the CPU, or on the GPU through the same kernel source.

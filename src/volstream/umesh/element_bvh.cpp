@@ -43,7 +43,6 @@ struct Builder {
                      [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
     node.first = free;
     node.count = 0;
-    bvh.parents[free] = bvh.parents[free + 1] = index;
     const uint32_t right_free = free + 2 + descendants(mid - begin);
     auto left = [&] { build(free, begin, mid, free + 2); };
     auto right = [&] { build(free + 1, mid, end, right_free); };
@@ -68,7 +67,6 @@ ElementBvh build_element_bvh(const std::vector<box3f>& boxes) {
   b.bvh.items.resize(boxes.size());
   std::iota(b.bvh.items.begin(), b.bvh.items.end(), 0u);
   b.bvh.nodes.resize(1 + descendants(uint32_t(boxes.size())));
-  b.bvh.parents.assign(b.bvh.nodes.size(), 0);
   b.build(0, 0, uint32_t(boxes.size()), 1);
   return std::move(b.bvh);
 }

@@ -24,7 +24,6 @@ struct ElementBvhNode {
 struct ElementBvh {
   std::vector<ElementBvhNode> nodes;  // nodes[0] is the root
   std::vector<uint32_t> items;        // element indices in leaf order
-  std::vector<uint32_t> parents;      // per node: its parent (the root's is 0); for searches from a leaf
 };
 
 ElementBvh build_element_bvh(const std::vector<box3f>& element_boxes);
@@ -42,7 +41,8 @@ struct UMeshView {
   const ElementBvhNode* nodes = nullptr;
   const uint32_t* items = nullptr;
   uint32_t node_count = 0;
-  const uint32_t* parents = nullptr;  // per node (the root's unused); null: searches start at the root
+  const uint32_t* neighbors = nullptr;  // kMaxFaces per element (umesh/adjacency.h); null: no walk
+  static constexpr uint32_t kNoNeighborIndex = 0xffffffffu;
 
   // Weights of element e at p (false: p is outside it, or outside its corners' box, which the
   // BVH's boxes are made of). `outside` as in shape::locate_in_element.
@@ -69,54 +69,69 @@ struct UMeshView {
     return outside <= 0.f;
   }
 
-  // Searches the subtree under node `root` for p (hit and best as in consider): true on a strict
-  // hit. `leaf` is set to the leaf of the best hit found.
-  VS_HOST_DEVICE bool search(uint32_t root, const vec3f& p, ElementHit& hit, float& best, uint32_t& leaf) const {
+  // Every element holding p, through the BVH (hit and best as in consider): true on a strict hit.
+  VS_HOST_DEVICE bool search(const vec3f& p, ElementHit& hit, float& best) const {
     uint32_t stack[64];
     int top = 0;
-    stack[top++] = root;
+    stack[top++] = 0;
     while (top > 0) {
-      const uint32_t index = stack[--top];
-      const ElementBvhNode& node = nodes[index];
+      const ElementBvhNode& node = nodes[stack[--top]];
       if (!node.box.contains(p)) continue;
       if (node.count == 0) {
         stack[top++] = node.first + 1;
         stack[top++] = node.first;
         continue;
       }
-      for (uint32_t k = 0; k < node.count; ++k) {
-        const int64_t before = hit.element;
-        const bool strict = consider(items[node.first + k], p, hit, best);
-        if (hit.element != before) leaf = index;
-        if (strict) return true;
-      }
+      for (uint32_t k = 0; k < node.count; ++k)
+        if (consider(items[node.first + k], p, hit, best)) return true;
     }
     return false;
   }
 
   VS_HOST_DEVICE ElementHit locate(const vec3f& p) const {
-    int64_t no_hint = -1;
-    return locate(p, no_hint);
-  }
-
-  // locate(p) starting at leaf `hint` (the leaf of the ray's previous sample; -1: none), then
-  // the sibling subtrees on the way up to the root: consecutive samples are close, so the
-  // search usually ends a few levels up instead of descending from the root. It is exhaustive
-  // all the same (a strict hit wins wherever it is). The leaf found is the next hint.
-  VS_HOST_DEVICE ElementHit locate(const vec3f& p, int64_t& hint) const {
     ElementHit hit;
     float best = INFINITY;
-    uint32_t leaf = 0;
-    if (node_count == 0) return hit;
-    uint32_t node = hint >= 0 && parents ? uint32_t(hint) : 0u;
-    bool strict = search(node, p, hit, best, leaf);
-    while (!strict && node != 0) {
-      const uint32_t parent = parents[node];
-      const uint32_t sibling = nodes[parent].first == node ? node + 1 : node - 1;
-      strict = search(sibling, p, hit, best, leaf);
-      node = parent;
+    if (node_count > 0) search(p, hit, best);
+    return hit;
+  }
+
+  // Walks from element `from` towards p across the faces p lies beyond (face adjacency): true
+  // with the hit when an element holds p strictly within kMaxWalk steps; false at the mesh's
+  // boundary, an unmatched face, or a point too far to tell the way.
+  VS_HOST_DEVICE bool walk(uint32_t from, const vec3f& p, ElementHit& hit) const {
+    constexpr int kMaxWalk = 8;
+    uint32_t e = from;
+    for (int step = 0; step < kMaxWalk; ++step) {
+      const UElement& el = elements[e];
+      const int n = el.vertex_count();
+      vec3f x[8];
+      for (int i = 0; i < n; ++i) x[i] = vertices[el.v[i]];
+      float outside = INFINITY;
+      int face = -1;
+      if (shape::locate_in_element(n, x, p, hit.w, &outside, &face) && outside <= 0.f) {
+        hit.element = e;
+        return true;
+      }
+      if (face < 0) return false;
+      e = neighbors[uint64_t(e) * shape::kMaxFaces + uint64_t(face)];
+      if (e == kNoNeighborIndex) return false;
     }
-    if (hit.element >= 0) hint = leaf;
+    return false;
+  }
+
+  // locate(p) starting from element `hint` (the ray's previous sample's; -1: none): consecutive
+  // samples are close, so a walk of a step or two over face neighbours usually finds p; where it
+  // does not (the boundary, an unmatched face, a long way), the BVH search decides, so the
+  // result is locate(p)'s (a strict hit wins; none may be missed). The element found is the
+  // next hint.
+  VS_HOST_DEVICE ElementHit locate(const vec3f& p, int64_t& hint) const {
+    ElementHit hit;
+    if (hint >= 0 && neighbors && walk(uint32_t(hint), p, hit)) {
+      hint = hit.element;
+      return hit;
+    }
+    hit = locate(p);
+    if (hit.element >= 0) hint = hit.element;
     return hit;
   }
 

@@ -16,7 +16,7 @@
 
 namespace vs {
 
-inline constexpr double kElementsPerMacrocell = 32;
+inline constexpr double kElementsPerMacrocell = 128;
 
 struct MacroGrid {
   box3f bounds;

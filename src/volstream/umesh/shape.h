@@ -48,13 +48,40 @@ VS_HOST_DEVICE inline void weights(int n, float r, float s, float t, float* w, v
   }
 }
 
-// How far the parametric point lies outside the element's parameter domain (<= 0: inside).
-VS_HOST_DEVICE inline float params_outside(int n, float r, float s, float t) {
-  auto mx = [](float a, float b) { return a > b ? a : b; };
-  float o = mx(mx(-r, -s), -t);
-  if (n == 4) return mx(o, r + s + t - 1.f);
-  if (n == 6) return mx(o, mx(r + s - 1.f, t - 1.f));
-  return mx(o, mx(mx(r - 1.f, s - 1.f), t - 1.f));
+// The faces of each type, numbered by the parameter bound they lie on (the walk in
+// element_bvh.h crosses the face that p violates most; umesh/adjacency.h pairs faces up):
+//   tetra       face k opposite vertex k (weight w_k = 0)
+//   hexahedron  r = 0, r = 1, s = 0, s = 1, t = 0, t = 1
+//   wedge       r = 0, s = 0, r + s = 1, t = 0, t = 1
+//   pyramid     r = 0, r = 1, s = 0, s = 1, t = 0 (the base)
+inline constexpr int kMaxFaces = 6;
+VS_HOST_DEVICE constexpr int face_count(int n) { return n == 4 ? 4 : n == 8 ? 6 : 5; }
+
+// Each face's violation at (r, s, t) (> 0: p lies beyond that face); returns the face count.
+VS_HOST_DEVICE inline int face_violations(int n, float r, float s, float t, float* v) {
+  if (n == 4) {
+    v[0] = r + s + t - 1.f, v[1] = -r, v[2] = -s, v[3] = -t;
+    return 4;
+  }
+  if (n == 6) {
+    v[0] = -r, v[1] = -s, v[2] = r + s - 1.f, v[3] = -t, v[4] = t - 1.f;
+    return 5;
+  }
+  v[0] = -r, v[1] = r - 1.f, v[2] = -s, v[3] = s - 1.f, v[4] = -t, v[5] = t - 1.f;
+  return n == 8 ? 6 : 5;
+}
+
+// How far the parametric point lies outside the element's parameter domain (<= 0: inside), and
+// the face it lies beyond most.
+VS_HOST_DEVICE inline float params_outside(int n, float r, float s, float t, int* face = nullptr) {
+  float v[kMaxFaces];
+  const int count = face_violations(n, r, s, t, v);
+  int worst = 0;
+  for (int f = 1; f < count; ++f)
+    if (v[f] > v[worst]) worst = f;
+  if (n == 5 && t > 1.f && v[worst] < t - 1.f) return t - 1.f;  // above the apex: no face there
+  if (face) *face = worst;
+  return v[worst];
 }
 
 // Solves J x = b for a 3x3 J given by its columns; false when J is (nearly) singular.
@@ -79,8 +106,26 @@ VS_HOST_DEVICE inline vec3f centre_params(int n) {
 // (beyond kParamTolerance). `outside` (optional) gets how far outside the parameter domain p is
 // (<= 0: strictly inside), so that callers can prefer the element that holds p strictly over a
 // neighbour that only takes it within the tolerance (and extrapolates a little).
-VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f& p, float* w,
-                                             float* outside = nullptr) {
+// `face` (optional) gets the face p lies beyond most, or -1 when p is too far to tell (Newton
+// diverged or did not converge), also when false is returned.
+// The tet's map is affine: its barycentric coordinates come from one 3x3 solve (the hot path of
+// tet meshes, kept free of the general Newton loop's arrays).
+VS_HOST_DEVICE inline bool locate_in_tet(const vec3f* x, const vec3f& p, float* w, float* outside, int* face) {
+  vec3f pc;
+  if (!solve3(x[1] - x[0], x[2] - x[0], x[3] - x[0], p - x[0], pc)) return false;
+  w[0] = 1.f - pc.x - pc.y - pc.z, w[1] = pc.x, w[2] = pc.y, w[3] = pc.z;
+  int worst = 0;
+  for (int i = 1; i < 4; ++i)
+    if (w[i] < w[worst]) worst = i;
+  if (face) *face = worst;  // the face opposite the most negative weight
+  if (outside) *outside = -w[worst];
+  return -w[worst] <= kParamTolerance;
+}
+
+VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f& p, float* w, float* outside = nullptr,
+                                             int* face = nullptr) {
+  if (face) *face = -1;
+  if (n == 4) return locate_in_tet(x, p, w, outside, face);
   // Relative to corner 0: coordinates of the element's size, so float rounding stays far below
   // the Newton tolerance however far the element is from the grid's origin.
   vec3f local[8];
@@ -109,7 +154,7 @@ VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f&
   // Newton converges quadratically: a last step this small is float noise, not a slow approach.
   const bool converged = n == 4 || step < 1e-4f;
   if (!converged) return false;
-  const float o = params_outside(n, pc.x, pc.y, pc.z);
+  const float o = params_outside(n, pc.x, pc.y, pc.z, face);
   if (!(o <= kParamTolerance)) return false;
   if (outside) *outside = o;
   weights(n, pc.x, pc.y, pc.z, w, d);

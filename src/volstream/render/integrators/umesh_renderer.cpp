@@ -27,18 +27,19 @@ UMeshRenderer::UMeshRenderer(const UMesh& mesh, const WorldTransform& transform)
         Stopwatch watch;
         const std::vector<box3f> boxes = element_boxes(mesh);
         bvh_ = build_element_bvh(boxes);
+        neighbors_ = build_face_neighbors(mesh);
         cells_ = build_macrocells(boxes);
         build_seconds_ = watch.seconds();
         return cells_.boxes;
       }()) {
   const UMeshBytes b = bytes();
   counted_ = CountedBytes("mesh BVH and macrocells", MemorySpace::host,
-                          int64_t(b.bvh_nodes + b.bvh_items + b.macrocells + b.region_bvh));
+                          int64_t(b.bvh_nodes + b.bvh_items + b.face_neighbors + b.macrocells + b.region_bvh));
 }
 
 UMeshView UMeshRenderer::mesh_view() const {
   return {mesh_.vertices.data(), mesh_.elements.data(),       bvh_.nodes.data(),
-          bvh_.items.data(),     uint32_t(bvh_.nodes.size()), bvh_.parents.data()};
+          bvh_.items.data(),     uint32_t(bvh_.nodes.size()), neighbors_.data()};
 }
 
 FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
@@ -69,7 +70,8 @@ UMeshBytes UMeshRenderer::bytes() const {
   UMeshBytes b;
   b.vertices = mesh_.vertices.size() * sizeof(vec3f);
   b.elements = mesh_.elements.size() * sizeof(UElement);
-  b.bvh_nodes = bvh_.nodes.size() * (sizeof(ElementBvhNode) + sizeof(uint32_t));  // with parent links
+  b.bvh_nodes = bvh_.nodes.size() * sizeof(ElementBvhNode);
+  b.face_neighbors = neighbors_.size() * sizeof(uint32_t);
   b.bvh_items = bvh_.items.size() * sizeof(uint32_t);
   b.macrocells = cells_.bytes();
   b.region_bvh = 2 * skipping_.template_bvh().nodes.size() * sizeof(BvhNode);  // template + refit copy

@@ -11,6 +11,7 @@
 #include "volstream/backend/memory.h"
 #include "volstream/render/integrators/abr_renderer.h"
 #include "volstream/render/skipping.h"
+#include "volstream/umesh/adjacency.h"
 #include "volstream/umesh/element_bvh.h"
 #include "volstream/umesh/macrocells.h"
 #include "volstream/volume/umesh_volume.h"
@@ -19,8 +20,11 @@ namespace vs {
 
 // Resident bytes of each structure the renderer keeps for a mesh (info, bytes_per_element).
 struct UMeshBytes {
-  uint64_t vertices = 0, elements = 0, bvh_nodes = 0, bvh_items = 0, macrocells = 0, region_bvh = 0, field = 0;
-  uint64_t total() const { return vertices + elements + bvh_nodes + bvh_items + macrocells + region_bvh + field; }
+  uint64_t vertices = 0, elements = 0, bvh_nodes = 0, bvh_items = 0, face_neighbors = 0, macrocells = 0, region_bvh = 0,
+           field = 0;
+  uint64_t total() const {
+    return vertices + elements + bvh_nodes + bvh_items + face_neighbors + macrocells + region_bvh + field;
+  }
 };
 
 class UMeshRenderer {
@@ -46,6 +50,7 @@ class UMeshRenderer {
   UMeshView mesh_view() const;
   const MacroCells& macrocells() const { return cells_; }
   const ElementBvh& element_bvh() const { return bvh_; }
+  const std::vector<uint32_t>& face_neighbors() const { return neighbors_; }
   size_t region_count() const { return cells_.boxes.size(); }
   UMeshBytes bytes() const;
   double build_seconds() const { return build_seconds_; }
@@ -55,6 +60,7 @@ class UMeshRenderer {
   WorldTransform transform_;
   double build_seconds_ = 0;
   ElementBvh bvh_;
+  std::vector<uint32_t> neighbors_;  // face adjacency (umesh/adjacency.h) for the walk
   MacroCells cells_;
   RegionBvh skipping_;  // over the macrocell boxes
   CountedBytes counted_;

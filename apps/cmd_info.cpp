@@ -21,7 +21,7 @@ void add_device_bytes(const Dataset& ds, nlohmann::json& summary) {
 // What the renderer keeps resident for the mesh (topology, one field, acceleration structures;
 // built here, as a render would) and that divided by the elements: bytes_per_element.
 void add_mesh_resident_bytes(const Dataset& ds, nlohmann::json& summary) {
-  const UMeshRenderer renderer(ds.mesh(), ds.manifest().transform);
+  const UMeshRenderer renderer(ds.mesh(), ds.mesh_accel(), ds.manifest().transform);
   const UMeshBytes b = renderer.bytes();
   summary["resident_bytes"] = {{"vertices", b.vertices},
                                {"elements", b.elements},

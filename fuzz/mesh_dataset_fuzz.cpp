@@ -23,8 +23,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const auto base = make_base(dir);
   const auto work = dir / "work";
   fuzz::copy_tree(base, work);
-  const std::vector<std::filesystem::path> files = {work / "manifest.json", work / "mesh_vertices.bin",
+  const std::vector<std::filesystem::path> files = {work / "manifest.json",
+                                                    work / "mesh_vertices.bin",
                                                     work / "mesh_elements.bin",
+                                                    work / "mesh_bvh_nodes.bin",
+                                                    work / "mesh_bvh_items.bin",
+                                                    work / "mesh_neighbors.bin",
                                                     work / "fields/0_density/step_000000.f32"};
   if (!fuzz::apply_patch(files, data, size)) return 0;
   fuzz::expect_clean([&] {

@@ -125,7 +125,7 @@ struct FrameRenderer::Impl {
 
   UMeshRenderer& umesh_renderer() {
     if (!umesh) {
-      umesh = std::make_unique<UMeshRenderer>(dataset.mesh(), dataset.manifest().transform);
+      umesh = std::make_unique<UMeshRenderer>(dataset.mesh(), dataset.mesh_accel(), dataset.manifest().transform);
       device_mesh.reset();
     }
     return *umesh;

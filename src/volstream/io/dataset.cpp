@@ -69,6 +69,7 @@ json manifest_to_json(const DatasetManifest& m) {
     j["kind"] = "umesh";
     j["vertex_count"] = m.mesh.vertices;
     j["element_count"] = m.mesh.elements;
+    j["bvh_node_count"] = m.mesh.bvh_nodes;
     for (int t = 0; t < 4; ++t) j["elements_by_type"][kTypeSlotNames[t]] = m.mesh.by_type[t];
   } else {
     j["kind"] = "amr";
@@ -109,6 +110,7 @@ DatasetManifest manifest_from_json(const json& j) {
     m.kind = DatasetKind::umesh;
     m.mesh.vertices = j.at("vertex_count").get<uint64_t>();
     m.mesh.elements = j.at("element_count").get<uint64_t>();
+    m.mesh.bvh_nodes = j.at("bvh_node_count").get<uint64_t>();
     for (int t = 0; t < 4; ++t) m.mesh.by_type[t] = j.at("elements_by_type").at(kTypeSlotNames[t]).get<uint64_t>();
   } else if (kind == "amr") {
     m.grid_bounds.lower = vec_from_json<int32_t>(j.at("grid_bounds").at("lower"));
@@ -178,7 +180,9 @@ void validate_manifest(const DatasetManifest& m) {
   if (m.kind == DatasetKind::umesh) {
     const MeshCounts& c = m.mesh;
     if (c.vertices == 0 || c.elements == 0) fail("no vertices or elements");
-    if (c.vertices >= kNoVertex || c.elements >= (uint64_t(1) << 40)) fail("counts out of range");
+    if (c.vertices >= kNoVertex || c.elements >= (uint64_t(1) << 32) / shape::kMaxFaces || c.bvh_nodes == 0 ||
+        c.bvh_nodes > 2 * c.elements)
+      fail("counts out of range");
     if (c.by_type[0] + c.by_type[1] + c.by_type[2] + c.by_type[3] != c.elements)
       fail("elements by type do not add up to element_count");
     return;
@@ -295,6 +299,12 @@ void DatasetWriter::write_mesh(const UMesh& mesh) {
   for (int t = 0; t < 4; ++t) manifest_.mesh.by_type[t] = mesh.count_by_type[t];
   write_file(dir_ / dataset_files::kMeshVertices, mesh.vertices.data(), mesh.vertices.size() * sizeof(vec3f));
   write_file(dir_ / dataset_files::kMeshElements, mesh.elements.data(), mesh.elements.size() * sizeof(UElement));
+  const MeshAccel accel = build_mesh_accel(mesh);
+  manifest_.mesh.bvh_nodes = accel.bvh.nodes.size();
+  write_file(dir_ / dataset_files::kMeshBvhNodes, accel.bvh.nodes.data(),
+             accel.bvh.nodes.size() * sizeof(ElementBvhNode));
+  write_file(dir_ / dataset_files::kMeshBvhItems, accel.bvh.items.data(), accel.bvh.items.size() * sizeof(uint32_t));
+  write_file(dir_ / dataset_files::kMeshNeighbors, accel.neighbors.data(), accel.neighbors.size() * sizeof(uint32_t));
 }
 
 void DatasetWriter::write_values(int field, int step, const std::vector<float>& values) {
@@ -364,8 +374,15 @@ void Dataset::load_mesh() {
   mesh_.elements = read_records<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
   for (int t = 0; t < 4; ++t) mesh_.count_by_type[t] = manifest_.mesh.by_type[t];
   validate_mesh(mesh_, manifest_.mesh, (dir_ / dataset_files::kMeshElements).string());
+  mesh_accel_.bvh.nodes = read_records<ElementBvhNode>(dir_ / dataset_files::kMeshBvhNodes, manifest_.mesh.bvh_nodes);
+  mesh_accel_.bvh.items = read_records<uint32_t>(dir_ / dataset_files::kMeshBvhItems, manifest_.mesh.elements);
+  mesh_accel_.neighbors =
+      read_records<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
+  check_mesh_accel(mesh_, mesh_accel_, (dir_ / dataset_files::kMeshBvhNodes).string());
   mesh_bytes_ = CountedBytes("mesh", MemorySpace::host,
-                             int64_t(mesh_.vertices.size() * sizeof(vec3f) + mesh_.elements.size() * sizeof(UElement)));
+                             int64_t(mesh_.vertices.size() * sizeof(vec3f) + mesh_.elements.size() * sizeof(UElement) +
+                                     mesh_accel_.bvh.nodes.size() * sizeof(ElementBvhNode) +
+                                     (mesh_accel_.bvh.items.size() + mesh_accel_.neighbors.size()) * sizeof(uint32_t)));
 }
 
 std::vector<Cell> Dataset::load_cells() const {

@@ -12,6 +12,7 @@
 #include "volstream/amr/model.h"
 #include "volstream/amr/source.h"
 #include "volstream/backend/memory.h"
+#include "volstream/umesh/mesh_accel.h"
 #include "volstream/umesh/umesh.h"
 
 namespace vs {
@@ -38,6 +39,7 @@ enum class DatasetKind { amr, umesh };
 struct MeshCounts {
   uint64_t vertices = 0, elements = 0;
   uint64_t by_type[4] = {};  // umesh.h type_slot order: tetra, pyramid, wedge, hexahedron
+  uint64_t bvh_nodes = 0;    // element BVH nodes stored (mesh_accel.h)
 };
 
 struct DatasetManifest {
@@ -74,12 +76,15 @@ inline constexpr const char* kCells = "cells.bin";
 inline constexpr const char* kBricks = "bricks.bin";
 inline constexpr const char* kAbrs = "abrs.bin";
 inline constexpr const char* kAbrBricks = "abr_bricks.bin";
-inline constexpr const char* kFileIndex = "file_index.bin";         // only with file-order copies
-inline constexpr const char* kMeshVertices = "mesh_vertices.bin";   // umesh: float x, y, z per vertex
-inline constexpr const char* kMeshElements = "mesh_elements.bin";   // umesh: UElement per element
-std::string field_values(const FieldInfo& f, int step);             // relative path
-std::string field_file_order_values(const FieldInfo& f, int step);  // relative path (file-order copy)
-std::string field_ranges(const FieldInfo& f, int step);             // relative path
+inline constexpr const char* kFileIndex = "file_index.bin";          // only with file-order copies
+inline constexpr const char* kMeshVertices = "mesh_vertices.bin";    // umesh: float x, y, z per vertex
+inline constexpr const char* kMeshElements = "mesh_elements.bin";    // umesh: UElement per element
+inline constexpr const char* kMeshBvhNodes = "mesh_bvh_nodes.bin";   // umesh: ElementBvhNode per node
+inline constexpr const char* kMeshBvhItems = "mesh_bvh_items.bin";   // umesh: uint32 per element
+inline constexpr const char* kMeshNeighbors = "mesh_neighbors.bin";  // umesh: 6 uint32 per element
+std::string field_values(const FieldInfo& f, int step);              // relative path
+std::string field_file_order_values(const FieldInfo& f, int step);   // relative path (file-order copy)
+std::string field_ranges(const FieldInfo& f, int step);              // relative path
 }  // namespace dataset_files
 
 // Writes a dataset: topology first, then values step by step (any order), manifest last.
@@ -113,7 +118,8 @@ class Dataset {
   const AmrTopology& topology() const { return topology_; }  // AMR (empty for a mesh)
   DatasetKind kind() const { return manifest_.kind; }
   bool is_mesh() const { return manifest_.kind == DatasetKind::umesh; }
-  const UMesh& mesh() const { return mesh_; }  // umesh (empty for AMR)
+  const UMesh& mesh() const { return mesh_; }                  // umesh (empty for AMR)
+  const MeshAccel& mesh_accel() const { return mesh_accel_; }  // umesh: its stored BVH and adjacency
   const std::filesystem::path& dir() const { return dir_; }
   std::vector<Cell> load_cells() const;  // device order; for brute-force reference only
   std::vector<float> load_values(int field, int step) const;
@@ -135,6 +141,7 @@ class Dataset {
   DatasetManifest manifest_;
   AmrTopology topology_;
   UMesh mesh_;
+  MeshAccel mesh_accel_;
   CountedBytes mesh_bytes_;
   CountedBytes brick_bytes_, abr_bytes_, abr_list_bytes_;  // the topology's host memory
 };

@@ -25,9 +25,7 @@ namespace {
 struct FaceKey {
   uint64_t hi, lo;  // the face's sorted global vertex indices packed in pairs (a triangle's fourth is kNoVertex)
   uint64_t slot;    // element * kMaxFaces + face
-  bool operator<(const FaceKey& o) const {
-    return hi != o.hi ? hi < o.hi : (lo != o.lo ? lo < o.lo : slot < o.slot);
-  }
+  bool operator<(const FaceKey& o) const { return hi != o.hi ? hi < o.hi : (lo != o.lo ? lo < o.lo : slot < o.slot); }
   bool same_face(const FaceKey& o) const { return hi == o.hi && lo == o.lo; }
 };
 

@@ -60,8 +60,8 @@ MacroGrid make_grid(const std::vector<box3f>& boxes) {
 
 float element_size(const box3f& b) {
   const vec3d s(b.size());  // double: the product of three large extents overflows a float
-  const double size = std::max(std::cbrt(s.x * s.y * s.z), 1e-3 * reduce_max(s));
-  return float(std::min(size, double(FLT_MAX)));
+  const float root = cbrtf(float(std::min(s.x * s.y * s.z, double(FLT_MAX))));
+  return std::max(root, float(std::min(1e-3 * reduce_max(s), double(FLT_MAX))));
 }
 
 MacroCells build_macrocells(const std::vector<box3f>& boxes) {

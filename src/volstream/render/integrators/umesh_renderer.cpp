@@ -4,17 +4,6 @@
 #include "volstream/core/stopwatch.h"
 
 namespace vs {
-namespace {
-
-std::vector<box3f> element_boxes(const UMesh& mesh) {
-  std::vector<box3f> boxes(mesh.elements.size());
-  parallel_for("element boxes", int64_t(boxes.size()),
-               [&](int64_t e) { boxes[size_t(e)] = element_box(mesh.vertices.data(), mesh.elements[size_t(e)]); });
-  return boxes;
-}
-
-}  // namespace
-
 Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transform) {
   Box3<double> b{vec3d(INFINITY), vec3d(-INFINITY)};
   for (const vec3f& v : mesh.vertices) b.extend(transform.to_world(vec3d(v)));
@@ -22,24 +11,37 @@ Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transform) {
   return b;
 }
 
+UMeshRenderer::UMeshRenderer(const UMesh& mesh, const MeshAccel& accel, const WorldTransform& transform)
+    : UMeshRenderer(mesh, nullptr, &accel, transform) {}
+
 UMeshRenderer::UMeshRenderer(const UMesh& mesh, const WorldTransform& transform)
-    : mesh_(mesh), transform_(transform), skipping_([&] {
+    : UMeshRenderer(mesh, std::make_unique<MeshAccel>(build_mesh_accel(mesh)), nullptr, transform) {}
+
+UMeshRenderer::UMeshRenderer(const UMesh& mesh, std::unique_ptr<MeshAccel> owned, const MeshAccel* borrowed,
+                             const WorldTransform& transform)
+    : mesh_(mesh),
+      owned_(std::move(owned)),
+      accel_(borrowed ? *borrowed : *owned_),
+      transform_(transform),
+      skipping_([&] {
         Stopwatch watch;
-        const std::vector<box3f> boxes = element_boxes(mesh);
-        bvh_ = build_element_bvh(boxes);
-        neighbors_ = build_face_neighbors(mesh);
-        cells_ = build_macrocells(boxes);
+        cells_ = build_macrocells(element_boxes(mesh));
         build_seconds_ = watch.seconds();
         return cells_.boxes;
       }()) {
   const UMeshBytes b = bytes();
-  counted_ = CountedBytes("mesh BVH and macrocells", MemorySpace::host,
-                          int64_t(b.bvh_nodes + b.bvh_items + b.face_neighbors + b.macrocells + b.region_bvh));
+  // The BVH and adjacency are the dataset's ("mesh") unless built here.
+  const uint64_t accel = owned_ ? b.bvh_nodes + b.bvh_items + b.face_neighbors : 0;
+  counted_ = CountedBytes("mesh macrocells", MemorySpace::host, int64_t(accel + b.macrocells + b.region_bvh));
 }
 
 UMeshView UMeshRenderer::mesh_view() const {
-  return {mesh_.vertices.data(), mesh_.elements.data(),       bvh_.nodes.data(),
-          bvh_.items.data(),     uint32_t(bvh_.nodes.size()), neighbors_.data()};
+  return {mesh_.vertices.data(),
+          mesh_.elements.data(),
+          accel_.bvh.nodes.data(),
+          accel_.bvh.items.data(),
+          uint32_t(accel_.bvh.nodes.size()),
+          accel_.neighbors.data()};
 }
 
 FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
@@ -70,9 +72,9 @@ UMeshBytes UMeshRenderer::bytes() const {
   UMeshBytes b;
   b.vertices = mesh_.vertices.size() * sizeof(vec3f);
   b.elements = mesh_.elements.size() * sizeof(UElement);
-  b.bvh_nodes = bvh_.nodes.size() * sizeof(ElementBvhNode);
-  b.face_neighbors = neighbors_.size() * sizeof(uint32_t);
-  b.bvh_items = bvh_.items.size() * sizeof(uint32_t);
+  b.bvh_nodes = accel_.bvh.nodes.size() * sizeof(ElementBvhNode);
+  b.face_neighbors = accel_.neighbors.size() * sizeof(uint32_t);
+  b.bvh_items = accel_.bvh.items.size() * sizeof(uint32_t);
   b.macrocells = cells_.bytes();
   b.region_bvh = 2 * skipping_.template_bvh().nodes.size() * sizeof(BvhNode);  // template + refit copy
   b.field = mesh_.vertices.size() * sizeof(float);

@@ -5,6 +5,7 @@
 // over UMeshVolume.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "volstream/amr/source.h"
@@ -14,6 +15,7 @@
 #include "volstream/umesh/adjacency.h"
 #include "volstream/umesh/element_bvh.h"
 #include "volstream/umesh/macrocells.h"
+#include "volstream/umesh/mesh_accel.h"
 #include "volstream/volume/umesh_volume.h"
 
 namespace vs {
@@ -29,7 +31,9 @@ struct UMeshBytes {
 
 class UMeshRenderer {
  public:
-  // Keeps a reference to `mesh`.
+  // Keeps references to `mesh` and `accel` (the dataset's stored BVH and adjacency).
+  UMeshRenderer(const UMesh& mesh, const MeshAccel& accel, const WorldTransform& transform);
+  // Builds its own BVH and adjacency (tests, meshes not read from a dataset).
   UMeshRenderer(const UMesh& mesh, const WorldTransform& transform);
 
   std::vector<Range> ranges(const float* values) const { return macrocell_ranges(mesh_, cells_, values); }
@@ -49,18 +53,20 @@ class UMeshRenderer {
 
   UMeshView mesh_view() const;
   const MacroCells& macrocells() const { return cells_; }
-  const ElementBvh& element_bvh() const { return bvh_; }
-  const std::vector<uint32_t>& face_neighbors() const { return neighbors_; }
+  const ElementBvh& element_bvh() const { return accel_.bvh; }
+  const std::vector<uint32_t>& face_neighbors() const { return accel_.neighbors; }
   size_t region_count() const { return cells_.boxes.size(); }
   UMeshBytes bytes() const;
   double build_seconds() const { return build_seconds_; }
 
  private:
+  UMeshRenderer(const UMesh& mesh, std::unique_ptr<MeshAccel> owned, const MeshAccel* borrowed,
+                const WorldTransform& transform);
   const UMesh& mesh_;
+  std::unique_ptr<MeshAccel> owned_;  // when built here
+  const MeshAccel& accel_;
   WorldTransform transform_;
   double build_seconds_ = 0;
-  ElementBvh bvh_;
-  std::vector<uint32_t> neighbors_;  // face adjacency (umesh/adjacency.h) for the walk
   MacroCells cells_;
   RegionBvh skipping_;  // over the macrocell boxes
   CountedBytes counted_;

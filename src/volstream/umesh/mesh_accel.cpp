@@ -1,0 +1,67 @@
+#include "volstream/umesh/mesh_accel.h"
+
+#include "volstream/backend/parallel.h"
+#include "volstream/core/error.h"
+#include "volstream/umesh/adjacency.h"
+
+namespace vs {
+
+std::vector<box3f> element_boxes(const UMesh& mesh) {
+  std::vector<box3f> boxes(mesh.elements.size());
+  parallel_for("element boxes", int64_t(boxes.size()), [&](int64_t e) {
+    boxes[size_t(e)] = element_box(mesh.vertices.data(), mesh.elements[size_t(e)]);
+  });
+  return boxes;
+}
+
+MeshAccel build_mesh_accel(const UMesh& mesh) { return {build_element_bvh(element_boxes(mesh)), build_face_neighbors(mesh)}; }
+
+namespace {
+
+bool box_holds(const box3f& outer, const box3f& inner) {
+  return outer.lower.x <= inner.lower.x && outer.lower.y <= inner.lower.y && outer.lower.z <= inner.lower.z &&
+         outer.upper.x >= inner.upper.x && outer.upper.y >= inner.upper.y && outer.upper.z >= inner.upper.z;
+}
+
+void check_nodes(const UMesh& mesh, const ElementBvh& bvh, const std::string& file) {
+  const auto& nodes = bvh.nodes;
+  input_check(!nodes.empty() && bvh.items.size() == mesh.elements.size(), file, "BVH sizes do not match the mesh");
+  std::vector<uint8_t> depth(nodes.size(), 0);
+  std::vector<uint8_t> seen(mesh.elements.size(), 0);
+  const std::vector<box3f> boxes = element_boxes(mesh);
+  // Messages are made only on failure (a string per node would cost more than the checks).
+  auto fail = [&](size_t i, const char* what) { input_error(file, "BVH node " + std::to_string(i) + " " + what); };
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const ElementBvhNode& n = nodes[i];
+    if (n.count == 0) {
+      // Children after their parent: every search path ends, within the search stack's depth.
+      if (!(n.first > i && uint64_t(n.first) + 1 < nodes.size())) fail(i, "has bad children");
+      if (depth[i] >= 60) fail(i, "is too deep");
+      for (uint32_t c = n.first; c <= n.first + 1; ++c) {
+        depth[c] = uint8_t(depth[i] + 1);
+        if (!box_holds(n.box, nodes[c].box)) fail(i, "has a box that does not hold its children");
+      }
+      continue;
+    }
+    if (!(n.count <= 64 && uint64_t(n.first) + n.count <= bvh.items.size())) fail(i, "has bad items");
+    for (uint32_t k = n.first; k < n.first + n.count; ++k) {
+      const uint32_t e = bvh.items[k];
+      if (!(e < seen.size() && !seen[e])) input_error(file, "BVH items are not a permutation of the elements");
+      seen[e] = 1;
+      if (!box_holds(n.box, boxes[e])) fail(i, "has a box that does not hold its elements");
+    }
+  }
+  for (uint8_t s : seen) input_check(s != 0, file, "BVH leaves do not hold every element");
+}
+
+}  // namespace
+
+void check_mesh_accel(const UMesh& mesh, const MeshAccel& accel, const std::string& file) {
+  check_nodes(mesh, accel.bvh, file);
+  input_check(accel.neighbors.size() == mesh.elements.size() * shape::kMaxFaces, file,
+              "face neighbours do not match the mesh");
+  for (uint32_t n : accel.neighbors)
+    input_check(n == kNoNeighbor || n < mesh.elements.size(), file, "a face neighbour is out of range");
+}
+
+}  // namespace vs

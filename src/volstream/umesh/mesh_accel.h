@@ -1,0 +1,27 @@
+// The point-location structures of the reference encoding, built once at conversion and stored
+// with the dataset (docs/formats.md), like the ABRs of AMR: the element BVH (element_bvh.h) and
+// the face adjacency of the walk (adjacency.h). A render only reads them.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "volstream/umesh/element_bvh.h"
+#include "volstream/umesh/umesh.h"
+
+namespace vs {
+
+struct MeshAccel {
+  ElementBvh bvh;
+  std::vector<uint32_t> neighbors;  // kMaxFaces per element
+};
+
+std::vector<box3f> element_boxes(const UMesh& mesh);
+MeshAccel build_mesh_accel(const UMesh& mesh);
+
+// InputError naming `file` unless `accel` is a sound structure over `mesh`: node links in range
+// and pointing forward (so searches end), depth within the search stack, the items a
+// permutation of the elements, every box holding its children or elements, every neighbour a
+// valid element or none.
+void check_mesh_accel(const UMesh& mesh, const MeshAccel& accel, const std::string& file);
+
+}  // namespace vs

@@ -108,7 +108,7 @@ struct UMeshView {
       for (int i = 0; i < n; ++i) x[i] = vertices[el.v[i]];
       float outside = INFINITY;
       int face = -1;
-      if (shape::locate_in_element(n, x, p, hit.w, &outside, &face) && outside <= 0.f) {
+      if (shape::locate_in_element(n, x, p, hit.w, &outside, &face, true) && outside <= 0.f) {
         hit.element = e;
         return true;
       }

@@ -102,12 +102,6 @@ VS_HOST_DEVICE inline vec3f centre_params(int n) {
                   : vec3f(0.5f);
 }
 
-// Interpolation weights of the element with corners x[0..n) at point p; false if p is outside
-// (beyond kParamTolerance). `outside` (optional) gets how far outside the parameter domain p is
-// (<= 0: strictly inside), so that callers can prefer the element that holds p strictly over a
-// neighbour that only takes it within the tolerance (and extrapolates a little).
-// `face` (optional) gets the face p lies beyond most, or -1 when p is too far to tell (Newton
-// diverged or did not converge), also when false is returned.
 // The tet's map is affine: its barycentric coordinates come from one 3x3 solve (the hot path of
 // tet meshes, kept free of the general Newton loop's arrays).
 VS_HOST_DEVICE inline bool locate_in_tet(const vec3f* x, const vec3f& p, float* w, float* outside, int* face) {
@@ -122,8 +116,16 @@ VS_HOST_DEVICE inline bool locate_in_tet(const vec3f* x, const vec3f& p, float* 
   return -w[worst] <= kParamTolerance;
 }
 
+// Interpolation weights of the element with corners x[0..n) at point p; false if p is outside
+// (beyond kParamTolerance). `outside` (optional) gets how far outside the parameter domain p is
+// (<= 0: strictly inside), so that callers can prefer the element that holds p strictly over a
+// neighbour that only takes it within the tolerance (and extrapolates a little).
+// `face` (optional) gets the face p lies beyond most, or -1 when p is too far to tell (Newton
+// diverged or did not converge), also when false is returned.
+// `early_out`: give up as soon as the iteration shows p well outside (a walk only needs the
+// face to cross then; the answer for a point inside is the same either way).
 VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f& p, float* w, float* outside = nullptr,
-                                             int* face = nullptr) {
+                                             int* face = nullptr, bool early_out = false) {
   if (face) *face = -1;
   if (n == 4) return locate_in_tet(x, p, w, outside, face);
   // Relative to corner 0: coordinates of the element's size, so float rounding stays far below
@@ -149,6 +151,8 @@ VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f&
     pc = pc + delta;
     step = fabsf(delta.x) + fabsf(delta.y) + fabsf(delta.z);
     if (step < 1e-6f) break;
+    // Two steps in, Newton is near enough to tell a point a quarter of the element away.
+    if (early_out && it >= 1 && params_outside(n, pc.x, pc.y, pc.z, face) > 0.25f) return false;
     if (!(fabsf(pc.x) < 4.f && fabsf(pc.y) < 4.f && fabsf(pc.z) < 4.f)) return false;  // diverging: far outside
   }
   // Newton converges quadratically: a last step this small is float noise, not a slow approach.

@@ -8,13 +8,14 @@ namespace vs {
 
 std::vector<box3f> element_boxes(const UMesh& mesh) {
   std::vector<box3f> boxes(mesh.elements.size());
-  parallel_for("element boxes", int64_t(boxes.size()), [&](int64_t e) {
-    boxes[size_t(e)] = element_box(mesh.vertices.data(), mesh.elements[size_t(e)]);
-  });
+  parallel_for("element boxes", int64_t(boxes.size()),
+               [&](int64_t e) { boxes[size_t(e)] = element_box(mesh.vertices.data(), mesh.elements[size_t(e)]); });
   return boxes;
 }
 
-MeshAccel build_mesh_accel(const UMesh& mesh) { return {build_element_bvh(element_boxes(mesh)), build_face_neighbors(mesh)}; }
+MeshAccel build_mesh_accel(const UMesh& mesh) {
+  return {build_element_bvh(element_boxes(mesh)), build_face_neighbors(mesh)};
+}
 
 namespace {
 

@@ -406,8 +406,9 @@ vec3d finite_vec(const Vec3Tuple& a, const char* what) {
 
 PYBIND11_MODULE(volstream, m) {
   m.doc() =
-      "volstream: volume rendering of AMR data (ABRs, empty-space skipping, isosurfaces).\n\n"
-      "    ds = volstream.load('dataset_dir')   # or volstream.demo('jet')\n"
+      "volstream: volume rendering of AMR data and unstructured meshes (ABRs, empty-space skipping,\n"
+      "isosurfaces).\n\n"
+      "    ds = volstream.load('dataset_dir')   # or a plotfile, .vtu, ...; volstream.demo('jet')\n"
       "    sc = volstream.create_scene(ds)\n"
       "    img = sc.render()                    # (H, W, 4) float32 premultiplied linear RGBA\n"
       "    sc.save('frame.png')\n\n"
@@ -424,7 +425,7 @@ PYBIND11_MODULE(volstream, m) {
   });
 
   py::class_<DatasetHandle, DatasetPtr>(m, "Dataset",
-                                        "An open native dataset directory (volstream.load or volstream.demo).")
+                                        "An open dataset, AMR or mesh (volstream.load or volstream.demo).")
       .def_property_readonly("path", &DatasetHandle::name, "The dataset directory.")
       .def_property_readonly(
           "fields",

@@ -22,8 +22,8 @@ std::unique_ptr<AmrSource> open_amr_source(const ImportRequest& r, const std::st
   if (format == "plotfile") return open_plotfile_series(paths);
   if (format == "exabrick") {
     if (paths.size() < 2) throw UsageError("ExaBrick input needs a cells file followed by at least one scalar file");
-    return open_exabrick({paths.front(), std::vector<fs::path>(paths.begin() + 1, paths.end()), r.series,
-                          r.field_name});
+    return open_exabrick(
+        {paths.front(), std::vector<fs::path>(paths.begin() + 1, paths.end()), r.series, r.field_name});
   }
   if (format != "raw") throw UsageError("unknown format '" + format + "' (plotfile, exabrick, raw, mesh)");
   if (r.dims.size() != 3) throw UsageError("raw input needs the grid dims X,Y,Z");

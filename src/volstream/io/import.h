@@ -16,8 +16,8 @@ namespace vs {
 
 struct ImportRequest {
   std::vector<std::filesystem::path> inputs;
-  std::string format = "auto";  // auto | plotfile | exabrick | raw | mesh
-  bool series = false;          // ExaBrick scalars / raw files are time steps of one field (else fields)
+  std::string format = "auto";        // auto | plotfile | exabrick | raw | mesh
+  bool series = false;                // ExaBrick scalars / raw files are time steps of one field (else fields)
   std::string field_name = "scalar";  // the field of a series or of a single raw file
   // Raw grids.
   std::vector<int> dims;  // X, Y, Z; empty: not a raw grid unless the file ends in .raw

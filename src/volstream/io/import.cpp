@@ -39,9 +39,10 @@ std::unique_ptr<AmrSource> open_amr_source(const ImportRequest& r, const std::st
   return open_raw_grid(in);
 }
 
-std::string seconds(const char* format, double a, double b, double c) {
+// " (<name> 1.23s, <name> 0.45s, <name> 0.06s)": the stage times of a conversion.
+std::string seconds(const char* a_name, double a, const char* b_name, double b, const char* c_name, double c) {
   char text[160];
-  std::snprintf(text, sizeof text, format, a, b, c);
+  std::snprintf(text, sizeof text, " (%s %.2fs, %s %.2fs, %s %.2fs)", a_name, a, b_name, b, c_name, c);
   return text;
 }
 
@@ -71,14 +72,14 @@ std::string import_to_dataset(const ImportRequest& r, const fs::path& out_dir, c
     const MeshConvertStats s = convert_mesh_to_dataset(*series, out_dir, options);
     return "from " + series->description() + ": " + std::to_string(s.elements) + " elements, " +
            std::to_string(s.vertices) + " vertices, " + std::to_string(series->step_count()) + " steps" +
-           seconds(" (read %.2fs, encode %.2fs, values %.2fs)", s.read_seconds, s.encode_seconds, s.values_seconds);
+           seconds("read", s.read_seconds, "encode", s.encode_seconds, "values", s.values_seconds);
   }
   if (!r.scalars.empty()) throw UsageError("scalars (NAME=FILE) apply to mesh input (.ugrid)");
   auto source = open_amr_source(r, format);
   const ConvertStats s = convert_to_dataset(*source, out_dir, options);
   return "from " + source->description() + ": " + std::to_string(source->cell_count()) + " cells" +
          (options.file_order ? " + file-order copies" : "") +
-         seconds(" (bricks %.2fs, ABRs %.2fs, values %.2fs)", s.bricks_seconds, s.abrs_seconds, s.values_seconds);
+         seconds("bricks", s.bricks_seconds, "ABRs", s.abrs_seconds, "values", s.values_seconds);
 }
 
 }  // namespace vs

@@ -192,8 +192,10 @@ namespace {
 
 void apply_integrator_options(const RenderOptions& o, const Dataset& ds, FrameRequest& r) {
   const bool blackbody = o.optics == "blackbody";
-  r.kind = o.integrator == "blocks" || (o.integrator == "auto" && blackbody && !ds.is_mesh()) ? IntegratorKind::blocks
-                                                                                              : IntegratorKind::abr;
+  if (o.integrator == "auto")
+    r.kind = default_integrator(ds, blackbody ? OpticsKind::blackbody : OpticsKind::tf);
+  else
+    r.kind = o.integrator == "blocks" ? IntegratorKind::blocks : IntegratorKind::abr;
   r.reconstruction = o.reconstruction == "nearest" ? Reconstruction::nearest : Reconstruction::trilinear;
   if (r.kind == IntegratorKind::blocks && r.reconstruction == Reconstruction::nearest && r.integrator.iso_count > 0)
     throw UsageError(

@@ -2,7 +2,8 @@
 // notebooks and scripts, with names close to yt's. It binds the library, not the command line:
 // the defaults (field, transfer function, camera) come from frame/look.h, so
 // `volstream.create_scene(ds).render()` is the image `volstream render DATASET` writes.
-//   ds = volstream.load(path) or volstream.demo("jet")      a dataset (docs/python.md)
+//   ds = volstream.load(path) or volstream.demo("jet")      a dataset (docs/python.md): native, or
+//                                                            converted as `volstream convert` does
 //   ds.probe(field, points)                                  values at world points
 //   sc = volstream.create_scene(ds); sc.render()             (H, W, 4) premultiplied linear RGBA
 // Errors: InputError -> OSError("<file>: <what>"), UsageError -> ValueError(<what>), the lines
@@ -12,6 +13,7 @@
 #include <pybind11/stl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -19,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -32,6 +35,9 @@
 #include "volstream/frame/look.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/image.h"
+#include "volstream/io/import.h"
+#include "volstream/io/mesh_convert.h"
+#include "volstream/umesh/demo.h"
 
 namespace py = pybind11;
 using vs::vec3d;
@@ -89,24 +95,82 @@ struct DatasetHandle {
 };
 using DatasetPtr = std::shared_ptr<DatasetHandle>;
 
-DatasetPtr load(const std::string& path) {
+// A dataset converted into a private temporary directory by `convert(dir)`, then opened; the
+// directory is removed with the handle (also when the conversion fails).
+template <class Convert>
+DatasetPtr convert_to_temp(const std::string& name, const Convert& convert) {
   auto h = std::make_shared<DatasetHandle>();
   py::gil_scoped_release release;
-  h->dataset = std::make_unique<vs::Dataset>(path);
+  h->temp_root = make_temp_dir("volstream_python_" + name + "_");
+  const std::filesystem::path dir = h->temp_root / "dataset";
+  convert(dir);
+  h->dataset = std::make_unique<vs::Dataset>(dir);
   return h;
 }
 
-DatasetPtr demo(const std::string& name, double cells, int steps) {
-  if (!(cells >= 1e4 && cells <= 2e9)) throw vs::UsageError("demo cells must be in [1e4, 2e9]");
+// One path (str or os.PathLike) or a sequence of them.
+std::vector<std::filesystem::path> paths_of(const py::object& path) {
+  const py::object fspath = py::module_::import("os").attr("fspath");
+  std::vector<std::filesystem::path> paths;
+  if (py::isinstance<py::str>(path) || py::hasattr(path, "__fspath__"))
+    paths.push_back(fspath(path).cast<std::string>());
+  else
+    for (const py::handle& p : path) paths.push_back(fspath(p).cast<std::string>());
+  if (paths.empty()) throw vs::UsageError("load needs a path");
+  return paths;
+}
+
+bool is_native_dataset(const std::filesystem::path& path) {
+  std::error_code ec;
+  return std::filesystem::is_directory(path, ec) && std::filesystem::exists(path / vs::dataset_files::kManifest, ec);
+}
+
+DatasetPtr load(const py::object& path, const std::string& format, const std::optional<std::array<int, 3>>& dims,
+                const std::string& type, bool big_endian, const Vec3Tuple& origin, const Vec3Tuple& spacing,
+                bool series, const std::string& field, const std::map<std::string, std::string>& scalars,
+                const std::vector<std::string>& fields) {
+  vs::ImportRequest in;
+  in.inputs = paths_of(path);
+  // A native dataset is opened where it is; anything else is converted (a missing path too, so
+  // that its error is the importer's "<path>: does not exist").
+  if (in.inputs.size() == 1 && format == "auto" && is_native_dataset(in.inputs[0])) {
+    if (!fields.empty()) throw vs::UsageError("fields= selects what a conversion keeps; this is a dataset already");
+    auto h = std::make_shared<DatasetHandle>();
+    py::gil_scoped_release release;
+    h->dataset = std::make_unique<vs::Dataset>(in.inputs[0]);
+    return h;
+  }
+  in.format = format;
+  if (dims) in.dims.assign(dims->begin(), dims->end());
+  in.raw_type = type;
+  in.big_endian = big_endian;
+  in.origin.assign(origin.begin(), origin.end());
+  in.spacing.assign(spacing.begin(), spacing.end());
+  in.series = series;
+  in.field_name = field;
+  for (const auto& [name, file] : scalars) in.scalars.push_back({name, file});
+  vs::ConvertOptions options = vs::ConvertOptions::silent();
+  options.fields = fields;
+  vs::import_format(in);  // what cannot be converted fails here, before a temporary directory exists
+  return convert_to_temp("load", [&](const std::filesystem::path& dir) { vs::import_to_dataset(in, dir, options); });
+}
+
+DatasetPtr demo(const std::string& name, double cells, int steps, double elements) {
   if (steps < 1 || steps > 1000) throw vs::UsageError("demo steps must be in [1, 1000]");
-  auto h = std::make_shared<DatasetHandle>();
-  py::gil_scoped_release release;
-  h->temp_root = make_temp_dir("volstream_python_" + name + "_");  // removed with h, also on errors
-  const std::filesystem::path dir = h->temp_root / "dataset";
-  auto source = vs::make_demo({name, uint64_t(cells), steps});
-  vs::convert_to_dataset(*source, dir, vs::ConvertOptions::silent());
-  h->dataset = std::make_unique<vs::Dataset>(dir);
-  return h;
+  if (vs::is_mesh_demo(name)) {
+    if (!(elements >= 6 && elements <= 5e8)) throw vs::UsageError("demo elements must be in [6, 5e8]");
+    const vs::MeshDemoOptions o{name, uint64_t(elements), steps};
+    vs::check_mesh_demo(o);
+    return convert_to_temp(name, [&](const std::filesystem::path& dir) {
+      auto series = vs::make_mesh_demo_series(o);
+      vs::convert_mesh_to_dataset(*series, dir, vs::ConvertOptions::silent());
+    });
+  }
+  if (!(cells >= 1e4 && cells <= 2e9)) throw vs::UsageError("demo cells must be in [1e4, 2e9]");
+  auto source = vs::make_demo({name, uint64_t(cells), steps});  // UsageError for an unknown name
+  return convert_to_temp(name, [&](const std::filesystem::path& dir) {
+    vs::convert_to_dataset(*source, dir, vs::ConvertOptions::silent());
+  });
 }
 
 py::array probe(DatasetHandle& h, const std::optional<std::string>& field_name,
@@ -154,7 +218,13 @@ struct SceneState {
   vs::TransferFunctionRequest tf;
   vs::IntegratorSettings integrator;
   std::vector<double> iso;
-  vs::IntegratorKind kind = vs::IntegratorKind::abr;
+  std::optional<vs::IntegratorKind> kind;  // unset: the library's default for the optics (look.h)
+  std::optional<int> color_field;          // isosurfaces coloured by this field (tf optics)
+  vs::OpticsKind optics = vs::OpticsKind::tf;
+  std::string temperature_field = "temperature";  // blackbody
+  // Blackbody model (`volstream render --optics blackbody`'s defaults).
+  vs::DensityScale density_scale = vs::DensityScale::automatic;
+  double emission = 4, absorption = 0.25, emission_power = 0;
   vec3d background{0.06, 0.06, 0.08};
   std::mutex render_mutex;
   std::unique_ptr<vs::FrameRenderer> renderer;  // after ds: destroyed before it
@@ -185,7 +255,17 @@ struct SceneState {
     r.integrator = integrator;
     r.integrator.iso_count = uint32_t(iso.size());
     for (size_t i = 0; i < iso.size(); ++i) r.integrator.iso[i] = float(iso[i]);
-    r.kind = kind;
+    r.kind = kind.value_or(vs::default_integrator(*ds->dataset, optics));
+    if (optics == vs::OpticsKind::blackbody) {
+      if (color_field)
+        throw vs::UsageError("color_field: not with optics 'blackbody' (the second field is the temperature)");
+      r.optics = optics;
+      r.second_field = vs::field_or_throw(ds->manifest(), temperature_field, ds->name());
+      r.blackbody = vs::make_blackbody_params(r.tf, density_scale, emission, absorption, emission_power);
+    } else if (color_field) {
+      r.second_field = *color_field;
+      r.color_tf = vs::make_color_field_transfer_function(ds->manifest(), *color_field, {step}, r.tf, tf.log);
+    }
     return r;
   }
   vs::Image render() {
@@ -207,6 +287,58 @@ using ScenePtr = std::shared_ptr<SceneState>;
 struct CameraRef {
   ScenePtr s;
 };
+
+// Opacity points are kept in data units; the renderer interpolates them linearly in the transfer
+// function's scale (log10 of the value when log, else the value), so the Gaussians are built and
+// summed there.
+double to_scale(double value, bool log) { return log ? std::log10(value) : value; }
+double from_scale(double t, bool log) { return log ? std::pow(10.0, t) : t; }
+
+// Piecewise-linear alpha of points sorted by t, constant outside them (as the table is baked);
+// 0 without points.
+double alpha_at(const std::vector<std::pair<double, double>>& points, double t) {
+  if (points.empty()) return 0;
+  if (t <= points.front().first) return points.front().second;
+  if (t >= points.back().first) return points.back().second;
+  const auto hi = std::upper_bound(points.begin(), points.end(), t,
+                                   [](double x, const std::pair<double, double>& p) { return x < p.first; });
+  const auto lo = hi - 1;
+  const double f = (t - lo->first) / (hi->first - lo->first);
+  return lo->second + (hi->second - lo->second) * f;
+}
+
+// yt's TransferFunction.add_gaussian: `opacity` (data units) plus alpha * exp(-(t - c)^2 / width)
+// of the scale t, c = center in that scale (width in scale units squared, as yt's). The Gaussian
+// is sampled at 17 points over +-4 standard deviations, zero at both ends, and added to the old
+// points' piecewise-linear alpha at every old and new point (clamped to 1; no points: from zero,
+// not the default ramp).
+std::vector<std::pair<double, double>> add_gaussian(const std::vector<std::pair<double, double>>& opacity,
+                                                    double center, double width, double alpha, bool log) {
+  if (!std::isfinite(center) || (log && !(center > 0)))
+    throw vs::UsageError("gaussian center must be finite (and > 0 with log)");
+  if (!(width > 0 && std::isfinite(width))) throw vs::UsageError("gaussian width must be finite and > 0");
+  if (!(alpha >= 0 && alpha <= 1)) throw vs::UsageError("gaussian alpha must be in [0, 1]");
+  std::vector<std::pair<double, double>> old, gauss;
+  for (const auto& [v, a] : opacity) old.push_back({to_scale(v, log), a});
+  std::sort(old.begin(), old.end());
+  const double c = to_scale(center, log), sigma = std::sqrt(width / 2);
+  constexpr int kHalf = 8;  // samples each side: every sigma / 2
+  for (int k = -kHalf; k <= kHalf; ++k) {
+    const double t = c + sigma * k / 2;
+    gauss.push_back({t, std::abs(k) == kHalf ? 0.0 : alpha * std::exp(-(t - c) * (t - c) / width)});
+  }
+  std::vector<double> ts;
+  for (const auto& p : old) ts.push_back(p.first);
+  for (const auto& p : gauss) ts.push_back(p.first);
+  std::sort(ts.begin(), ts.end());
+  ts.erase(std::unique(ts.begin(), ts.end()), ts.end());
+  std::vector<std::pair<double, double>> sum;
+  for (double t : ts) {
+    const double g = t < gauss.front().first || t > gauss.back().first ? 0.0 : alpha_at(gauss, t);
+    sum.push_back({from_scale(t, log), std::min(1.0, alpha_at(old, t) + g)});
+  }
+  return sum;
+}
 struct TransferFunctionRef {
   ScenePtr s;
   // Checks a changed request against the data now (bad colour map, range, opacity) and keeps it.
@@ -274,8 +406,9 @@ vec3d finite_vec(const Vec3Tuple& a, const char* what) {
 
 PYBIND11_MODULE(volstream, m) {
   m.doc() =
-      "volstream: volume rendering of AMR data (ABRs, empty-space skipping, isosurfaces).\n\n"
-      "    ds = volstream.load('dataset_dir')   # or volstream.demo('jet')\n"
+      "volstream: volume rendering of AMR data and unstructured meshes (ABRs, empty-space skipping,\n"
+      "isosurfaces).\n\n"
+      "    ds = volstream.load('dataset_dir')   # or a plotfile, .vtu, ...; volstream.demo('jet')\n"
       "    sc = volstream.create_scene(ds)\n"
       "    img = sc.render()                    # (H, W, 4) float32 premultiplied linear RGBA\n"
       "    sc.save('frame.png')\n\n"
@@ -292,7 +425,7 @@ PYBIND11_MODULE(volstream, m) {
   });
 
   py::class_<DatasetHandle, DatasetPtr>(m, "Dataset",
-                                        "An open native dataset directory (volstream.load or volstream.demo).")
+                                        "An open dataset, AMR or mesh (volstream.load or volstream.demo).")
       .def_property_readonly("path", &DatasetHandle::name, "The dataset directory.")
       .def_property_readonly(
           "fields",
@@ -318,18 +451,37 @@ PYBIND11_MODULE(volstream, m) {
             const auto b = h.domain();
             return std::make_pair(to_tuple(b.lower), to_tuple(b.upper));
           },
-          "World box of the leaf cells: ((x0, y0, z0), (x1, y1, z1)).")
+          "World box of the leaf cells (AMR) or vertices (mesh): ((x0, y0, z0), (x1, y1, z1)).")
       .def_property_readonly(
           "domain_left_edge", [](const DatasetHandle& h) { return to_tuple(h.domain().lower); },
-          "Lower world corner of the leaf cells.")
+          "Lower world corner of the domain.")
       .def_property_readonly(
           "domain_right_edge", [](const DatasetHandle& h) { return to_tuple(h.domain().upper); },
-          "Upper world corner of the leaf cells.")
+          "Upper world corner of the domain.")
       .def_property_readonly(
           "domain_center", [](const DatasetHandle& h) { return to_tuple(h.domain().center()); },
           "Centre of the world box.")
       .def_property_readonly(
-          "cell_count", [](const DatasetHandle& h) { return h.manifest().cell_count; }, "Number of leaf cells.")
+          "kind", [](const DatasetHandle& h) { return std::string(h.dataset->is_mesh() ? "mesh" : "amr"); },
+          "'amr' (cells in bricks) or 'mesh' (an unstructured mesh: values at its vertices).")
+      .def_property_readonly(
+          "cell_count",
+          [](const DatasetHandle& h) {
+            return h.dataset->is_mesh() ? std::nullopt : std::optional<uint64_t>(h.manifest().cell_count);
+          },
+          "Number of leaf cells (AMR); None for a mesh.")
+      .def_property_readonly(
+          "element_count",
+          [](const DatasetHandle& h) {
+            return h.dataset->is_mesh() ? std::optional<uint64_t>(h.manifest().mesh.elements) : std::nullopt;
+          },
+          "Number of mesh elements (tetrahedra, pyramids, wedges, hexahedra); None for AMR.")
+      .def_property_readonly(
+          "vertex_count",
+          [](const DatasetHandle& h) {
+            return h.dataset->is_mesh() ? std::optional<uint64_t>(h.manifest().mesh.vertices) : std::nullopt;
+          },
+          "Number of mesh vertices (one value per vertex and field); None for AMR.")
       .def(
           "field_range",
           [](const DatasetHandle& h, const std::string& field, int step) {
@@ -341,20 +493,33 @@ PYBIND11_MODULE(volstream, m) {
       .def("probe", &probe, py::arg("field"), py::arg("points"), py::arg("step") = 0, py::arg("brute_force") = false,
            py::arg("device") = "cpu",
            "Values of `field` (None: the first) at world points, an (N, 3) array, NaN outside the data.\n"
-           "Through the ABRs (float32, as `volstream probe`), or with brute_force=True the tent-basis sum\n"
-           "over every cell (float64, the reference). device: cpu | cuda | auto.")
+           "Through the ABRs or the mesh's BVH (float32, as `volstream probe`), or with brute_force=True\n"
+           "the tent-basis sum over every cell or a search of every mesh element (float64, the reference).\n"
+           "device: cpu | cuda | auto.")
       .def("__repr__", [](const DatasetHandle& h) {
-        return "<volstream.Dataset '" + h.name() + "': " + std::to_string(h.manifest().cell_count) + " cells, " +
-               std::to_string(h.manifest().fields.size()) + " fields, " + std::to_string(h.manifest().step_count()) +
-               " steps>";
+        const vs::DatasetManifest& manifest = h.manifest();
+        const std::string size = h.dataset->is_mesh() ? std::to_string(manifest.mesh.elements) + " elements, " +
+                                                            std::to_string(manifest.mesh.vertices) + " vertices"
+                                                      : std::to_string(manifest.cell_count) + " cells";
+        return "<volstream.Dataset '" + h.name() + "': " + size + ", " + std::to_string(manifest.fields.size()) +
+               " fields, " + std::to_string(manifest.step_count()) + " steps>";
       });
 
-  m.def("load", &load, py::arg("path"),
-        "Open a native dataset directory (written by `volstream convert` or `volstream demo`).\n"
-        "OSError('<file>: <what>') when it is missing or damaged.");
-  m.def("demo", &demo, py::arg("name"), py::arg("cells") = 1e5, py::arg("steps") = 2,
-        "A built-in demo ('jet' or 'cosmo') of about `cells` leaf cells and `steps` time steps, written to\n"
-        "a private temporary directory that is removed when the Dataset is garbage-collected.");
+  m.def("load", &load, py::arg("path"), py::kw_only(), py::arg("format") = "auto", py::arg("dims") = py::none(),
+        py::arg("type") = "float32", py::arg("big_endian") = false, py::arg("origin") = Vec3Tuple{0, 0, 0},
+        py::arg("spacing") = Vec3Tuple{1, 1, 1}, py::arg("series") = false, py::arg("field") = "scalar",
+        py::arg("scalars") = std::map<std::string, std::string>{}, py::arg("fields") = std::vector<std::string>{},
+        "Open a native dataset directory (written by `volstream convert` or `volstream demo`), or convert\n"
+        "what `volstream convert` takes into a private temporary dataset, removed when the Dataset is\n"
+        "garbage-collected: an AMReX plotfile directory (a list of them: time steps), [cells, scalars...]\n"
+        "of ExaBrick, raw grids (dims=(X, Y, Z), type=, big_endian=, origin=, spacing=; several files are\n"
+        "fields, or steps with series=True, named by field=), meshes (.vtu, .vtk, .pvd, .ugrid; a list:\n"
+        "time steps) with scalars={'name': 'file.f32'} for UGRID. format: auto | plotfile | exabrick | raw\n"
+        "| mesh; fields: keep only these. OSError('<file>: <what>') for a missing or damaged input.");
+  m.def("demo", &demo, py::arg("name"), py::arg("cells") = 1e5, py::arg("steps") = 2, py::arg("elements") = 1e5,
+        "A built-in demo, AMR ('jet' or 'cosmo', about `cells` leaf cells) or a mesh ('tets', 'mixed' or\n"
+        "'holes', about `elements` elements), of `steps` time steps, written to a private temporary\n"
+        "directory that is removed when the Dataset is garbage-collected.");
 
   py::class_<CameraRef>(m, "Camera",
                         "The scene's camera. Unset position, focus and up come from the default view fitted to\n"
@@ -458,7 +623,56 @@ PYBIND11_MODULE(volstream, m) {
           },
           py::arg("points"),
           "Opacity points [(value, alpha), ...], value in data units (also with log), alpha per unit\n"
-          "distance; linear in between, constant outside. [] restores the default.");
+          "distance; linear in between, constant outside. [] restores the default.")
+      .def(
+          "add_gaussian",
+          [](TransferFunctionRef& t, double center, double width, double alpha) {
+            auto r = t.s->tf;
+            r.opacity = add_gaussian(r.opacity, center, width, alpha, r.log);
+            t.update(r);
+          },
+          py::arg("center"), py::arg("width"), py::arg("alpha"),
+          "Add alpha * exp(-(t - c)^2 / width) to the opacity, as yt's add_gaussian: t is the scale (log10\n"
+          "of the value with log, else the value), c the scale of `center` (data units), width in scale\n"
+          "units squared (standard deviation sqrt(width / 2)). Sampled as 17 opacity points over +-4\n"
+          "standard deviations (zero at both ends) and added to the current points (none: from zero, not\n"
+          "the default ramp), clamped to 1.")
+      .def(
+          "add_layers",
+          [](TransferFunctionRef& t, int n, std::optional<double> w, const py::object& alpha, std::optional<double> mi,
+             std::optional<double> ma) {
+            if (n < 1 || n > 1000) throw vs::UsageError("add_layers: n must be in [1, 1000]");
+            auto r = t.s->tf;
+            const vs::TransferFunctionSpec spec = t.s->transfer_function(r);
+            const double lo = to_scale(mi.value_or(spec.lo), r.log), hi = to_scale(ma.value_or(spec.hi), r.log);
+            if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi))
+              throw vs::UsageError("add_layers: needs mi < ma (> 0 with log)");
+            // yt's default width, 0.001 * span / n, for a unit span; scaled with the span squared
+            // so that the layers are as wide, relative to the range, on any range.
+            const double width = w.value_or(0.001 * (hi - lo) * (hi - lo) / n);
+            std::vector<double> alphas(static_cast<size_t>(n));
+            for (int i = 0; i < n; ++i)
+              alphas[size_t(i)] = std::pow(10.0, n == 1 ? -3.0 : -3.0 + 3.0 * i / (n - 1));  // numpy.logspace(-3, 0, n)
+            if (!alpha.is_none()) {
+              if (py::isinstance<py::float_>(alpha) || py::isinstance<py::int_>(alpha))
+                std::fill(alphas.begin(), alphas.end(), alpha.cast<double>());
+              else
+                alphas = alpha.cast<std::vector<double>>();
+              if (alphas.size() != size_t(n)) throw vs::UsageError("add_layers: alpha needs n values");
+            }
+            for (int i = 0; i < n; ++i) {
+              const double c = n == 1 ? lo : lo + (hi - lo) * i / (n - 1);
+              r.opacity = add_gaussian(r.opacity, from_scale(c, r.log), width, alphas[size_t(i)], r.log);
+            }
+            t.update(r);
+          },
+          py::arg("n"), py::arg("w") = py::none(), py::kw_only(), py::arg("alpha") = py::none(),
+          py::arg("mi") = py::none(), py::arg("ma") = py::none(),
+          "As yt's ColorTransferFunction.add_layers: n Gaussians (add_gaussian) at evenly spaced positions\n"
+          "from mi to ma inclusive (data units; default: the bounds), evenly in log10 with log; width w\n"
+          "(scale units squared; default 0.001 * span^2 / n, span = ma - mi in the scale); alpha: one value\n"
+          "or n values (default: n values from 1e-3 to 1, evenly in log, as yt's). Colours stay the\n"
+          "colour map's.");
 
   py::class_<SceneState, ScenePtr>(m, "Scene", "What to render of a dataset and how (volstream.create_scene).")
       .def_property_readonly(
@@ -500,16 +714,84 @@ PYBIND11_MODULE(volstream, m) {
           "Opacity of the isosurfaces.")
       .def_property(
           "integrator",
-          [](const SceneState& s) { return std::string(s.kind == vs::IntegratorKind::abr ? "abr" : "blocks"); },
+          [](const SceneState& s) {
+            if (!s.kind) return std::string("auto");
+            return std::string(*s.kind == vs::IntegratorKind::abr ? "abr" : "blocks");
+          },
           [](SceneState& s, const std::string& name) {
-            if (name == "abr")
+            if (name == "auto")
+              s.kind.reset();
+            else if (name == "abr")
               s.kind = vs::IntegratorKind::abr;
             else if (name == "blocks")
               s.kind = vs::IntegratorKind::blocks;
             else
-              throw vs::UsageError("integrator must be 'abr' or 'blocks', not '" + name + "'");
+              throw vs::UsageError("integrator must be 'auto', 'abr' or 'blocks', not '" + name + "'");
           },
-          "abr: ABRs with empty-space skipping; blocks: the kd-tree block raycaster (trilinear).")
+          "abr: ABRs with empty-space skipping (meshes: their element walk); blocks: the kd-tree block\n"
+          "raycaster (trilinear); auto (default, as `volstream render`): blocks for the blackbody optics on\n"
+          "AMR data, else abr.")
+      .def_property(
+          "optics",
+          [](const SceneState& s) { return std::string(s.optics == vs::OpticsKind::tf ? "tf" : "blackbody"); },
+          [](SceneState& s, const std::string& name) {
+            if (name == "tf")
+              s.optics = vs::OpticsKind::tf;
+            else if (name == "blackbody")
+              s.optics = vs::OpticsKind::blackbody;
+            else
+              throw vs::UsageError("optics must be 'tf' or 'blackbody', not '" + name + "'");
+          },
+          "tf: the transfer function; blackbody: emission of a blackbody at `temperature_field` through\n"
+          "Rayleigh extinction, the field rendered being the density (`volstream render --optics blackbody`).")
+      .def_property(
+          "temperature_field", [](const SceneState& s) { return s.temperature_field; },
+          [](SceneState& s, const std::string& name) {
+            vs::field_or_throw(s.ds->manifest(), name, s.ds->name());
+            s.temperature_field = name;
+          },
+          "Blackbody optics: the temperature field (K).")
+      .def_property(
+          "emission", [](const SceneState& s) { return s.emission; },
+          [](SceneState& s, double v) {
+            if (!(v >= 0 && std::isfinite(v))) throw vs::UsageError("emission must be finite and >= 0");
+            s.emission = v;
+          },
+          "Blackbody optics: emission per unit distance at the maximum density.")
+      .def_property(
+          "absorption", [](const SceneState& s) { return s.absorption; },
+          [](SceneState& s, double v) {
+            if (!(v >= 0 && std::isfinite(v))) throw vs::UsageError("absorption must be finite and >= 0");
+            s.absorption = v;
+          },
+          "Blackbody optics: Rayleigh extinction (V band) per unit distance at the maximum density.")
+      .def_property(
+          "density_scale",
+          [](const SceneState& s) {
+            switch (s.density_scale) {
+              case vs::DensityScale::linear:
+                return std::string("linear");
+              case vs::DensityScale::log:
+                return std::string("log");
+              default:
+                return std::string("auto");
+            }
+          },
+          [](SceneState& s, const std::string& name) { s.density_scale = vs::parse_density_scale(name); },
+          "Blackbody optics: density normalised linearly, by its log10 position, or auto (the transfer\n"
+          "function's scale).")
+      .def_property(
+          "color_field",
+          [](const SceneState& s) {
+            return s.color_field ? std::optional<std::string>(s.ds->manifest().fields[size_t(*s.color_field)].name)
+                                 : std::nullopt;
+          },
+          [](SceneState& s, const std::optional<std::string>& name) {
+            s.color_field =
+                name ? std::optional<int>(vs::field_or_throw(s.ds->manifest(), *name, s.ds->name())) : std::nullopt;
+          },
+          "Colour the isosurfaces by this field (the transfer function's colours over its range at the\n"
+          "step); None: by the rendered field.")
       .def_property(
           "rate", [](const SceneState& s) { return s.integrator.rate; },
           [](SceneState& s, double v) {

@@ -214,9 +214,15 @@ def test_bad_path_is_oserror(tmp_path):
         vs.load(missing)
     message = str(e.value)
     assert message.startswith(missing) and "\n" not in message
-    # The same line the command line prints after "volstream: ".
-    r = subprocess.run([VOLSTREAM_BIN, "info", missing], capture_output=True, text=True)
+    # The same line the command line prints after "volstream: " (load converts what is not a dataset).
+    r = subprocess.run([VOLSTREAM_BIN, "convert", missing, "-o", str(tmp_path / "out")], capture_output=True, text=True)
     assert r.returncode == 2 and r.stderr.strip() == "volstream: " + message
+    (tmp_path / "damaged").mkdir()
+    (tmp_path / "damaged" / "manifest.json").write_text("{")
+    with pytest.raises(OSError) as e:
+        vs.load(tmp_path / "damaged")  # a dataset's own error
+    r = subprocess.run([VOLSTREAM_BIN, "info", tmp_path / "damaged"], capture_output=True, text=True)
+    assert r.returncode == 2 and r.stderr.strip() == "volstream: " + str(e.value)
 
 
 def test_bad_options_are_valueerror(ds):

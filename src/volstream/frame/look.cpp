@@ -155,4 +155,8 @@ BlackbodyParams make_blackbody_params(const TransferFunctionSpec& density_tf, De
   return p;
 }
 
+IntegratorKind default_integrator(const Dataset& dataset, OpticsKind optics) {
+  return optics == OpticsKind::blackbody && !dataset.is_mesh() ? IntegratorKind::blocks : IntegratorKind::abr;
+}
+
 }  // namespace vs

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "volstream/amr/model.h"
+#include "volstream/frame/frame_renderer.h"
 #include "volstream/io/dataset.h"
 #include "volstream/render/camera.h"
 #include "volstream/render/optics/blackbody.h"
@@ -56,6 +57,10 @@ TransferFunctionSpec make_transfer_function(const DatasetManifest& manifest, int
 TransferFunctionSpec make_color_field_transfer_function(const DatasetManifest& manifest, int color_field,
                                                         const std::vector<int>& range_steps,
                                                         const TransferFunctionSpec& main, bool log);
+
+// The integrator when the caller does not choose one: paper 004's block raycaster for the
+// blackbody optics on AMR data (the paper's pairing), else the ABRs (a mesh has its own walk).
+IntegratorKind default_integrator(const Dataset& dataset, OpticsKind optics);
 
 // How the blackbody model normalises density: linear (rho / rho_max, paper 004), log (its log10
 // position, over the transfer function's decades or 7 below the max), or automatic (the

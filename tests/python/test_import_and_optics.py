@@ -95,6 +95,28 @@ def test_mesh_demo():
         vs.demo("tets", elements=1)
 
 
+# --- AMReX plotfiles ---------------------------------------------------------------------------
+
+
+def test_load_plotfile_probe_equals_cli_and_brute_force(tmp_path):
+    """A two-level plotfile (written by the C++ writer, tests/python/write_plotfile.cpp): load's
+    probes equal `volstream convert` + `volstream probe`, and the tent-basis brute force."""
+    writer = os.environ.get("VOLSTREAM_TEST_PLOTFILE")
+    if not writer:
+        pytest.skip("VOLSTREAM_TEST_PLOTFILE (the plotfile writer) is not set")
+    plt = tmp_path / "plt00000"
+    subprocess.run([writer, plt], check=True)
+    ds = vs.load(plt)
+    assert ds.kind == "amr" and ds.fields == ["density", "temperature"]
+    assert ds.domain == ((0.0, 0.0, 0.0), (2.0, 1.0, 1.0))
+    cli("convert", plt, "-o", tmp_path / "cli", "-q")
+    pts = random_points(ds, n=400)
+    for field in ds.fields:
+        got = ds.probe(field, pts)
+        np.testing.assert_allclose(got, cli_probe(tmp_path / "cli", field, pts, tmp_path), rtol=1e-6)
+        np.testing.assert_allclose(got, ds.probe(field, pts, brute_force=True), rtol=1e-5)
+
+
 # --- raw grids and ExaBrick ---------------------------------------------------------------------
 
 

@@ -59,6 +59,7 @@ void add_probe_command(CLI::App& app) {
     std::string dir, field, points;
     int step = 0;
     std::string device = "cpu";
+    std::string encoding = "reference";
     bool brute = false;
   };
   auto a = std::make_shared<Args>();
@@ -70,6 +71,9 @@ void add_probe_command(CLI::App& app) {
   cmd->add_option("--points", a->points, "file of points (default: stdin)");
   cmd->add_flag("--brute-force", a->brute, "sum over all cells instead of the ABRs (the reference)");
   cmd->add_option("--device", a->device, "cpu | cuda | auto: where the ABR probes run")->capture_default_str();
+  cmd->add_option("--encoding", a->encoding, "meshes: reference | compact (paper 002's encoding, built at load)")
+      ->check(CLI::IsMember({"reference", "compact"}))
+      ->capture_default_str();
   cmd->callback([a] {
     const Dataset ds(a->dir);
     const auto& m = ds.manifest();
@@ -87,7 +91,8 @@ void add_probe_command(CLI::App& app) {
       out = probe_brute_force(ds, field, a->step, world);
     } else {
       FrameRenderer renderer(ds, resolve_device(a->device));
-      const std::vector<float> v = renderer.probe(field, a->step, world);
+      const std::vector<float> v = renderer.probe(
+          field, a->step, world, a->encoding == "compact" ? MeshEncoding::compact : MeshEncoding::reference);
       std::copy(v.begin(), v.end(), out.begin());
     }
     std::string text;

@@ -64,6 +64,11 @@ void add_render_options(CLI::App* cmd, RenderOptions& o, RenderContext context) 
                 "classify with the dataset's stored per-ABR ranges instead of computing them (the same for datasets "
                 "converted since 2026-11-22, per brick and looser before)" +
                     not_streamed);
+  cmd->add_option("--encoding", o.encoding,
+                  "meshes: reference (the stored element BVH and face adjacency) or compact (paper 002's encoding, "
+                  "built at load; CPU)")
+      ->check(CLI::IsMember({"reference", "compact"}))
+      ->capture_default_str();
   cmd->add_option("--background", o.background, "R,G,B background in [0,1] (sRGB)")->capture_default_str();
   cmd->add_flag("--alpha", o.alpha,
                 "keep transparency (PNG RGBA; PFM: premultiplied RGB + OUT.alpha.pfm)" + not_streamed);
@@ -223,6 +228,7 @@ RenderPlan make_render_plan(const RenderOptions& o, const Dataset& ds, const std
   r.skip = !o.no_skip;
   r.range_mode = o.brick_ranges ? RangeMode::per_brick : RangeMode::tight;
   r.stored_ranges = o.stored_ranges;
+  r.mesh_encoding = o.encoding == "compact" ? MeshEncoding::compact : MeshEncoding::reference;
   r.camera = make_camera(o, ds, r.width, r.height);
   p.background = vec3f(parse_vec3(o.background, "--background"));
   if (!o.color_field.empty()) {

@@ -111,6 +111,28 @@ TEST(MeshFrame, ProbeMatchesTheBruteForce) {
   }
 }
 
+// Paper 002's compact encoding draws and probes what the reference encoding does.
+TEST(MeshFrame, CompactEncodingEqualsReference) {
+  FrameRenderer fr(holes(), Device::cpu);
+  FrameRequest r = request(holes());
+  r.integrator.iso_count = 1;
+  r.integrator.iso[0] = 0.4f;
+  const Image a = fr.render(r);
+  r.mesh_encoding = MeshEncoding::compact;
+  const Image b = fr.render(r);
+  EXPECT_GT(mean_alpha(a), 0.003);
+  EXPECT_LT(max_difference(a, b), 1e-6);
+  std::vector<vec3d> points;
+  for (int i = 0; i < 300; ++i) points.push_back({0.004 * i - 0.1, 0.42 + 0.001 * i, 0.5 - 0.0005 * i});
+  const std::vector<float> want = fr.probe(0, 1, points), got = fr.probe(0, 1, points, MeshEncoding::compact);
+  for (size_t i = 0; i < points.size(); ++i) {
+    ASSERT_EQ(std::isnan(want[i]), std::isnan(got[i])) << i;
+    if (!std::isnan(want[i])) {
+      EXPECT_NEAR(got[i], want[i], 1e-6f * std::max(1.f, std::fabs(want[i])));
+    }
+  }
+}
+
 // The GPU renders and probes a mesh as the CPU does (the same kernel source, compiled twice).
 TEST(MeshFrameCuda, EqualsTheCpu) {
   if (!cuda::cuda_available()) GTEST_SKIP() << "no CUDA device";

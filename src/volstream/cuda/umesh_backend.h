@@ -16,7 +16,10 @@
 namespace vs {
 template <typename V>
 struct FrameView;
-struct UMeshVolume;
+template <typename Locator>
+struct MeshVolume;
+struct UMeshView;
+using UMeshVolume = MeshVolume<UMeshView>;
 }  // namespace vs
 
 namespace vs::cuda {

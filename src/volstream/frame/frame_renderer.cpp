@@ -130,6 +130,17 @@ struct FrameRenderer::Impl {
     }
     return *umesh;
   }
+  // The slots' values per local vertex of the compact encoding, gathered when they change.
+  std::vector<float> compact_values[kVolumeFields];
+  uint64_t compact_generation[kVolumeFields] = {};
+  void update_compact_fields() {
+    for (int s = 0; s < kVolumeFields; ++s) {
+      if (compact_generation[s] == slots[s].generation) continue;
+      const float* values = host_values(s);
+      compact_values[s] = values ? umesh->compact().gather(values) : std::vector<float>{};
+      compact_generation[s] = slots[s].generation;
+    }
+  }
   cuda::DeviceMesh& mesh_on_device() {
     UMeshRenderer& mesh = umesh_renderer();
     if (!device_mesh)
@@ -385,9 +396,21 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
   if (r.optics == OpticsKind::blackbody) optics.bb = default_blackbody_table().view(r.blackbody);
   if (dataset_.is_mesh()) {
     UMeshRenderer& mesh = m.umesh_renderer();
-    img = m.render_mesh(mesh.view({m.kernel_values(0), m.kernel_values(1)}, optics, color_iso ? &color_view : nullptr,
-                                  r.camera, frame_settings(r)),
-                        local);
+    const TfView* colors = color_iso ? &color_view : nullptr;
+    if (r.mesh_encoding == MeshEncoding::compact) {
+      if (m.device != Device::cpu) throw UsageError("the compact mesh encoding renders on the CPU only so far");
+      m.update_compact_fields();
+      FrameStats stats;
+      img = render_view_cpu(mesh.view_compact({m.compact_values[0].data(),
+                                               m.compact_values[1].empty() ? nullptr : m.compact_values[1].data()},
+                                              optics, colors, r.camera, frame_settings(r)),
+                            &stats);
+      local.seconds.render += stats.render_seconds;
+      local.samples = stats.samples;
+    } else {
+      img = m.render_mesh(
+          mesh.view({m.kernel_values(0), m.kernel_values(1)}, optics, colors, r.camera, frame_settings(r)), local);
+    }
     local.visible_regions = visible_;
     local.region_count = mesh.region_count();
   } else if (r.kind == IntegratorKind::blocks) {
@@ -443,11 +466,16 @@ std::vector<vec3f> grid_points(const WorldTransform& transform, const std::vecto
 }
 }  // namespace
 
-std::vector<float> FrameRenderer::probe(int field, int step, const std::vector<vec3d>& world) {
+std::vector<float> FrameRenderer::probe(int field, int step, const std::vector<vec3d>& world,
+                                        MeshEncoding mesh_encoding) {
   Impl& m = *impl_;
   FrameTimes ignored;
   m.load(0, field, step, ignored);
   const std::vector<vec3f> grid = grid_points(dataset_.manifest().transform, world);
+  if (dataset_.is_mesh() && mesh_encoding == MeshEncoding::compact) {
+    if (device_ != Device::cpu) throw UsageError("the compact mesh encoding probes on the CPU only so far");
+    return m.umesh_renderer().probe_compact(m.kernel_values(0), grid);
+  }
   if (dataset_.is_mesh())
     return device_ == Device::cuda ? m.mesh_on_device().probe(m.kernel_values(0), grid)
                                    : m.umesh_renderer().probe(m.kernel_values(0), grid);

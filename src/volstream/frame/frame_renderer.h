@@ -32,6 +32,10 @@ enum class IntegratorKind {
   blocks,  // paper 004: kd-tree blocks, nearest/trilinear, fixed steps with an exact last one
 };
 
+// How a mesh is sampled: the stored reference encoding, or paper 002's compact one (built from
+// it at load for now: umesh/compact.h).
+enum class MeshEncoding { reference, compact };
+
 // Everything one frame shows.
 struct FrameRequest {
   int step = 0;
@@ -47,9 +51,10 @@ struct FrameRequest {
   Reconstruction reconstruction = Reconstruction::trilinear;  // blocks
   OpticsKind optics = OpticsKind::tf;
   BlackbodyParams blackbody;
-  bool skip = true;                         // abr: empty-space skipping
-  RangeMode range_mode = RangeMode::tight;  // abr on the CPU: tight or per-brick ABR ranges
-  bool stored_ranges = false;               // abr: the dataset's stored ranges instead
+  bool skip = true;                                      // abr: empty-space skipping
+  RangeMode range_mode = RangeMode::tight;               // abr on the CPU: tight or per-brick ABR ranges
+  bool stored_ranges = false;                            // abr: the dataset's stored ranges instead
+  MeshEncoding mesh_encoding = MeshEncoding::reference;  // meshes: which encoding samples (CPU)
 };
 
 struct FrameTimes {
@@ -90,7 +95,8 @@ class FrameRenderer {
 
   // Values of `field` at `step` at world points through the ABRs (amr/probe.h; on the GPU on
   // CUDA, through the same device scene as the frames), NaN outside the data.
-  std::vector<float> probe(int field, int step, const std::vector<vec3d>& world_points);
+  std::vector<float> probe(int field, int step, const std::vector<vec3d>& world_points,
+                           MeshEncoding mesh_encoding = MeshEncoding::reference);
 
   Device device() const { return device_; }
   const Dataset& dataset() const { return dataset_; }

@@ -1,4 +1,4 @@
-// An unstructured mesh (umesh/umesh.h, reference encoding) as a volume: the regions are the
+// An unstructured mesh (umesh/umesh.h, reference encoding; umesh/compact.h, compact) as a volume: the regions are the
 // non-empty macrocells (umesh/macrocells.h), found front to back by the refit region BVH like
 // ABRs; a sample locates its element through the element BVH (umesh/element_bvh.h) wherever it
 // is, so sample and sample_near are the same, and a point in no element (a hole, a notch, the
@@ -9,14 +9,18 @@
 
 #include "volstream/accel/bvh.h"
 #include "volstream/accel/bvh_traverse.h"
+#include "volstream/umesh/compact.h"
 #include "volstream/umesh/element_bvh.h"
 #include "volstream/umesh/macrocells.h"
 #include "volstream/volume/volume.h"
 
 namespace vs {
 
-struct UMeshVolume {
-  UMeshView mesh;
+// Locator: how points find their element and value (UMeshView for the reference encoding,
+// CompactMeshView for paper 002's compact one): sample(values, p) and sample(values, p, hint).
+template <typename Locator>
+struct MeshVolume {
+  Locator mesh;
   const float* fields[kVolumeFields] = {};  // per vertex; fields[1] may be null
   const BvhNode* nodes = nullptr;           // refit BVH over the macrocells: visible ones only
   uint32_t node_count = 0;
@@ -45,6 +49,9 @@ struct UMeshVolume {
     });
   }
 };
+using UMeshVolume = MeshVolume<UMeshView>;
+using CompactMeshVolume = MeshVolume<CompactMeshView>;
 static_assert(Volume<UMeshVolume>);
+static_assert(Volume<CompactMeshVolume>);
 
 }  // namespace vs

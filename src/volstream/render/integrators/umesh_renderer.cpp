@@ -44,10 +44,12 @@ UMeshView UMeshRenderer::mesh_view() const {
           accel_.neighbors.data()};
 }
 
-FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
-                                           const Camera& camera, const FrameSettings& settings) const {
-  FrameView<UMeshVolume> v;
-  v.volume.mesh = mesh_view();
+template <typename Locator>
+FrameView<MeshVolume<Locator>> UMeshRenderer::make_view(const Locator& locator, const FrameFields& fields,
+                                                        const OpticsView& optics, const TfView* color_tf,
+                                                        const Camera& camera, const FrameSettings& settings) const {
+  FrameView<MeshVolume<Locator>> v;
+  v.volume.mesh = locator;
   v.volume.fields[0] = fields.primary;
   v.volume.fields[1] = fields.second;
   v.volume.nodes = skipping_.refit_nodes().data();
@@ -58,6 +60,42 @@ FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const Opti
   fill_frame(v, optics, color_tf, fields.second != nullptr, camera, settings, transform_,
              world_bounds(mesh_, transform_));
   return v;
+}
+
+FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
+                                           const Camera& camera, const FrameSettings& settings) const {
+  return make_view(mesh_view(), fields, optics, color_tf, camera, settings);
+}
+
+const CompactMesh& UMeshRenderer::compact() {
+  if (!compact_) {
+    compact_ = std::make_unique<CompactMesh>(build_compact_mesh(mesh_));
+    const CompactBytes b = compact_->bytes();
+    compact_counted_ = CountedBytes("compact mesh", MemorySpace::host,
+                                    int64_t(b.total() - b.field + compact_->source_vertex.size() * sizeof(uint32_t)));
+  }
+  return *compact_;
+}
+
+CompactMeshView UMeshRenderer::compact_view() {
+  const CompactMesh& c = compact();
+  return {c.nodes.data(),    c.leaves.data(),           c.indices.data(), c.submeshes.data(),
+          c.vertices.data(), uint32_t(c.leaves.size()), c.leaf_parents};
+}
+
+FrameView<CompactMeshVolume> UMeshRenderer::view_compact(const FrameFields& local_fields, const OpticsView& optics,
+                                                         const TfView* color_tf, const Camera& camera,
+                                                         const FrameSettings& settings) {
+  return make_view(compact_view(), local_fields, optics, color_tf, camera, settings);
+}
+
+std::vector<float> UMeshRenderer::probe_compact(const float* values, const std::vector<vec3f>& points) {
+  const CompactMeshView view = compact_view();
+  const std::vector<float> local = compact().gather(values);
+  std::vector<float> out(points.size());
+  parallel_for("probe", int64_t(points.size()),
+               [&](int64_t i) { out[size_t(i)] = view.sample(local.data(), points[size_t(i)]); });
+  return out;
 }
 
 std::vector<float> UMeshRenderer::probe(const float* values, const std::vector<vec3f>& points) const {

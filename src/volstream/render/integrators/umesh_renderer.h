@@ -13,6 +13,7 @@
 #include "volstream/render/integrators/abr_renderer.h"
 #include "volstream/render/skipping.h"
 #include "volstream/umesh/adjacency.h"
+#include "volstream/umesh/compact.h"
 #include "volstream/umesh/element_bvh.h"
 #include "volstream/umesh/macrocells.h"
 #include "volstream/umesh/mesh_accel.h"
@@ -51,6 +52,14 @@ class UMeshRenderer {
   // Field values at grid points through the element BVH, NaN outside every element.
   std::vector<float> probe(const float* values, const std::vector<vec3f>& grid_points) const;
 
+  // Paper 002's compact encoding (umesh/compact.h), built from the mesh on first use: its view
+  // takes fields per local vertex (CompactMesh::gather), the macrocells and skipping are shared.
+  const CompactMesh& compact();
+  FrameView<CompactMeshVolume> view_compact(const FrameFields& local_fields, const OpticsView& optics,
+                                            const TfView* color_tf, const Camera& camera,
+                                            const FrameSettings& settings);
+  std::vector<float> probe_compact(const float* values, const std::vector<vec3f>& grid_points);
+
   UMeshView mesh_view() const;
   const MacroCells& macrocells() const { return cells_; }
   const ElementBvh& element_bvh() const { return accel_.bvh; }
@@ -62,6 +71,11 @@ class UMeshRenderer {
  private:
   UMeshRenderer(const UMesh& mesh, std::unique_ptr<MeshAccel> owned, const MeshAccel* borrowed,
                 const WorldTransform& transform);
+  template <typename Locator>
+  FrameView<MeshVolume<Locator>> make_view(const Locator& locator, const FrameFields& fields, const OpticsView& optics,
+                                           const TfView* color_tf, const Camera& camera,
+                                           const FrameSettings& settings) const;
+  CompactMeshView compact_view();
   const UMesh& mesh_;
   std::unique_ptr<MeshAccel> owned_;  // when built here
   const MeshAccel& accel_;
@@ -70,6 +84,8 @@ class UMeshRenderer {
   MacroCells cells_;
   RegionBvh skipping_;  // over the macrocell boxes
   CountedBytes counted_;
+  std::unique_ptr<CompactMesh> compact_;
+  CountedBytes compact_counted_;
 };
 
 // The world box of the mesh's vertices.

@@ -1,0 +1,198 @@
+#include "volstream/umesh/compact.h"
+
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <unordered_map>
+
+#include "volstream/backend/parallel.h"
+
+namespace vs {
+namespace {
+
+uint64_t spread_bits(uint64_t x) {  // 21 bits -> every third bit
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffULL;
+  x = (x | x << 16) & 0x1f0000ff0000ffULL;
+  x = (x | x << 8) & 0x100f00f00f00f00fULL;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
+}
+
+// Elements in Morton order of their centroids: consecutive elements are close in space, so
+// consecutive runs make compact leaves and share vertices.
+std::vector<uint32_t> morton_order(const UMesh& mesh) {
+  const size_t n = mesh.elements.size();
+  std::vector<vec3f> centre(n);
+  box3f bounds = box3f::make_empty();
+  for (size_t e = 0; e < n; ++e) {
+    centre[e] = element_box(mesh.vertices.data(), mesh.elements[e]).center();
+    bounds.extend(centre[e]);
+  }
+  const vec3f extent = vmax(bounds.size(), vec3f(1e-30f));
+  std::vector<std::pair<uint64_t, uint32_t>> keys(n);
+  parallel_for("morton codes", int64_t(n), [&](int64_t e) {
+    uint64_t code = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double u = double(centre[size_t(e)][a] - bounds.lower[a]) / double(extent[a]);
+      code |= spread_bits(uint64_t(std::clamp(u, 0.0, 1.0) * double((1 << 21) - 1))) << a;
+    }
+    keys[size_t(e)] = {code, uint32_t(e)};
+  });
+  tbb::parallel_sort(keys.begin(), keys.end());
+  std::vector<uint32_t> order(n);
+  for (size_t i = 0; i < n; ++i) order[i] = keys[i].second;
+  return order;
+}
+
+// Quantizes `child` relative to the node box [origin, origin + 255 * scale], rounded outwards,
+// and widened by a step where float rounding would still leave part of the child outside.
+void quantize(CompactNode& node, int i, const box3f& child) {
+  for (int a = 0; a < 3; ++a) {
+    const float s = node.scale[a];
+    int lo = s > 0.f ? int(std::floor((child.lower[a] - node.origin[a]) / s)) : 0;
+    int hi = s > 0.f ? int(std::ceil((child.upper[a] - node.origin[a]) / s)) : 0;
+    lo = std::clamp(lo, 0, 255);
+    hi = std::clamp(hi, 0, 255);
+    while (lo > 0 && node.origin[a] + float(lo) * s > child.lower[a]) --lo;
+    while (hi < 255 && node.origin[a] + float(hi) * s < child.upper[a]) ++hi;
+    node.lower[i][a] = uint8_t(lo);
+    node.upper[i][a] = uint8_t(hi);
+  }
+}
+
+// A node over `children` boxes (at most kCompactWidth): its own box is their union, slightly
+// grown so that the top quantization step reaches the union's upper corner in float.
+CompactNode make_node(const box3f* children, int count, uint32_t first, bool leaf_children, box3f& bounds) {
+  bounds = box3f::make_empty();
+  for (int i = 0; i < count; ++i) bounds.extend(children[i]);
+  CompactNode node{};
+  node.origin = bounds.lower;
+  const vec3f extent = bounds.size();
+  for (int a = 0; a < 3; ++a) {
+    // A few ulps of the coordinates more than the extent: the top step must reach the upper
+    // corner in float also where the box is tiny against its distance from the origin.
+    const float ulps = 4.f * FLT_EPSILON * std::max(std::fabs(bounds.lower[a]), std::fabs(bounds.upper[a]));
+    node.scale[a] = extent[a] > 0.f ? (extent[a] * (1.f + 1e-6f) + ulps) / 255.f : 0.f;
+  }
+  for (int i = 0; i < count; ++i) quantize(node, i, children[i]);
+  node.first = first;
+  node.count = uint8_t(count);
+  node.leaf_children = leaf_children ? 1 : 0;
+  return node;
+}
+
+// The 8-wide tree bottom-up over consecutive groups; the root ends at index 0.
+std::vector<CompactNode> build_nodes(const std::vector<box3f>& leaf_boxes) {
+  std::vector<std::vector<CompactNode>> levels;
+  std::vector<box3f> boxes = leaf_boxes;
+  bool leaf_children = true;
+  do {
+    std::vector<CompactNode> level;
+    std::vector<box3f> parents;
+    for (size_t i = 0; i < boxes.size(); i += kCompactWidth) {
+      const int count = int(std::min<size_t>(kCompactWidth, boxes.size() - i));
+      box3f b;
+      level.push_back(make_node(boxes.data() + i, count, uint32_t(i), leaf_children, b));
+      parents.push_back(b);
+    }
+    levels.push_back(std::move(level));
+    boxes = std::move(parents);
+    leaf_children = false;
+  } while (boxes.size() > 1);
+  // Root first, then each level below: children indices shift by the nodes placed before them.
+  std::vector<CompactNode> nodes;
+  for (size_t l = levels.size(); l-- > 0;) {
+    const uint32_t below = uint32_t(nodes.size() + levels[l].size());
+    for (CompactNode node : levels[l]) {
+      if (!node.leaf_children) node.first += below;
+      nodes.push_back(node);
+    }
+  }
+  return nodes;
+}
+
+// Appends the leaf of elements [begin, end) of `order`, types in type_slot order.
+void add_leaf(const UMesh& mesh, const std::vector<uint32_t>& order, size_t begin, size_t end,
+              std::unordered_map<uint32_t, uint32_t>& local, CompactMesh& c) {
+  CompactLeaf leaf{uint32_t(c.submeshes.size() - 1), uint32_t(c.indices.size()), {0, 0, 0, 0}};
+  const uint32_t base = c.submeshes.back().first_vertex;
+  for (int type = 0; type < 4; ++type)
+    for (size_t k = begin; k < end; ++k) {
+      const UElement& e = mesh.elements[order[k]];
+      const int n = e.vertex_count();
+      if (type_slot(n) != type) continue;
+      ++leaf.counts[type];
+      for (int i = 0; i < n; ++i) {
+        auto [it, added] = local.try_emplace(e.v[i], uint32_t(c.vertices.size()) - base);
+        if (added) {
+          c.vertices.push_back(mesh.vertices[e.v[i]]);
+          c.source_vertex.push_back(e.v[i]);
+        }
+        c.indices.push_back(uint16_t(it->second));
+      }
+    }
+  c.leaves.push_back(leaf);
+}
+
+// Distinct vertices of elements [begin, end) not yet in `local`.
+uint32_t new_vertices(const UMesh& mesh, const std::vector<uint32_t>& order, size_t begin, size_t end,
+                      const std::unordered_map<uint32_t, uint32_t>& local) {
+  std::vector<uint32_t> fresh;
+  for (size_t k = begin; k < end; ++k) {
+    const UElement& e = mesh.elements[order[k]];
+    for (int i = 0; i < e.vertex_count(); ++i)
+      if (!local.count(e.v[i])) fresh.push_back(e.v[i]);
+  }
+  std::sort(fresh.begin(), fresh.end());
+  return uint32_t(std::unique(fresh.begin(), fresh.end()) - fresh.begin());
+}
+
+}  // namespace
+
+CompactMesh build_compact_mesh(const UMesh& mesh) {
+  CompactMesh c;
+  c.elements = mesh.elements.size();
+  const std::vector<uint32_t> order = morton_order(mesh);
+  std::unordered_map<uint32_t, uint32_t> local;  // reference vertex -> local index in the current sub-mesh
+  std::vector<box3f> leaf_boxes;
+  for (size_t begin = 0; begin < order.size(); begin += kMultiLeafSize) {
+    const size_t end = std::min(order.size(), begin + kMultiLeafSize);
+    const uint32_t in_use = uint32_t(c.vertices.size()) - (c.submeshes.empty() ? 0 : c.submeshes.back().first_vertex);
+    if (c.submeshes.empty() || in_use + new_vertices(mesh, order, begin, end, local) > 65536) {
+      c.submeshes.push_back({uint32_t(c.vertices.size())});
+      local.clear();
+    }
+    add_leaf(mesh, order, begin, end, local, c);
+    box3f b = box3f::make_empty();
+    for (size_t k = begin; k < end; ++k) b.extend(element_box(mesh.vertices.data(), mesh.elements[order[k]]));
+    leaf_boxes.push_back(b);
+  }
+  c.nodes = build_nodes(leaf_boxes);
+  c.leaf_parents = uint32_t(c.nodes.size() - (leaf_boxes.size() + kCompactWidth - 1) / kCompactWidth);
+  c.replicated = c.vertices.size() - std::min<uint64_t>(c.vertices.size(), mesh.vertices.size());
+  return c;
+}
+
+CompactBytes CompactMesh::bytes() const {
+  CompactBytes b;
+  b.vertices = vertices.size() * sizeof(vec3f);
+  b.indices = indices.size() * sizeof(uint16_t);
+  b.leaves = leaves.size() * sizeof(CompactLeaf);
+  b.nodes = nodes.size() * sizeof(CompactNode);
+  b.submeshes = submeshes.size() * sizeof(CompactSubmesh);
+  b.field = vertices.size() * sizeof(float);
+  return b;
+}
+
+std::vector<float> CompactMesh::gather(const float* reference_values) const {
+  std::vector<float> out(source_vertex.size());
+  parallel_for("compact gather", int64_t(out.size()),
+               [&](int64_t i) { out[size_t(i)] = reference_values[source_vertex[size_t(i)]]; });
+  return out;
+}
+
+}  // namespace vs

@@ -1,0 +1,117 @@
+// The compact encoding (issue 13, first slice) against the reference: the same values at random
+// points (bit-identical: the same shape functions on the same corners), on every element type
+// and the non-convex mesh; quantized child boxes hold their children; decoding every leaf gives
+// every element once; the bytes per element, measured.
+#include "volstream/umesh/compact.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <random>
+
+#include "volstream/render/integrators/umesh_renderer.h"
+#include "volstream/umesh/demo.h"
+#include "volstream/umesh/from_mesh_data.h"
+
+namespace vs {
+namespace {
+
+struct Encoded {
+  UMesh mesh;
+  WorldTransform transform;
+  std::vector<float> values;
+  CompactMesh compact;
+};
+
+Encoded encode(const std::string& demo, uint64_t elements) {
+  Encoded e;
+  const MeshData data = make_mesh_demo({demo, elements, 1}, 0);
+  e.transform = mesh_transform(data);
+  e.mesh = make_umesh(data, e.transform, demo);
+  e.values = mesh_field_values(data, mesh_fields(data)[0]);
+  e.compact = build_compact_mesh(e.mesh);
+  return e;
+}
+
+CompactMeshView view_of(const CompactMesh& c) {
+  return {c.nodes.data(), c.leaves.data(), c.indices.data(), c.submeshes.data(), c.vertices.data(), uint32_t(c.leaves.size()), c.leaf_parents};
+}
+
+class CompactTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(CompactTest, EqualsTheReferenceAtRandomPoints) {
+  const Encoded e = encode(GetParam(), 20000);
+  const UMeshRenderer reference(e.mesh, e.transform);
+  const CompactMeshView compact = view_of(e.compact);
+  const std::vector<float> local = e.compact.gather(e.values.data());
+  box3f b = box3f::make_empty();
+  for (const vec3f& v : e.mesh.vertices) b.extend(v);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-0.05f, 1.05f);
+  std::vector<vec3f> points(10000);
+  for (vec3f& p : points) p = b.lower + b.size() * vec3f(u(rng), u(rng), u(rng));
+  const std::vector<float> want = reference.probe(e.values.data(), points);
+  int inside = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const float got = compact.sample(local.data(), points[i]);
+    ASSERT_EQ(std::isnan(got), std::isnan(want[i])) << "point " << i;
+    if (std::isnan(got)) continue;
+    ++inside;
+    // The same element's shape functions on the same corners: equal, but for points on a face
+    // shared by two elements (either may be found; they agree to float rounding).
+    EXPECT_NEAR(got, want[i], 1e-6f * std::max(1.f, std::fabs(want[i]))) << "point " << i;
+  }
+  EXPECT_GT(inside, 2000);
+}
+
+TEST_P(CompactTest, QuantizedBoxesHoldTheirChildrenAndLeavesHoldEveryElementOnce) {
+  const Encoded e = encode(GetParam(), 20000);
+  const CompactMesh& c = e.compact;
+  // Leaf boxes recomputed from the decoded elements; node boxes from the children.
+  uint64_t decoded = 0;
+  std::vector<box3f> leaf_box(c.leaves.size(), box3f::make_empty());
+  for (size_t l = 0; l < c.leaves.size(); ++l) {
+    const CompactLeaf& leaf = c.leaves[l];
+    const uint16_t* index = c.indices.data() + leaf.first_index;
+    const int sizes[4] = {4, 5, 6, 8};
+    for (int t = 0; t < 4; ++t)
+      for (int k = 0; k < leaf.counts[t]; ++k, index += sizes[t], ++decoded)
+        for (int i = 0; i < sizes[t]; ++i) leaf_box[l].extend(c.vertices[c.submeshes[leaf.submesh].first_vertex + index[i]]);
+  }
+  EXPECT_EQ(decoded, e.mesh.elements.size());
+  // The exact box of a child: its leaf's elements, or the union of the exact boxes below it.
+  std::function<box3f(const CompactNode&, int)> exact = [&](const CompactNode& node, int i) {
+    if (node.leaf_children) return leaf_box[node.first + uint32_t(i)];
+    const CompactNode& child = c.nodes[node.first + uint32_t(i)];
+    box3f all = box3f::make_empty();
+    for (int j = 0; j < child.count; ++j) all.extend(exact(child, j));
+    return all;
+  };
+  for (const CompactNode& node : c.nodes)
+    for (int i = 0; i < node.count; ++i) {
+      const box3f q = node.child_box(i), child = exact(node, i);
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_LE(q.lower[a], child.lower[a]);
+        EXPECT_GE(q.upper[a], child.upper[a]);
+      }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Demos, CompactTest, ::testing::Values("tets", "mixed", "holes"));
+
+TEST(Compact, BytesPerElementOfOneMillionTetsAreMeasured) {
+  const Encoded e = encode("tets", 1000000);
+  const CompactBytes b = e.compact.bytes();
+  const double n = double(e.mesh.elements.size());
+  std::printf("compact, %.0f tets: vertices %.2f, indices %.2f, leaves %.2f, nodes %.2f, sub-meshes %.3f, "
+              "field %.2f = %.2f B/element (%llu sub-meshes, %.1f%% vertices replicated)\n",
+              n, b.vertices / n, b.indices / n, b.leaves / n, b.nodes / n, b.submeshes / n, b.field / n,
+              b.total() / n, (unsigned long long)e.compact.submeshes.size(),
+              100.0 * double(e.compact.replicated) / double(e.mesh.vertices.size()));
+  EXPECT_LT(b.total() / n, 16.0);
+}
+
+}  // namespace
+}  // namespace vs

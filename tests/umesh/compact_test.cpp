@@ -36,7 +36,8 @@ Encoded encode(const std::string& demo, uint64_t elements) {
 }
 
 CompactMeshView view_of(const CompactMesh& c) {
-  return {c.nodes.data(), c.leaves.data(), c.indices.data(), c.submeshes.data(), c.vertices.data(), uint32_t(c.leaves.size()), c.leaf_parents};
+  return {c.nodes.data(),    c.leaves.data(),           c.indices.data(), c.submeshes.data(),
+          c.vertices.data(), uint32_t(c.leaves.size()), c.leaf_parents};
 }
 
 class CompactTest : public ::testing::TestWithParam<std::string> {};
@@ -78,7 +79,8 @@ TEST_P(CompactTest, QuantizedBoxesHoldTheirChildrenAndLeavesHoldEveryElementOnce
     const int sizes[4] = {4, 5, 6, 8};
     for (int t = 0; t < 4; ++t)
       for (int k = 0; k < leaf.counts[t]; ++k, index += sizes[t], ++decoded)
-        for (int i = 0; i < sizes[t]; ++i) leaf_box[l].extend(c.vertices[c.submeshes[leaf.submesh].first_vertex + index[i]]);
+        for (int i = 0; i < sizes[t]; ++i)
+          leaf_box[l].extend(c.vertices[c.submeshes[leaf.submesh].first_vertex + index[i]]);
   }
   EXPECT_EQ(decoded, e.mesh.elements.size());
   // The exact box of a child: its leaf's elements, or the union of the exact boxes below it.
@@ -105,11 +107,12 @@ TEST(Compact, BytesPerElementOfOneMillionTetsAreMeasured) {
   const Encoded e = encode("tets", 1000000);
   const CompactBytes b = e.compact.bytes();
   const double n = double(e.mesh.elements.size());
-  std::printf("compact, %.0f tets: vertices %.2f, indices %.2f, leaves %.2f, nodes %.2f, sub-meshes %.3f, "
-              "field %.2f = %.2f B/element (%llu sub-meshes, %.1f%% vertices replicated)\n",
-              n, b.vertices / n, b.indices / n, b.leaves / n, b.nodes / n, b.submeshes / n, b.field / n,
-              b.total() / n, (unsigned long long)e.compact.submeshes.size(),
-              100.0 * double(e.compact.replicated) / double(e.mesh.vertices.size()));
+  std::printf(
+      "compact, %.0f tets: vertices %.2f, indices %.2f, leaves %.2f, nodes %.2f, sub-meshes %.3f, "
+      "field %.2f = %.2f B/element (%llu sub-meshes, %.1f%% vertices replicated)\n",
+      n, b.vertices / n, b.indices / n, b.leaves / n, b.nodes / n, b.submeshes / n, b.field / n, b.total() / n,
+      (unsigned long long)e.compact.submeshes.size(),
+      100.0 * double(e.compact.replicated) / double(e.mesh.vertices.size()));
   EXPECT_LT(b.total() / n, 16.0);
 }
 

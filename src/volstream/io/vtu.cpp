@@ -1,5 +1,7 @@
 #include "volstream/io/vtu.h"
 
+#include "volstream/core/xml.h"
+
 #include <zlib.h>
 
 #include <algorithm>
@@ -513,32 +515,6 @@ MeshData read_vtu(const std::filesystem::path& file) {
 // Writing
 
 namespace {
-
-std::string xml_escape(std::string_view s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 template <typename T>
 void append_bytes(std::string& out, T v) {

@@ -1,5 +1,7 @@
 #include "volstream/stream/gantt.h"
 
+#include "volstream/core/xml.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -97,29 +99,6 @@ const char* stage_colour(const std::string& name) {
   Stage s;
   if (parse_stage(name, s)) return palette[int(s)];
   return palette[6 + std::hash<std::string>{}(name) % 4];
-}
-
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 std::string fmt(const char* format, auto... args) {
@@ -226,7 +205,7 @@ std::string gantt_svg(const std::vector<TraceEvent>& input, const GanttOptions& 
           options.width, height, options.width, height);
   svg += fmt("<rect width=\"%d\" height=\"%d\" fill=\"white\"/>\n", options.width, height);
   svg += fmt("<text x=\"%d\" y=\"22\" font-size=\"14\" font-weight=\"bold\">%s</text>\n", label_w,
-             escape(options.title).c_str());
+             xml_escape(options.title).c_str());
 
   // Grid lines and tick labels (milliseconds since the first event).
   const double step_ms = tick_step(span_ms, 10);
@@ -244,9 +223,9 @@ std::string gantt_svg(const std::vector<TraceEvent>& input, const GanttOptions& 
   // Row labels, with the process name above its first row.
   for (size_t r = 0; r < rows.size(); ++r) {
     if (r == 0 || rows[r].pid != rows[r - 1].pid)
-      svg +=
-          fmt("<text x=\"4\" y=\"%d\" font-weight=\"bold\">%s</text>\n", row_y[r] - 5, escape(rows[r].process).c_str());
-    svg += fmt("<text x=\"14\" y=\"%d\">%s</text>\n", row_y[r] + row_h / 2 + 4, escape(rows[r].label).c_str());
+      svg += fmt("<text x=\"4\" y=\"%d\" font-weight=\"bold\">%s</text>\n", row_y[r] - 5,
+                 xml_escape(rows[r].process).c_str());
+    svg += fmt("<text x=\"14\" y=\"%d\">%s</text>\n", row_y[r] + row_h / 2 + 4, xml_escape(rows[r].label).c_str());
   }
 
   // Bars: at least one pixel wide so that short stages stay visible; step label when it fits.
@@ -257,7 +236,7 @@ std::string gantt_svg(const std::vector<TraceEvent>& input, const GanttOptions& 
     svg +=
         fmt("<rect x=\"%.2f\" y=\"%d\" width=\"%.2f\" height=\"%d\" fill=\"%s\" stroke=\"white\" stroke-width=\"0.5\">"
             "<title>%s step %d: %.3f ms</title></rect>\n",
-            x, by, w, row_h - 4, stage_colour(e.name), escape(e.name).c_str(), e.step, e.dur_us * 1e-3);
+            x, by, w, row_h - 4, stage_colour(e.name), xml_escape(e.name).c_str(), e.step, e.dur_us * 1e-3);
     const std::string label = e.step >= 0 ? std::to_string(e.step) : "";
     if (!label.empty() && w > 7.0 * double(label.size()) + 4)
       svg += fmt("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\" fill=\"white\" font-size=\"10\">%s</text>\n",
@@ -278,7 +257,7 @@ std::string gantt_svg(const std::vector<TraceEvent>& input, const GanttOptions& 
   int lx = label_w;
   for (const std::string& n : names) {
     svg += fmt("<rect x=\"%d\" y=\"%d\" width=\"12\" height=\"12\" fill=\"%s\"/>\n", lx, legend_y, stage_colour(n));
-    svg += fmt("<text x=\"%d\" y=\"%d\">%s</text>\n", lx + 16, legend_y + 10, escape(n).c_str());
+    svg += fmt("<text x=\"%d\" y=\"%d\">%s</text>\n", lx + 16, legend_y + 10, xml_escape(n).c_str());
     lx += 30 + 7 * int(n.size());
   }
   svg += fmt("<text x=\"%d\" y=\"%d\" fill=\"#555\">bar label = time step</text>\n", lx + 10, legend_y + 10);

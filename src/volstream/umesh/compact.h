@@ -25,12 +25,12 @@ inline constexpr int kCompactWidth = 8;
 inline constexpr uint32_t kMultiLeafSize = 32;
 
 struct CompactNode {
-  vec3f origin, scale;                 // child box corner = origin + q * scale, q in 0..255
-  uint8_t lower[kCompactWidth][3];     // quantized child boxes, rounded outwards
+  vec3f origin, scale;              // child box corner = origin + q * scale, q in 0..255
+  uint8_t lower[kCompactWidth][3];  // quantized child boxes, rounded outwards
   uint8_t upper[kCompactWidth][3];
-  uint32_t first;                      // first child: a node, or a leaf when leaf_children
-  uint8_t count;                       // children, 1..8
-  uint8_t leaf_children;               // 1: the children are leaves
+  uint32_t first;         // first child: a node, or a leaf when leaf_children
+  uint8_t count;          // children, 1..8
+  uint8_t leaf_children;  // 1: the children are leaves
   uint8_t pad[2];
   VS_HOST_DEVICE box3f child_box(int i) const {
     return {origin + vec3f(float(lower[i][0]), float(lower[i][1]), float(lower[i][2])) * scale,
@@ -61,8 +61,8 @@ struct CompactMesh {
   std::vector<CompactLeaf> leaves;
   std::vector<uint16_t> indices;
   std::vector<CompactSubmesh> submeshes;
-  std::vector<vec3f> vertices;         // local vertices, sub-mesh after sub-mesh
-  std::vector<uint32_t> source_vertex;  // local vertex -> the reference vertex (gathers fields)
+  std::vector<vec3f> vertices;            // local vertices, sub-mesh after sub-mesh
+  std::vector<uint32_t> source_vertex;    // local vertex -> the reference vertex (gathers fields)
   uint64_t elements = 0, replicated = 0;  // local vertices beyond the mesh's own
   uint32_t leaf_parents = 0;              // index of the first node whose children are leaves
   CompactBytes bytes() const;
@@ -181,7 +181,8 @@ struct CompactMeshView {
       // Then the leaves beside it in the Morton order, whose boxes hold p.
       for (uint32_t d = 1; d <= kNeighbourLeaves && !strict; ++d) {
         if (leaf >= d && leaf_box(leaf - d).contains(p)) strict = test_leaf(leaf - d, p, hit, best);
-        if (!strict && leaf + d < leaf_count && leaf_box(leaf + d).contains(p)) strict = test_leaf(leaf + d, p, hit, best);
+        if (!strict && leaf + d < leaf_count && leaf_box(leaf + d).contains(p))
+          strict = test_leaf(leaf + d, p, hit, best);
       }
     }
     if (!strict) search(p, hit, best);

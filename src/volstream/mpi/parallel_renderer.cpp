@@ -21,8 +21,8 @@ ParallelRenderer::ParallelRenderer(Dataset& dataset, Device device, const FrameR
   DatasetPart part;
   part.owned = partition_.regions[size_t(rank)];
   part.world_bounds = world_bounds(dataset);
-  share_.ghost_margin = ghost_margin(topology, request.integrator);
-  RankShare mine = rank_share(topology, part.owned, share_.ghost_margin);
+  RankShare mine = rank_share(topology, part.owned, request.integrator);
+  share_.ghost_margin = mine.margin;
   for (const Brick& b : topology.bricks) part.owned_cells += cells_in(b, part.owned);
   for (uint32_t b : mine.bricks) share_.held_cells += uint64_t(topology.bricks[b].cell_count());
   share_.owned_cells = part.owned_cells;

@@ -135,20 +135,27 @@ std::vector<int> Partition::visibility_order(const vec3d& eye, const vec3d& dir,
   return order;
 }
 
-double ghost_margin(const AmrTopology& topology, const IntegratorSettings& settings) {
-  float finest_max = 0.f;  // the coarsest "finest width" of any ABR
-  for (const Abr& a : topology.abrs) finest_max = std::max(finest_max, a.finest_width);
-  const double step = (settings.adaptive ? double(finest_max) : 1.0) / double(settings.rate);
-  return 1.05 * (step + 0.5 * double(finest_max));
+namespace {
+// The longest step the integrator takes in an ABR (grid units) and how far its gradient
+// stencil reaches.
+double step_length(const Abr& a, const IntegratorSettings& settings) {
+  return (settings.adaptive ? double(a.finest_width) : 1.0) / double(settings.rate);
 }
+double reach(const Abr& a, const IntegratorSettings& settings) {
+  return step_length(a, settings) + 0.5 * double(a.finest_width);
+}
+Box3<double> grown(const Box3<double>& b, double margin) { return {b.lower - vec3d(margin), b.upper + vec3d(margin)}; }
+}  // namespace
 
-RankShare rank_share(const AmrTopology& topology, const Box3<double>& region, double margin) {
-  const Box3<double> grown{region.lower - vec3d(margin), region.upper + vec3d(margin)};
+RankShare rank_share(const AmrTopology& topology, const Box3<double>& region, const IntegratorSettings& settings) {
   RankShare share;
+  for (const Abr& a : topology.abrs)
+    if (reaches(a.box, region)) share.margin = std::max(share.margin, reach(a, settings));
   std::vector<uint8_t> used(topology.bricks.size(), 0);
   for (uint32_t i = 0; i < topology.abrs.size(); ++i) {
     const Abr& a = topology.abrs[i];
-    if (!reaches(a.box, grown)) continue;
+    const double margin = 1.05 * std::max(share.margin, step_length(a, settings)) + 1e-3;
+    if (!reaches(a.box, grown(region, margin))) continue;
     share.abrs.push_back(i);
     for (uint32_t k = 0; k < a.brick_count; ++k) used[topology.abr_bricks[a.first_brick + k]] = 1;
   }

@@ -44,15 +44,16 @@ double cell_cost(int32_t level, int32_t max_level);
 // split on coarse cell faces).
 uint64_t cells_in(const Brick& b, const Box3<double>& region);
 
-// How far beyond its region a rank needs the field (grid units): one step of the coarsest
-// sampling plus half the coarsest cell, with 5 % to spare.
-double ghost_margin(const AmrTopology& topology, const IntegratorSettings& settings);
-
-// What one rank holds: ABRs reaching its region grown by `margin` (closed test) and the bricks
-// they use (global indices, ascending).
+// What one rank holds: the ABRs it may sample (global indices, ascending) and the bricks they use.
+// The integrator samples whole ABR intervals, so a rank holds every ABR that meets its region,
+// and near it the ABRs its composited light depends on: the sample before an owned one (at most
+// one step of either ABR back: the largest step among the ABRs in the region, or the ABR's
+// own) and gradient stencils (half a finest cell of the region's ABRs). `margin` reports the
+// region's part of that reach (grid units). Closed tests, 5 % to spare.
 struct RankShare {
   std::vector<uint32_t> abrs, bricks;
+  double margin = 0;
 };
-RankShare rank_share(const AmrTopology& topology, const Box3<double>& region, double margin);
+RankShare rank_share(const AmrTopology& topology, const Box3<double>& region, const IntegratorSettings& settings);
 
 }  // namespace vs

@@ -65,6 +65,18 @@ truncate -s 100 broken/fields/0_pressure/step_000000.f32
 expect_bad_ranks "truncated values" render broken --field pressure -o x.png --size 16x16
 expect_bad_ranks "unknown field" render jet --field nope -o x.png
 expect_bad_ranks "blocks integrator" render jet --integrator blocks -o x.png
+expect_bad_ranks "several rays a pixel" render jet --spp 2 -o x.png
+# Orthographic, a colour field (two fields read), no skipping, stored ranges: still one image.
+for n in 1 3; do
+  ranks "$n" render jet --field pressure --iso -500 --color-field velocity --ortho --rate 1 --size 40x32 \
+    -o ortho.$n.pfm >ortho.$n.log
+  ranks "$n" render jet --no-skip --no-adaptive --stored-ranges --camera-pos 300,40,-100 --size 40x32 \
+    -o plain.$n.pfm >/dev/null
+done
+python3 "$TOOL" compare ortho.1.pfm ortho.3.pfm 1e-5 >/dev/null || fail "ortho + colour field: 3 ranks differ"
+python3 "$TOOL" ranks ortho.3.log 2 "$(python3 -c "import json; print(json.load(open('jet.json'))['cells'])")" \
+  >/dev/null || fail "ortho + colour field: bytes read"
+python3 "$TOOL" compare plain.1.pfm plain.3.pfm 1e-5 >/dev/null || fail "no skipping, stored ranges: 3 ranks differ"
 "$VS" demo tets --elements 2000 -o mesh -q 2>/dev/null && expect_bad_ranks "mesh" render mesh -o x.png
 expect_bad_ranks "play" play jet -o x.mp4
 echo "all ranks agree"

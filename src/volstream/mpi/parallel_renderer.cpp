@@ -11,6 +11,9 @@ void check_parallel_request(const Dataset& dataset, const FrameRequest& request)
     throw UsageError("under mpirun only the abr integrator splits the data (use --integrator abr)");
   // Blackbody light is absorbed per channel; the composited images carry one opacity.
   if (request.optics != OpticsKind::tf) throw UsageError("under mpirun only the tf optics is supported");
+  // A pixel's rays are averaged inside a rank; the average of "over"s is not the "over" of the
+  // averages, so each ray would need its own compositing.
+  if (request.integrator.spp > 1) throw UsageError("under mpirun --spp must be 1 for now");
 }
 
 ParallelRenderer::ParallelRenderer(Dataset& dataset, Device device, const FrameRequest& request, int rank, int ranks)

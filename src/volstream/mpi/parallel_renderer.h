@@ -25,7 +25,7 @@ struct ShareStats {
 class ParallelRenderer {
  public:
   // Partitions the dataset among `ranks` and restricts it to `rank`'s share. UsageError for what
-  // cannot be split yet (meshes, the block integrator, blackbody optics).
+  // cannot be split yet (meshes, the block integrator, blackbody optics, several rays a pixel).
   ParallelRenderer(Dataset& dataset, Device device, const FrameRequest& request, int rank, int ranks);
   ~ParallelRenderer();
 

@@ -13,6 +13,7 @@
 #include "volstream/core/progress.h"
 #include "volstream/core/stopwatch.h"
 #include "volstream/io/atomic_file.h"
+#include "volstream/mpi/comm.h"
 #include "volstream/stream/pipeline.h"
 #include "volstream/stream/render_stages.h"
 #include "volstream/stream/timeline.h"
@@ -125,7 +126,11 @@ void add_play_command(CLI::App& app) {
   cmd->add_flag("-q,--quiet", a->quiet, "no progress bar");
   a->render = stream_render_defaults();
   add_render_options(cmd, a->render, RenderContext::stream);
-  cmd->callback([a] { run_play(*a); });
+  cmd->callback([a] {
+    // Every rank would play the whole sequence; the data-parallel frame is `render`'s for now.
+    if (mpi::size() > 1) throw UsageError("play does not split the data among MPI ranks yet (run it without mpirun)");
+    run_play(*a);
+  });
 }
 
 }  // namespace vs::cli

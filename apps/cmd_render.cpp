@@ -20,12 +20,14 @@
 #include "volstream/io/cleanup.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/image.h"
+#include "volstream/mpi/parallel_renderer.h"
 
 namespace vs::cli {
 namespace {
 
 struct RenderArgs {
   std::string dir, demo, output;
+  std::string composite = "auto";  // under mpirun
   double cells = 1e6;
   int step = 0;
   RenderOptions render;  // shared with play and bench stream (render_options.h)
@@ -86,30 +88,116 @@ void print_report(const Dataset& ds, const FrameRequest& r, const FrameReport& r
   std::printf("launches: %s\n", format_launch_times(launch_times().snapshot()).c_str());
 }
 
-void run_render(RenderArgs a) {
+// The dataset, its temporary demo directory when there is one, and the frame's plan.
+struct OpenedRender {
+  std::unique_ptr<TempDemo> demo;
+  std::unique_ptr<Dataset> dataset;
+  RenderPlan plan;
+};
+
+OpenedRender open_render(const RenderArgs& a) {
   if (a.dir.empty() == a.demo.empty()) throw UsageError("give either a dataset directory or --demo jet|cosmo");
   check_image_output(a.output);  // before the work, not after
-  Stopwatch open_watch;
-  std::unique_ptr<TempDemo> demo;
-  if (!a.demo.empty()) demo = std::make_unique<TempDemo>(a.demo, a.cells);
-  const Dataset ds(demo ? demo->dir.string() : a.dir);
-  const DatasetManifest& m = ds.manifest();
+  OpenedRender o;
+  if (!a.demo.empty()) o.demo = std::make_unique<TempDemo>(a.demo, a.cells);
+  o.dataset = std::make_unique<Dataset>(o.demo ? o.demo->dir.string() : a.dir);
+  const DatasetManifest& m = o.dataset->manifest();
   if (a.step < 0 || a.step >= m.step_count())
     throw UsageError("step " + std::to_string(a.step) + " out of range 0.." + std::to_string(m.step_count() - 1));
-  RenderPlan plan = make_render_plan(a.render, ds, {a.step});
-  plan.request.step = a.step;
-  FrameRenderer renderer(ds, plan.device);
-  const double open_s = open_watch.seconds();
+  o.plan = make_render_plan(a.render, *o.dataset, {a.step});
+  o.plan.request.step = a.step;
+  return o;
+}
 
-  FrameReport report;
-  const std::clock_t cpu0 = std::clock();
-  const Image img = renderer.render(plan.request, &report);
-  const double cpu_s = double(std::clock() - cpu0) / CLOCKS_PER_SEC;
+void write_render(const Image& img, const RenderArgs& a, const RenderPlan& plan) {
   ImageWriteOptions wo;
   wo.alpha = a.render.alpha;
   wo.background = plan.background;
   write_image(img, a.output, wo);
-  print_report(ds, plan.request, report, open_s, cpu_s, a.output);
+}
+
+mpi::CompositeScheme composite_scheme(const std::string& name) {
+  if (name == "direct-send") return mpi::CompositeScheme::direct_send;
+  if (name == "binary-swap") return mpi::CompositeScheme::binary_swap;
+  return mpi::CompositeScheme::automatic;
+}
+
+// Rank 0's table: per rank what it holds and read, and its stages (the `composite` stage
+// included), from the values every rank sent.
+constexpr size_t kRankColumns = 11;
+std::vector<double> rank_row(const mpi::ShareStats& share, uint64_t bytes_read, const FrameTimes& t,
+                             const mpi::CompositeStats& c) {
+  return {double(share.owned_cells),
+          double(share.held_cells),
+          double(bytes_read),
+          t.read,
+          t.ranges,
+          t.classify + t.refit,
+          t.render,
+          c.seconds,
+          double(c.bytes_sent),
+          double(share.bricks),
+          double(share.abrs)};
+}
+
+void print_ranks(const std::vector<double>& rows, uint64_t dataset_cells, const mpi::CompositeStats& c) {
+  const size_t n = rows.size() / kRankColumns;
+  double read = 0, held = 0, sent = 0;
+  for (size_t r = 0; r < n; ++r) {
+    const double* v = rows.data() + r * kRankColumns;
+    std::printf(
+        "rank %zu: cells %.0f owned, %.0f held (%.0f bricks, %.0f ABRs), values read %.0f B; read %.4fs ranges "
+        "%.4fs refit %.4fs render %.4fs composite %.4fs (sent %.0f B)\n",
+        r, v[0], v[1], v[9], v[10], v[2], v[3], v[4], v[5], v[6], v[7], v[8]);
+    read += v[2];
+    held += v[1];
+    sent += v[8];
+  }
+  const double bytes = double(dataset_cells) * sizeof(float);
+  std::printf("ranks %zu, composite %s: values read %.0f B for a %.0f B step (ghost overhead %+.1f%%), %.0f B sent\n",
+              n, c.scheme == mpi::CompositeScheme::binary_swap ? "binary-swap" : "direct-send", read, bytes,
+              100.0 * (held / double(dataset_cells) - 1.0), sent);
+}
+
+// Under mpirun: every rank renders its region, the images are composited onto rank 0. Failures
+// before the compositing are agreed on, so that no rank waits for one that gave up.
+void run_render_ranks(const RenderArgs& a) {
+  OpenedRender o;
+  std::unique_ptr<mpi::ParallelRenderer> renderer;
+  Image partial;
+  FrameReport report;
+  uint64_t dataset_cells = 0;
+  mpi::agreed([&] {
+    o = open_render(a);
+    dataset_cells = o.dataset->manifest().cell_count;
+    renderer =
+        std::make_unique<mpi::ParallelRenderer>(*o.dataset, o.plan.device, o.plan.request, mpi::rank(), mpi::size());
+    partial = renderer->render_local(o.plan.request, &report);
+  });
+  mpi::CompositeStats composite;
+  const Image img = renderer->composite(partial, o.plan.request, composite_scheme(a.composite), &composite);
+  const std::vector<double> rows =
+      mpi::gather(rank_row(renderer->share(), o.dataset->value_bytes_read(), report.seconds, composite));
+  if (mpi::rank() != 0) return;
+  write_render(img, a, o.plan);
+  print_ranks(rows, dataset_cells, composite);
+  std::printf("render %ux%u on %d ranks -> %s\n", o.plan.request.width, o.plan.request.height, mpi::size(),
+              a.output.c_str());
+}
+
+void run_render(const RenderArgs& a) {
+  if (mpi::active()) return run_render_ranks(a);
+  Stopwatch open_watch;
+  const OpenedRender o = open_render(a);
+  FrameRenderer renderer(*o.dataset, o.plan.device);
+  const double open_s = open_watch.seconds();
+
+  FrameReport report;
+  const std::clock_t cpu0 = std::clock();
+  const Image img = renderer.render(o.plan.request, &report);
+  const double cpu_s = double(std::clock() - cpu0) / CLOCKS_PER_SEC;
+  write_render(img, a, o.plan);
+  print_report(*o.dataset, o.plan.request, report, open_s, cpu_s, a.output);
 }
 
 }  // namespace
@@ -125,6 +213,11 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--step", a->step, "time step")->capture_default_str();
   add_render_options(cmd, a->render, RenderContext::image);
   cmd->add_option("-o,--output", a->output, "output image (.png or .pfm)")->required();
+  cmd->add_option("--composite", a->composite,
+                  "under mpirun: how the ranks' images are blended (auto: binary-swap for a power-of-two "
+                  "rank count, else direct-send)")
+      ->check(CLI::IsMember({"auto", "direct-send", "binary-swap"}))
+      ->capture_default_str();
   cmd->callback([a] { run_render(*a); });
 }
 

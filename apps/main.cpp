@@ -1,4 +1,5 @@
-// volstream: the command-line tool. Errors in input become one line on stderr and exit status 2.
+// volstream: the command-line tool. Errors in input become one line on stderr and exit status 2
+// (under mpirun: one line from rank 0, every rank exits with it).
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -6,8 +7,18 @@
 
 #include "commands.h"
 #include "volstream/core/error.h"
+#include "volstream/mpi/comm.h"
+
+namespace {
+// Under mpirun every rank meets the same error (or agreed on one, mpi/comm.h): rank 0 says it.
+int report(const vs::ErrorReport& e) {
+  if (vs::mpi::rank() == 0) std::fprintf(stderr, "volstream: %s\n", e.line.c_str());
+  return e.status;
+}
+}  // namespace
 
 int main(int argc, char** argv) {
+  vs::mpi::Session mpi_session(argc, argv);  // MPI only when started by mpirun
   CLI::App app{"volstream: streaming renderer for huge time-varying AMR volumes"};
   app.require_subcommand(1);
   vs::cli::add_demo_command(app);
@@ -26,20 +37,11 @@ int main(int argc, char** argv) {
     std::string message = e.what();
     for (char& c : message)
       if (c == '\n') c = ' ';
-    std::fprintf(stderr, "volstream: %s (--help lists the options)\n", message.c_str());
-    return 2;
-  } catch (const vs::InputError& e) {
-    std::fprintf(stderr, "volstream: %s: %s\n", e.file().c_str(), e.what());
-    return 2;
-  } catch (const vs::UsageError& e) {
-    std::fprintf(stderr, "volstream: %s\n", e.what());
-    return 2;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "volstream: out of memory\n");
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "volstream: %s\n", e.what());
-    return 1;
+    return report({message + " (--help lists the options)", 2});
+  } catch (const vs::AgreedError& e) {
+    return report(e.report());
+  } catch (...) {
+    return report(vs::describe_error(std::current_exception()));
   }
   return 0;
 }

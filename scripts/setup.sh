@@ -15,6 +15,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev        # tests
   ffmpeg                           # video output
   python3 pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
+  openmpi-bin libopenmpi-dev       # data-parallel rendering under mpirun (src/volstream/mpi/)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -188,7 +188,7 @@ struct FrameRenderer::Impl {
     return *scene;
   }
   void build_abr() {
-    abr = std::make_unique<AmrRenderer>(dataset.topology(), dataset.manifest().transform);
+    abr = std::make_unique<AmrRenderer>(dataset.topology(), dataset.manifest().transform, vs::world_bounds(dataset));
     if (device == Device::cuda) device_scene().set_bvh(abr->template_bvh().nodes);
     classified_stamp = 0;  // a fresh BVH is not refit yet
   }
@@ -380,6 +380,13 @@ FrameSettings frame_settings(const FrameRequest& r) {
   return fs;
 }
 
+// A rank of a data-parallel frame (mpi/) composites only the light from its own region, and
+// all of it: early termination would cut a ray where one process would not.
+void own_part(FrameView<AmrVolume>& view, const DatasetPart& part) {
+  view.owned = {vec3f(part.owned.lower), vec3f(part.owned.upper)};
+  view.settings.early_termination = 0;
+}
+
 }  // namespace
 
 Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
@@ -432,8 +439,9 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
     local.visible_regions = local.region_count = blocks.kd().blocks.size();
   } else {
     AmrRenderer& abr = m.abr_renderer();
-    const FrameView<AmrVolume> view = abr.view({m.kernel_values(0), m.kernel_values(1)}, optics,
-                                               color_iso ? &color_view : nullptr, r.camera, frame_settings(r));
+    FrameView<AmrVolume> view = abr.view({m.kernel_values(0), m.kernel_values(1)}, optics,
+                                         color_iso ? &color_view : nullptr, r.camera, frame_settings(r));
+    if (const DatasetPart* part = dataset_.part()) own_part(view, *part);
     if (m.device == Device::cuda) {
       img = m.render_on_device(view, local);
     } else {

@@ -41,12 +41,20 @@ void throw_size_mismatch(const std::filesystem::path& path, uint64_t size, uint6
 }
 
 void read_exact(const std::filesystem::path& path, uint64_t offset, void* dst, uint64_t bytes) {
+  read_runs(path, {{offset, bytes}}, dst);
+}
+
+void read_runs(const std::filesystem::path& path, const std::vector<ByteRun>& runs, void* dst) {
   FilePtr f = open_or_throw(path, "rb");
-  if (fseeko(f.get(), off_t(offset), SEEK_SET) != 0)
-    input_error(path.string(), "cannot seek to " + std::to_string(offset));
-  if (std::fread(dst, 1, bytes, f.get()) != bytes)
-    input_error(path.string(),
-                "truncated: expected " + std::to_string(bytes) + " bytes at offset " + std::to_string(offset));
+  auto* out = static_cast<unsigned char*>(dst);
+  for (const ByteRun& run : runs) {
+    if (fseeko(f.get(), off_t(run.offset), SEEK_SET) != 0)
+      input_error(path.string(), "cannot seek to " + std::to_string(run.offset));
+    if (std::fread(out, 1, run.bytes, f.get()) != run.bytes)
+      input_error(path.string(), "truncated: expected " + std::to_string(run.bytes) + " bytes at offset " +
+                                     std::to_string(run.offset));
+    out += run.bytes;
+  }
 }
 
 std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes) {

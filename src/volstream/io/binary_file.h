@@ -14,6 +14,11 @@ namespace vs {
 uint64_t file_size_checked(const std::filesystem::path& path, uint64_t max_bytes = UINT64_MAX);
 // Reads exactly `bytes` bytes from `offset`; InputError if the file is shorter.
 void read_exact(const std::filesystem::path& path, uint64_t offset, void* dst, uint64_t bytes);
+// Reads several byte ranges of one file back to back into dst, through one open file.
+struct ByteRun {
+  uint64_t offset, bytes;
+};
+void read_runs(const std::filesystem::path& path, const std::vector<ByteRun>& runs, void* dst);
 // A whole text file (manifest, colour map, points, trace, plotfile header), at most max_bytes.
 std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes = 64u << 20);
 // Writes `bytes` bytes, zero-padded to a multiple of `pad_to` (1 = no padding), atomically

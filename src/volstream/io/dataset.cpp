@@ -357,10 +357,7 @@ Dataset::Dataset(const fs::path& dir) : dir_(dir) {
   topology_.abrs = read_records<Abr>(dir / dataset_files::kAbrs, manifest_.abr_count);
   topology_.abr_bricks = read_records<uint32_t>(dir / dataset_files::kAbrBricks, manifest_.abr_brick_count);
   validate_topology(topology_, (dir / dataset_files::kBricks).string());
-  brick_bytes_ = CountedBytes("bricks", MemorySpace::host, int64_t(topology_.bricks.size() * sizeof(Brick)));
-  abr_bytes_ = CountedBytes("ABRs", MemorySpace::host, int64_t(topology_.abrs.size() * sizeof(Abr)));
-  abr_list_bytes_ =
-      CountedBytes("ABR brick lists", MemorySpace::host, int64_t(topology_.abr_bricks.size() * sizeof(uint32_t)));
+  count_topology_bytes();
   if (manifest_.file_order) {  // the index itself is read (and checked) by whoever needs it
     const fs::path index = dir / dataset_files::kFileIndex;
     const uint64_t size = file_size_checked(index);
@@ -417,13 +414,78 @@ std::vector<float> Dataset::load_file_order_values(int field, int step) const {
   return read_records<float>(file_order_values_path(field, step), manifest_.value_count(), kFileAlignment);
 }
 
+void Dataset::count_topology_bytes() {
+  brick_bytes_ = CountedBytes("bricks", MemorySpace::host, int64_t(topology_.bricks.size() * sizeof(Brick)));
+  abr_bytes_ = CountedBytes("ABRs", MemorySpace::host, int64_t(topology_.abrs.size() * sizeof(Abr)));
+  abr_list_bytes_ =
+      CountedBytes("ABR brick lists", MemorySpace::host, int64_t(topology_.abr_bricks.size() * sizeof(uint32_t)));
+}
+
 std::vector<float> Dataset::load_values(int field, int step) const {
-  return read_records<float>(values_path(field, step), manifest_.value_count(), kFileAlignment);
+  const fs::path path = values_path(field, step);
+  if (!part()) {
+    std::vector<float> all = read_records<float>(path, manifest_.value_count(), kFileAlignment);
+    value_bytes_read_ += all.size() * sizeof(float);
+    return all;
+  }
+  // The whole file is checked as load_values checks it; only the part's runs are read.
+  const uint64_t size = file_size_checked(path), bytes = manifest_.value_count() * sizeof(float);
+  if (size < bytes || size - bytes >= kFileAlignment) throw_size_mismatch(path, size, bytes);
+  uint64_t count = 0;
+  for (const ByteRun& run : part_runs_) count += run.bytes / sizeof(float);
+  std::vector<float> values(count);
+  read_runs(path, part_runs_, values.data());
+  value_bytes_read_ += count * sizeof(float);
+  return values;
 }
 
 std::vector<Range> Dataset::load_abr_ranges(int field, int step) const {
-  return read_records<Range>(dir_ / dataset_files::field_ranges(manifest_.fields.at(size_t(field)), step),
-                             manifest_.abr_count);
+  std::vector<Range> all = read_records<Range>(
+      dir_ / dataset_files::field_ranges(manifest_.fields.at(size_t(field)), step), manifest_.abr_count);
+  if (!part()) return all;
+  std::vector<Range> mine;
+  mine.reserve(part_.abrs.size());
+  for (uint32_t a : part_.abrs) mine.push_back(all[a]);
+  return mine;
+}
+
+void Dataset::restrict_to(DatasetPart part) {
+  if (is_mesh()) throw UsageError("a mesh dataset cannot be split among ranks yet");
+  if (this->part()) throw UsageError("the dataset is already restricted to a part");
+  AmrTopology local;
+  std::vector<uint32_t> local_index(topology_.bricks.size(), UINT32_MAX);
+  part_runs_.clear();
+  uint64_t offset = 0;
+  for (uint32_t g : part.bricks) {
+    Brick b = topology_.bricks.at(g);
+    const uint64_t count = uint64_t(b.cell_count());
+    // Bricks are contiguous in the file (device order): neighbours join one run.
+    const ByteRun run{b.value_offset * sizeof(float), count * sizeof(float)};
+    if (!part_runs_.empty() && part_runs_.back().offset + part_runs_.back().bytes == run.offset)
+      part_runs_.back().bytes += run.bytes;
+    else
+      part_runs_.push_back(run);
+    b.value_offset = offset;
+    offset += count;
+    local_index[g] = uint32_t(local.bricks.size());
+    local.bricks.push_back(b);
+  }
+  for (uint32_t g : part.abrs) {
+    Abr a = topology_.abrs.at(g);
+    const uint32_t first = uint32_t(local.abr_bricks.size());
+    for (uint32_t k = 0; k < a.brick_count; ++k) {
+      const uint32_t l = local_index[topology_.abr_bricks[a.first_brick + k]];
+      if (l == UINT32_MAX) throw UsageError("a part's ABR uses a brick outside the part");
+      local.abr_bricks.push_back(l);  // same order: the tent sums add up in the same order
+    }
+    a.first_brick = first;
+    local.abrs.push_back(a);
+  }
+  local.cell_count = offset;
+  topology_ = std::move(local);
+  part_ = std::move(part);
+  restricted_ = true;
+  count_topology_bytes();
 }
 
 // ---------------------------------------------------------------------------------------------

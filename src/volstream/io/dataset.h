@@ -4,6 +4,7 @@
 // the permutation `file_index.bin` from device to file order, for the streaming pipeline's
 // per-frame flatten pass (docs/streaming.md).
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -12,6 +13,7 @@
 #include "volstream/amr/model.h"
 #include "volstream/amr/source.h"
 #include "volstream/backend/memory.h"
+#include "volstream/io/binary_file.h"
 #include "volstream/umesh/mesh_accel.h"
 #include "volstream/umesh/umesh.h"
 
@@ -110,6 +112,14 @@ class DatasetWriter {
   const AmrTopology* topology_ = nullptr;
 };
 
+// One data-parallel rank's share of an AMR dataset (mpi/partition.h): global indices, ascending.
+struct DatasetPart {
+  std::vector<uint32_t> bricks, abrs;
+  Box3<double> owned;         // the rank's region (grid units, half-open)
+  Box3<double> world_bounds;  // of the whole dataset: defaults (camera, reference step) stay global
+  uint64_t owned_cells = 0;   // cells in `owned` (the rest of the bricks' cells are ghosts)
+};
+
 // A dataset opened for reading. Topology is loaded on open; values on request.
 class Dataset {
  public:
@@ -122,7 +132,14 @@ class Dataset {
   const MeshAccel& mesh_accel() const { return mesh_accel_; }  // umesh: its stored BVH and adjacency
   const std::filesystem::path& dir() const { return dir_; }
   std::vector<Cell> load_cells() const;  // device order; for brute-force reference only
+  // All values in device order, or with a part only those of its bricks (in its device order).
   std::vector<float> load_values(int field, int step) const;
+  // Keeps only `part` of the topology (AMR): bricks renumbered in its order, their values packed
+  // (value_offset into the part's arrays), ABRs and their brick lists renumbered alike. From
+  // now on load_values and load_abr_ranges read only the part's bytes.
+  void restrict_to(DatasetPart part);
+  const DatasetPart* part() const { return restricted_ ? &part_ : nullptr; }
+  uint64_t value_bytes_read() const { return value_bytes_read_; }  // by load_values, so far
   std::vector<Range> load_abr_ranges(int field, int step) const;
   // Path of a field file (for the streaming reader).
   std::filesystem::path values_path(int field, int step) const;
@@ -144,6 +161,11 @@ class Dataset {
   MeshAccel mesh_accel_;
   CountedBytes mesh_bytes_;
   CountedBytes brick_bytes_, abr_bytes_, abr_list_bytes_;  // the topology's host memory
+  DatasetPart part_;
+  bool restricted_ = false;
+  std::vector<ByteRun> part_runs_;  // the part's values in a (field, step) file
+  mutable std::atomic<uint64_t> value_bytes_read_{0};
+  void count_topology_bytes();
 };
 
 // Converts any source into a dataset directory, reading one (field, step) at a time.

@@ -51,7 +51,10 @@ void fill(FrameStats* stats, const SkipStats& s) {
 }  // namespace
 
 AmrRenderer::AmrRenderer(const AmrTopology& topology, const WorldTransform& transform)
-    : topology_(topology), transform_(transform), skipping_(abr_boxes(topology)) {}
+    : AmrRenderer(topology, transform, vs::world_bounds(topology, transform)) {}
+
+AmrRenderer::AmrRenderer(const AmrTopology& topology, const WorldTransform& transform, const Box3<double>& world_bounds)
+    : topology_(topology), transform_(transform), world_bounds_(world_bounds), skipping_(abr_boxes(topology)) {}
 
 uint64_t AmrRenderer::classify(const std::vector<Range>& abr_ranges, const TransferTable& tf,
                                const IntegratorSettings& iso, bool skip, FrameStats* stats) {
@@ -67,8 +70,6 @@ uint64_t AmrRenderer::refit(const std::vector<uint8_t>& keep, FrameStats* stats)
   fill(stats, s);
   return visible;
 }
-
-Box3<double> AmrRenderer::world_bounds() const { return vs::world_bounds(topology_, transform_); }
 
 FrameView<AmrVolume> AmrRenderer::view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
                                        const Camera& camera, const FrameSettings& settings) const {

@@ -98,6 +98,9 @@ class AmrRenderer {
  public:
   // Builds the BVH template over all ABRs (once). Keeps a reference to `topology`.
   AmrRenderer(const AmrTopology& topology, const WorldTransform& transform);
+  // The same for a rank's share of a dataset (mpi/): defaults such as the reference step follow
+  // the whole dataset's world bounds, not the share's.
+  AmrRenderer(const AmrTopology& topology, const WorldTransform& transform, const Box3<double>& world_bounds);
 
   // Per step or transfer-function change: classify the ABRs from their value ranges and refit
   // the BVH (culled ABRs get empty boxes). skip = false keeps every ABR. Returns visible ABRs.
@@ -119,7 +122,7 @@ class AmrRenderer {
                const TransferTable* color_tf, const Camera& camera, const FrameSettings& settings,
                FrameStats* stats = nullptr) const;
 
-  Box3<double> world_bounds() const;
+  Box3<double> world_bounds() const { return world_bounds_; }
   double default_reference_step() const { return vs::default_reference_step(world_bounds()); }
   const Bvh& template_bvh() const { return skipping_.template_bvh(); }
   const std::vector<BvhNode>& refit_nodes() const { return skipping_.refit_nodes(); }
@@ -128,6 +131,7 @@ class AmrRenderer {
  private:
   const AmrTopology& topology_;
   WorldTransform transform_;
+  Box3<double> world_bounds_;
   RegionBvh skipping_;  // over the ABR boxes
 };
 

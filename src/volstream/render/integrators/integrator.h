@@ -43,6 +43,11 @@ struct FrameView {
   GridMap grid;
   IntegratorSettings settings;
   uint32_t width = 0, height = 0;
+  // The region of grid space whose light this frame composites (a data-parallel rank's kd box,
+  // mpi/partition.h; everything by default), half-open so that neighbouring boxes share no
+  // point. Samples outside it are still taken (isosurface crossings and gradients look across
+  // it) but add nothing.
+  box3f owned{vec3f(-INFINITY), vec3f(INFINITY)};
   float* rgba = nullptr;              // output: width*height premultiplied linear RGBA
   uint32_t* sample_counts = nullptr;  // optional output: samples taken per pixel
 };
@@ -70,6 +75,12 @@ struct Ray {
   VS_HOST_DEVICE vec3f at(float t) const { return org + dir * t; }
 };
 
+template <typename V>
+VS_HOST_DEVICE inline bool owns(const FrameView<V>& v, const vec3f& p) {
+  const box3f& b = v.owned;
+  return p.x >= b.lower.x && p.x < b.upper.x && p.y >= b.lower.y && p.y < b.upper.y && p.z >= b.lower.z &&
+         p.z < b.upper.z;
+}
 // Headlight Blinn-Phong, two-sided: the light sits at the eye, so the half vector is the view
 // direction and only |n . view| matters.
 VS_HOST_DEVICE inline Rgba headlight(const Rgba& c, const vec3f& gradient, const vec3f& view_dir, float ambient,
@@ -99,6 +110,12 @@ struct RayState {
   // that take a hint (volume.h): consecutive samples are close, so it is often right.
   int64_t hint = -1;
 };
+
+// Early ray termination, where the frame allows it (settings.h).
+template <typename V>
+VS_HOST_DEVICE inline bool finished(const FrameView<V>& v, const RayState& s) {
+  return v.settings.early_termination && s.acc.opaque();
+}
 
 // A volume's reconstruction at p, with the ray's hint where the volume takes one.
 template <typename V>
@@ -188,9 +205,10 @@ VS_HOST_DEVICE inline void isosurfaces(const FrameView<V>& v, const Ray& ray, co
     hit_t[k] = t;
     hit_iso[k] = i;
   }
-  for (uint32_t k = 0; k < n && !s.acc.opaque(); ++k) {
+  for (uint32_t k = 0; k < n && !finished(v, s); ++k) {
     const uint32_t region = br.region_at(hit_t[k]);
     const vec3f p = ray.at(hit_t[k]);
+    if (!owns(v, p)) continue;
     Rgba c = v.optics.tf.lookup(st.iso[hit_iso[k]]);
     if (v.color_isosurfaces) {
       const float cf = sample_near(v.volume, 1, region, p, s);
@@ -227,7 +245,7 @@ VS_HOST_DEVICE inline void take_sample(const FrameView<V>& v, const Ray& ray, ui
   if (iso && s.prev.valid) isosurfaces(v, ray, {s.prev.t, s.prev.f, t, f, s.prev.end, s.prev.region, region}, s);
   // Without isosurfaces the march stops at opacity before this sample; with them, a surface
   // just composited may have made the ray opaque.
-  if (!iso || !s.acc.opaque()) {
+  if ((!iso || !finished(v, s)) && owns(v, ray.at(t))) {
     if constexpr (kOptics == OpticsKind::blackbody) {
       const float temperature = sample(v.volume, 1, region, ray.at(t), s);
       ++s.samples;
@@ -310,7 +328,7 @@ VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray,
       continue;
     }
     take_sample<kOptics>(v, ray, iv.region, t, iv.t1, f, len_ref, s);
-    if (s.acc.opaque()) return;
+    if (finished(v, s)) return;
   }
 }
 
@@ -326,9 +344,9 @@ VS_HOST_DEVICE inline RayState trace_ray(const FrameView<V>& v, const vec3f& org
   RayState s;
   v.volume.for_each_interval(ray.org, ray.dir, [&](const RayInterval& iv) {
     march_interval<kOptics>(v, ray, iv, jitter, s);
-    return !s.acc.opaque();
+    return !finished(v, s);
   });
-  if (v.settings.iso_count > 0 && !s.acc.opaque()) close_interval(v, ray, s);
+  if (v.settings.iso_count > 0 && !finished(v, s)) close_interval(v, ray, s);
   return s;
 }
 

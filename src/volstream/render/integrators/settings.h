@@ -30,6 +30,10 @@ struct IntegratorSettings {
   uint32_t iso_count = 0;
   float iso[kMaxIso] = {};
   float iso_alpha = 1.f;  // opacity of the isosurfaces
+  // Stop a ray at opacity kOpaque. Off for data-parallel ranks (mpi/): a rank cannot know how
+  // opaque the ranks in front of it are, so stopping early would drop a different tail of the
+  // ray than one process does.
+  uint32_t early_termination = 1;
 };
 
 }  // namespace vs

@@ -1,0 +1,51 @@
+// One rank of a data-parallel frame (issue 17; docs/ARCHITECTURE.md "Data-parallel rendering").
+// Every rank computes the same kd partition from the topology (no messages), keeps only its
+// share of the dataset (its ABRs and bricks, owned and ghost; Dataset::restrict_to), renders the
+// light from its own region with the usual FrameRenderer, and the ranks composite their partial
+// images in the kd-tree's visibility order (mpi/comm.h).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "volstream/frame/frame_renderer.h"
+#include "volstream/mpi/comm.h"
+#include "volstream/mpi/partition.h"
+
+namespace vs::mpi {
+
+// What this rank holds and read.
+struct ShareStats {
+  uint64_t bricks = 0, abrs = 0;
+  uint64_t owned_cells = 0;  // cells in its region
+  uint64_t held_cells = 0;   // cells of the bricks it holds (owned + ghosts)
+  double ghost_margin = 0;   // grid units
+};
+
+class ParallelRenderer {
+ public:
+  // Partitions the dataset among `ranks` and restricts it to `rank`'s share. UsageError for what
+  // cannot be split yet (meshes, the block integrator, blackbody optics, several rays a pixel).
+  ParallelRenderer(Dataset& dataset, Device device, const FrameRequest& request, int rank, int ranks);
+  ~ParallelRenderer();
+
+  // This rank's partial image: premultiplied light from its region only (not collective).
+  Image render_local(const FrameRequest& request, FrameReport* report = nullptr);
+  // Collective: the frame on rank 0 (empty elsewhere).
+  Image composite(const Image& partial, const FrameRequest& request, CompositeScheme scheme,
+                  CompositeStats* stats = nullptr) const;
+
+  const Partition& partition() const { return partition_; }
+  const ShareStats& share() const { return share_; }
+
+ private:
+  Dataset& dataset_;
+  Partition partition_;
+  ShareStats share_;
+  std::unique_ptr<FrameRenderer> renderer_;  // null when the share is empty
+};
+
+// The request's checks for a data-parallel frame (UsageError naming what is not supported).
+void check_parallel_request(const Dataset& dataset, const FrameRequest& request);
+
+}  // namespace vs::mpi

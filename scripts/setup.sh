@@ -15,6 +15,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev        # tests
   ffmpeg                           # video output
   python3 pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
+  libcivetweb-dev libturbojpeg0-dev  # `volstream view`: HTTP/WebSocket server, JPEG frames
+  chromium chromium-driver python3-selenium  # the viewer's browser test (headless)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

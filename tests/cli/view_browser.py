@@ -79,14 +79,15 @@ def main():
         changes(driver, lambda: Select(driver.find_element(By.ID, "cmap")).select_by_visible_text("inferno"),
                 "colour map")
 
-        # Drag the most opaque point of the opacity curve to the bottom.
+        # Drag the most opaque point of the opacity curve halfway down (not to zero: the colour map
+        # must still show below).
         last = viewer(driver)["last"]
         x, a = max(last["opacity"], key=lambda p: p[1])
         tf = driver.find_element(By.ID, "tf")
         w, h = tf.size["width"], tf.size["height"]
         start = (min(x * w, w - 2) - w / 2, (1 - min(a, 1)) * h - h / 2 + 1)
         changes(driver, lambda: ActionChains(driver).move_to_element_with_offset(tf, *start).click_and_hold()
-                .move_by_offset(0, 20).move_by_offset(0, h).release().perform(), "opacity curve")
+                .move_by_offset(0, 10).move_by_offset(0, int((1 - min(a, 1)) * h / 2)).release().perform(), "opacity curve")
 
         # The URL carries the state: a reload shows the same step, colour map and camera.
         url = driver.current_url

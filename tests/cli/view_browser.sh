@@ -3,7 +3,8 @@
 # tests/cli/view_browser.py) loads the page, gets frames, orbits, moves the time slider, edits the
 # transfer function, reloads the URL's state, opens a second tab, sends garbage over the socket;
 # then Ctrl-C stops the server cleanly. Skipped (77) without the viewer or the browser.
-source "$(dirname "$0")/common.bash"
+HERE="$(cd "$(dirname "$0")" && pwd)"
+source "$HERE/common.bash"
 cd "$WORK"
 if ! "$VS" view --help >/dev/null 2>&1; then echo "skip: volstream built without the viewer"; exit 77; fi
 
@@ -25,7 +26,7 @@ for _ in $(seq 100); do grep -q 'http://' server.log && break; sleep 0.1; done
 URL=$(grep -o 'http://[0-9.:]*/' server.log) || fail "no URL printed: $(cat server.log)"
 echo "server at $URL"
 
-timeout 120 /usr/bin/python3 "$(dirname "$0")/view_browser.py" "$URL" || fail "browser test failed (server log: $(cat server.log))"
+timeout 120 /usr/bin/python3 "$HERE/view_browser.py" "$URL" || fail "browser test failed (server log: $(cat server.log))"
 kill -0 $SERVER || fail "server died: $(cat server.log)"
 
 kill -INT $SERVER

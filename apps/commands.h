@@ -11,5 +11,6 @@ void add_render_command(CLI::App& app);
 void add_play_command(CLI::App& app);
 void add_timeline_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
+void add_view_command(CLI::App& app);         // only with civetweb and libjpeg-turbo (VOLSTREAM_HAVE_VIEWER)
 void add_bench_integrators(CLI::App& bench);  // `bench integrators` (cmd_bench_integrators.cpp)
 }  // namespace vs::cli

@@ -29,6 +29,9 @@ int main(int argc, char** argv) {
   vs::cli::add_play_command(app);
   vs::cli::add_timeline_command(app);
   vs::cli::add_bench_command(app);
+#ifdef VOLSTREAM_HAVE_VIEWER
+  vs::cli::add_view_command(app);
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

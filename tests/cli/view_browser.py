@@ -75,7 +75,10 @@ def main():
         changes(driver, lambda: driver.execute_script(
             "const s = document.getElementById('step'); s.value = 2; s.dispatchEvent(new Event('input'))"),
             "time slider")
-        assert viewer(driver)["last"]["step"] == 2
+        # A frame of the drag may still land after the slider moved (slow builds, e.g. the
+        # sanitizer's): wait for the full frame of step 2 rather than take the next change.
+        wait_for("a full frame of step 2",
+                 lambda: (lambda v: v["last"]["step"] == 2 and not v["last"]["preview"])(viewer(driver)))
         changes(driver, lambda: Select(driver.find_element(By.ID, "cmap")).select_by_visible_text("inferno"),
                 "colour map")
 

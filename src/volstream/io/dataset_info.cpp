@@ -37,8 +37,7 @@ json mesh_summary(const Dataset& ds) {
   j["kind"] = "umesh";
   j["path"] = ds.dir().string();
   j["source"] = m.source;
-  Box3<double> b{vec3d(INFINITY), vec3d(-INFINITY)};
-  for (const vec3f& v : ds.mesh().vertices) b.extend(m.transform.to_world(vec3d(v)));
+  const Box3<double> b = world_bounds(ds.mesh(), m.transform);
   j["domain"] = {{"lower", {b.lower.x, b.lower.y, b.lower.z}}, {"upper", {b.upper.x, b.upper.y, b.upper.z}}};
   j["vertices"] = m.mesh.vertices;
   j["elements"] = m.mesh.elements;

@@ -13,6 +13,13 @@ std::vector<box3f> element_boxes(const UMesh& mesh) {
   return boxes;
 }
 
+Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transform) {
+  Box3<double> b{vec3d(INFINITY), vec3d(-INFINITY)};
+  for (const vec3f& v : mesh.vertices) b.extend(transform.to_world(vec3d(v)));
+  if (b.empty()) b = {vec3d(0), vec3d(1)};
+  return b;
+}
+
 MeshAccel build_mesh_accel(const UMesh& mesh) {
   return {build_element_bvh(element_boxes(mesh)), build_face_neighbors(mesh)};
 }
@@ -29,7 +36,6 @@ void check_nodes(const UMesh& mesh, const ElementBvh& bvh, const std::string& fi
   input_check(!nodes.empty() && bvh.items.size() == mesh.elements.size(), file, "BVH sizes do not match the mesh");
   std::vector<uint8_t> depth(nodes.size(), 0);
   std::vector<uint8_t> seen(mesh.elements.size(), 0);
-  const std::vector<box3f> boxes = element_boxes(mesh);
   // Messages are made only on failure (a string per node would cost more than the checks).
   auto fail = [&](size_t i, const char* what) { input_error(file, "BVH node " + std::to_string(i) + " " + what); };
   for (size_t i = 0; i < nodes.size(); ++i) {
@@ -49,7 +55,9 @@ void check_nodes(const UMesh& mesh, const ElementBvh& bvh, const std::string& fi
       const uint32_t e = bvh.items[k];
       if (!(e < seen.size() && !seen[e])) input_error(file, "BVH items are not a permutation of the elements");
       seen[e] = 1;
-      if (!box_holds(n.box, boxes[e])) fail(i, "has a box that does not hold its elements");
+      // Each element's box made where it is checked: no second array of all of them at load.
+      if (!box_holds(n.box, element_box(mesh.vertices.data(), mesh.elements[e])))
+        fail(i, "has a box that does not hold its elements");
     }
   }
   for (uint8_t s : seen) input_check(s != 0, file, "BVH leaves do not hold every element");

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "volstream/amr/source.h"
 #include "volstream/umesh/element_bvh.h"
 #include "volstream/umesh/umesh.h"
 
@@ -16,6 +17,8 @@ struct MeshAccel {
 };
 
 std::vector<box3f> element_boxes(const UMesh& mesh);
+// The world box of the mesh's vertices.
+Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transform);
 MeshAccel build_mesh_accel(const UMesh& mesh);
 
 // InputError naming `file` unless `accel` is a sound structure over `mesh`: node links in range

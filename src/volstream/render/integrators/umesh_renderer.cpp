@@ -4,12 +4,6 @@
 #include "volstream/core/stopwatch.h"
 
 namespace vs {
-Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transform) {
-  Box3<double> b{vec3d(INFINITY), vec3d(-INFINITY)};
-  for (const vec3f& v : mesh.vertices) b.extend(transform.to_world(vec3d(v)));
-  if (b.empty()) b = {vec3d(0), vec3d(1)};
-  return b;
-}
 
 UMeshRenderer::UMeshRenderer(const UMesh& mesh, const MeshAccel& accel, const WorldTransform& transform)
     : UMeshRenderer(mesh, nullptr, &accel, transform) {}
@@ -23,6 +17,7 @@ UMeshRenderer::UMeshRenderer(const UMesh& mesh, std::unique_ptr<MeshAccel> owned
       owned_(std::move(owned)),
       accel_(borrowed ? *borrowed : *owned_),
       transform_(transform),
+      bounds_(world_bounds(mesh, transform)),
       skipping_([&] {
         Stopwatch watch;
         cells_ = build_macrocells(element_boxes(mesh));
@@ -57,8 +52,7 @@ FrameView<MeshVolume<Locator>> UMeshRenderer::make_view(const Locator& locator, 
   v.volume.step_widths = cells_.step_width.data();
   v.volume.grid = cells_.grid;
   v.volume.region_of_cell = cells_.region_of_cell.data();
-  fill_frame(v, optics, color_tf, fields.second != nullptr, camera, settings, transform_,
-             world_bounds(mesh_, transform_));
+  fill_frame(v, optics, color_tf, fields.second != nullptr, camera, settings, transform_, bounds_);
   return v;
 }
 

@@ -80,6 +80,7 @@ class UMeshRenderer {
   std::unique_ptr<MeshAccel> owned_;  // when built here
   const MeshAccel& accel_;
   WorldTransform transform_;
+  Box3<double> bounds_;  // world box of the vertices (the default reference step), once per mesh
   double build_seconds_ = 0;
   MacroCells cells_;
   RegionBvh skipping_;  // over the macrocell boxes
@@ -87,9 +88,6 @@ class UMeshRenderer {
   std::unique_ptr<CompactMesh> compact_;
   CountedBytes compact_counted_;
 };
-
-// The world box of the mesh's vertices.
-Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transform);
 
 // The reference for probe(): every element tested for every point (no BVH), double precision
 // interpolation of the weights found.

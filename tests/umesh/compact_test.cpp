@@ -101,6 +101,57 @@ TEST_P(CompactTest, QuantizedBoxesHoldTheirChildrenAndLeavesHoldEveryElementOnce
     }
 }
 
+// The walk over faces found by index matching (the ray's hint) gives what a search from scratch
+// gives, along random lines sampled as rays are: in and out of the mesh, across leaves and
+// sub-meshes (a small max sub-mesh is not needed: 20000 elements span one, so the lines also
+// cross from the last leaves to the first).
+TEST_P(CompactTest, WalkFromTheHintEqualsSearchAlongLines) {
+  const Encoded e = encode(GetParam(), 20000);
+  const CompactMeshView compact = view_of(e.compact);
+  const std::vector<float> local = e.compact.gather(e.values.data());
+  box3f b = box3f::make_empty();
+  for (const vec3f& v : e.mesh.vertices) b.extend(v);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-0.1f, 1.1f);
+  int walked = 0;
+  for (int line = 0; line < 100; ++line) {
+    const vec3f from = b.lower + b.size() * vec3f(u(rng), u(rng), u(rng));
+    const vec3f to = b.lower + b.size() * vec3f(u(rng), u(rng), u(rng));
+    int64_t hint = -1;
+    for (int i = 0; i <= 200; ++i) {
+      const vec3f p = from + (to - from) * (float(i) / 200.f);
+      const int64_t before = hint;
+      const float got = compact.sample(local.data(), p, hint), want = compact.sample(local.data(), p);
+      ASSERT_EQ(std::isnan(got), std::isnan(want)) << "line " << line << " sample " << i;
+      if (std::isnan(want)) continue;
+      walked += before >= 0 ? 1 : 0;
+      EXPECT_NEAR(got, want, 1e-6f * std::max(1.f, std::fabs(want))) << "line " << line << " sample " << i;
+    }
+  }
+  EXPECT_GT(walked, 1000);
+}
+
+// The quantized containment test keeps every child whose decoded box holds the point, at
+// points on and near the boxes' corners (where rounding decides).
+TEST_P(CompactTest, ChildrenHoldingNeverDropsAChildThatHoldsThePoint) {
+  const Encoded e = encode(GetParam(), 20000);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  int held = 0;
+  for (const CompactNode& node : e.compact.nodes)
+    for (int i = 0; i < node.count; ++i) {
+      const box3f box = node.child_box(i);
+      for (int k = 0; k < 8; ++k) {
+        vec3f p = box.lower + box.size() * vec3f(u(rng), u(rng), u(rng));
+        if (k < 4) p[k % 3] = k % 2 ? box.upper[k % 3] : box.lower[k % 3];  // on a face
+        if (!box.contains(p)) continue;
+        ++held;
+        EXPECT_TRUE(children_holding(node, p) >> i & 1u) << "child " << i;
+      }
+    }
+  EXPECT_GT(held, 1000);
+}
+
 INSTANTIATE_TEST_SUITE_P(Demos, CompactTest, ::testing::Values("tets", "mixed", "holes"));
 
 TEST(Compact, BytesPerElementOfOneMillionTetsAreMeasured) {

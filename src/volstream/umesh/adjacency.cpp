@@ -9,17 +9,6 @@
 
 namespace vs {
 
-LocalFace local_face(int n, int face) {
-  static const LocalFace tet[4] = {{3, {1, 2, 3, 0}}, {3, {0, 2, 3, 0}}, {3, {0, 1, 3, 0}}, {3, {0, 1, 2, 0}}};
-  static const LocalFace hex[6] = {{4, {0, 3, 7, 4}}, {4, {1, 2, 6, 5}}, {4, {0, 1, 5, 4}},
-                                   {4, {3, 2, 6, 7}}, {4, {0, 1, 2, 3}}, {4, {4, 5, 6, 7}}};
-  static const LocalFace wedge[5] = {
-      {4, {0, 2, 5, 3}}, {4, {0, 1, 4, 3}}, {4, {1, 2, 5, 4}}, {3, {0, 1, 2, 0}}, {3, {3, 4, 5, 0}}};
-  static const LocalFace pyramid[5] = {
-      {3, {0, 3, 4, 0}}, {3, {1, 2, 4, 0}}, {3, {0, 1, 4, 0}}, {3, {3, 2, 4, 0}}, {4, {0, 1, 2, 3}}};
-  return n == 4 ? tet[face] : n == 8 ? hex[face] : n == 6 ? wedge[face] : pyramid[face];
-}
-
 namespace {
 
 struct FaceKey {

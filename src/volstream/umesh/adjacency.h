@@ -13,12 +13,8 @@ namespace vs {
 
 inline constexpr uint32_t kNoNeighbor = 0xffffffffu;
 
-struct LocalFace {
-  int count;  // 3 or 4
-  int v[4];   // local vertex indices
-};
-// Face `face` of an element of n vertices, in shape.h's numbering.
-LocalFace local_face(int n, int face);
+using shape::local_face;
+using shape::LocalFace;
 
 // neighbors[e * kMaxFaces + f]: the element across face f of element e.
 std::vector<uint32_t> build_face_neighbors(const UMesh& mesh);

@@ -1,6 +1,6 @@
 #include "volstream/umesh/compact.h"
 
-#include <tbb/parallel_sort.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <cfloat>
@@ -12,39 +12,39 @@
 namespace vs {
 namespace {
 
-uint64_t spread_bits(uint64_t x) {  // 21 bits -> every third bit
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
-  return x;
+// Splits elements [begin, end) of `order` at the median of their centres along the longest axis
+// of the centres' box, recursively, down to runs of kMultiLeafSize: each run is a compact cluster
+// (few faces to other leaves, so a walk mostly stays in its leaf, and leaf boxes overlap little),
+// and consecutive runs are close in space (the tree above groups them in eights). Split points
+// are multiples of kMultiLeafSize so that every leaf but the last is full.
+void median_split_order(const std::vector<vec3f>& centre, uint32_t* begin, uint32_t* end) {
+  const size_t n = size_t(end - begin);
+  if (n <= kMultiLeafSize) return;
+  box3f bounds = box3f::make_empty();
+  for (const uint32_t* e = begin; e != end; ++e) bounds.extend(centre[*e]);
+  const vec3f extent = bounds.size();
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+  const size_t leaves = (n + kMultiLeafSize - 1) / kMultiLeafSize;
+  uint32_t* middle = begin + (leaves / 2) * kMultiLeafSize;
+  std::nth_element(begin, middle, end, [&](uint32_t a, uint32_t b) { return centre[a][axis] < centre[b][axis]; });
+  if (n > 65536) {
+    tbb::parallel_invoke([&] { median_split_order(centre, begin, middle); },
+                         [&] { median_split_order(centre, middle, end); });
+  } else {
+    median_split_order(centre, begin, middle);
+    median_split_order(centre, middle, end);
+  }
 }
 
-// Elements in Morton order of their centroids: consecutive elements are close in space, so
-// consecutive runs make compact leaves and share vertices.
-std::vector<uint32_t> morton_order(const UMesh& mesh) {
+std::vector<uint32_t> cluster_order(const UMesh& mesh) {
   const size_t n = mesh.elements.size();
   std::vector<vec3f> centre(n);
-  box3f bounds = box3f::make_empty();
-  for (size_t e = 0; e < n; ++e) {
-    centre[e] = element_box(mesh.vertices.data(), mesh.elements[e]).center();
-    bounds.extend(centre[e]);
-  }
-  const vec3f extent = vmax(bounds.size(), vec3f(1e-30f));
-  std::vector<std::pair<uint64_t, uint32_t>> keys(n);
-  parallel_for("morton codes", int64_t(n), [&](int64_t e) {
-    uint64_t code = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double u = double(centre[size_t(e)][a] - bounds.lower[a]) / double(extent[a]);
-      code |= spread_bits(uint64_t(std::clamp(u, 0.0, 1.0) * double((1 << 21) - 1))) << a;
-    }
-    keys[size_t(e)] = {code, uint32_t(e)};
+  parallel_for("element centres", int64_t(n), [&](int64_t e) {
+    centre[size_t(e)] = element_box(mesh.vertices.data(), mesh.elements[size_t(e)]).center();
   });
-  tbb::parallel_sort(keys.begin(), keys.end());
   std::vector<uint32_t> order(n);
-  for (size_t i = 0; i < n; ++i) order[i] = keys[i].second;
+  for (size_t e = 0; e < n; ++e) order[e] = uint32_t(e);
+  median_split_order(centre, order.data(), order.data() + n);
   return order;
 }
 
@@ -156,7 +156,7 @@ uint32_t new_vertices(const UMesh& mesh, const std::vector<uint32_t>& order, siz
 CompactMesh build_compact_mesh(const UMesh& mesh) {
   CompactMesh c;
   c.elements = mesh.elements.size();
-  const std::vector<uint32_t> order = morton_order(mesh);
+  const std::vector<uint32_t> order = cluster_order(mesh);
   std::unordered_map<uint32_t, uint32_t> local;  // reference vertex -> local index in the current sub-mesh
   std::vector<box3f> leaf_boxes;
   for (size_t begin = 0; begin < order.size(); begin += kMultiLeafSize) {

@@ -12,7 +12,9 @@
 // Sampling decodes a leaf on the fly; the ray's hint is the element (leaf and slot) of its last
 // sample: that element, its leaf from there out, the leaves beside it, then the BVH.
 #pragma once
+#include <cfloat>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "volstream/core/math.h"
@@ -38,6 +40,35 @@ struct CompactNode {
   }
 };
 static_assert(sizeof(CompactNode) == 80);
+
+// The children of `node` whose boxes may hold q, one bit each. q is compared in the node's
+// quantized coordinates (integer compares, no box decoded), widened by more than float rounding
+// can move it, so a child whose box holds q is never dropped (one more is a wasted test, not a
+// wrong answer).
+VS_HOST_DEVICE inline uint32_t children_holding(const CompactNode& node, const vec3f& q) {
+  int lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    const float s = node.scale[a], d = q[a] - node.origin[a];
+    if (!(s > 0.f)) {  // a flat node: every child box is the plane at the origin
+      lo[a] = d == 0.f ? 0 : -1, hi[a] = 0;
+      continue;
+    }
+    const float u = d / s;
+    const float slack = 1e-3f + (fabsf(q[a]) + fabsf(node.origin[a])) * (4.f * FLT_EPSILON) / s;
+    // floor and ceil by truncating positive numbers (floorf/ceilf and fminf are calls on
+    // baseline x86-64; a NaN q falls to -1, outside every child).
+    const float up = u + slack, down = u - slack;
+    lo[a] = int((up > -1.f ? (up < 256.f ? up : 256.f) : -1.f) + 1.f) - 1;
+    hi[a] = 257 - int(257.f - (down > -1.f ? (down < 256.f ? down : 256.f) : -1.f));
+  }
+  uint32_t mask = 0;
+  for (int i = 0; i < node.count; ++i) {
+    const bool holds = node.lower[i][0] <= lo[0] && node.lower[i][1] <= lo[1] && node.lower[i][2] <= lo[2] &&
+                       hi[0] <= node.upper[i][0] && hi[1] <= node.upper[i][1] && hi[2] <= node.upper[i][2];
+    mask |= uint32_t(holds) << i;
+  }
+  return mask;
+}
 
 struct CompactLeaf {
   uint32_t submesh;
@@ -83,8 +114,9 @@ struct CompactMeshView {
   uint32_t leaf_parents = 0;  // the first node whose children are leaves (leaf l: its child l % 8)
   static constexpr uint32_t kNeighbourLeaves = 2;
 
-  VS_HOST_DEVICE box3f leaf_box(uint32_t l) const {
-    return nodes[leaf_parents + l / kCompactWidth].child_box(int(l % kCompactWidth));
+  // Whether leaf l's box (may) hold q (children_holding).
+  VS_HOST_DEVICE bool leaf_may_hold(uint32_t l, const vec3f& q) const {
+    return children_holding(nodes[leaf_parents + l / kCompactWidth], q) >> (l % kCompactWidth) & 1u;
   }
 
   struct Hit {
@@ -150,17 +182,20 @@ struct CompactMeshView {
     return false;
   }
 
-  VS_HOST_DEVICE bool search(const vec3f& p, Hit& hit, float& best) const {
+  // Calls visit(leaf) for every leaf whose box holds q, until it returns true (then true).
+  template <typename Visit>
+  VS_HOST_DEVICE bool for_each_leaf_holding(const vec3f& q, Visit&& visit) const {
     uint32_t stack[64];
     int top = 0;
     if (!nodes) return false;
     stack[top++] = 0;
     while (top > 0) {
       const CompactNode& node = nodes[stack[--top]];
+      const uint32_t holding = children_holding(node, q);
       for (int i = node.count - 1; i >= 0; --i) {
-        if (!node.child_box(i).contains(p)) continue;
+        if (!(holding >> i & 1u)) continue;
         if (node.leaf_children) {
-          if (test_leaf(node.first + uint32_t(i), p, hit, best)) return true;
+          if (visit(node.first + uint32_t(i))) return true;
         } else if (top < 64) {
           stack[top++] = node.first + uint32_t(i);
         }
@@ -169,20 +204,121 @@ struct CompactMeshView {
     return false;
   }
 
-  // The element holding p, trying the ray's previous element first, then its leaf from there
-  // out (hint = leaf * kMultiLeafSize + slot); the element found is the next hint.
+  VS_HOST_DEVICE bool search(const vec3f& p, Hit& hit, float& best) const {
+    return for_each_leaf_holding(p, [&](uint32_t l) { return test_leaf(l, p, hit, best); });
+  }
+
+  // The element of leaf l, other than element `skip`, whose vertices include every vertex of
+  // `face` (local indices of the leaf's sub-mesh; a triangle repeats face[0] as face[3]), or -1:
+  // the neighbour across a face is found by comparing 16-bit indices, with no adjacency stored
+  // and no geometry read. An element's vertices are distinct, so the number of its indices that
+  // are any of the face's is the number of the face's vertices it holds. The comparisons run over
+  // the leaf's whole index run in one loop the compiler vectorizes (this is the walk's hot loop).
+  VS_HOST_DEVICE int32_t face_neighbour_in_leaf(uint32_t l, uint32_t skip, const uint16_t* face, int face_size) const {
+    constexpr int kVertices[4] = {4, 5, 6, 8};
+    const CompactLeaf& leaf = leaves[l];
+    const uint16_t* index = indices + leaf.first_index;
+    uint32_t total = 0;
+    for (int type = 0; type < 4; ++type) total += uint32_t(leaf.counts[type]) * uint32_t(kVertices[type]);
+    uint8_t held[kMultiLeafSize * 8];
+    const uint16_t f0 = face[0], f1 = face[1], f2 = face[2], f3 = face[3];
+    for (uint32_t i = 0; i < total; ++i) {
+      const uint16_t v = index[i];
+      held[i] = uint8_t((v == f0) | (v == f1) | (v == f2) | (v == f3));
+    }
+    // Tets first: their four flags are one 32-bit word, summed by one multiply.
+    uint32_t k = 0, at = 0;
+    for (uint32_t e = 0; e < leaf.counts[0]; ++e, ++k, at += 4) {
+      uint32_t word;
+      memcpy(&word, held + at, 4);
+      if (int((word * 0x01010101u) >> 24) == face_size && k != skip) return int32_t(k);
+    }
+    for (int type = 1; type < 4; ++type) {
+      const int n = kVertices[type];
+      for (uint32_t e = 0; e < leaf.counts[type]; ++e, ++k, at += uint32_t(n)) {
+        int matched = 0;
+        for (int i = 0; i < n; ++i) matched += held[at + uint32_t(i)];
+        if (matched == face_size && k != skip) return int32_t(k);
+      }
+    }
+    return -1;
+  }
+
+  // The element across face `face` of element k of leaf l: in the same leaf, or in one of the
+  // leaves beside it in the Morton order that share its sub-mesh (local indices are comparable
+  // only there). False where it is none of those: a leaf further away, or the mesh's boundary.
+  VS_HOST_DEVICE bool face_neighbour(uint32_t& l, uint32_t& k, const uint16_t* element_index, int n, int face) const {
+    const shape::LocalFace f = shape::local_face(n, face);
+    uint16_t face_index[4];
+    for (int i = 0; i < 4; ++i) face_index[i] = element_index[f.v[i < f.count ? i : 0]];
+    int32_t next = face_neighbour_in_leaf(l, k, face_index, f.count);
+    if (next >= 0) return k = uint32_t(next), true;
+    const uint32_t submesh = leaves[l].submesh;
+    for (uint32_t d = 1; d <= kNeighbourLeaves; ++d) {
+      for (const int64_t side : {int64_t(l) - d, int64_t(l) + d}) {
+        if (side < 0 || side >= int64_t(leaf_count) || leaves[side].submesh != submesh) continue;
+        next = face_neighbour_in_leaf(uint32_t(side), kNoSkip, face_index, f.count);
+        if (next >= 0) return l = uint32_t(side), k = uint32_t(next), true;
+      }
+    }
+    // Further away: the neighbour's leaf box holds the face, so only leaves holding its centre
+    // are compared (those of the same sub-mesh; across sub-meshes the walk gives up).
+    vec3f centre(0.f);
+    for (int i = 0; i < f.count; ++i) centre = centre + vertices[submeshes[submesh].first_vertex + face_index[i]];
+    centre = centre * (1.f / float(f.count));
+    const uint32_t from = l;
+    return for_each_leaf_holding(centre, [&](uint32_t other) {
+      if (other == from || leaves[other].submesh != submesh) return false;
+      next = face_neighbour_in_leaf(other, kNoSkip, face_index, f.count);
+      if (next >= 0) l = other, k = uint32_t(next);
+      return next >= 0;
+    });
+  }
+  static constexpr uint32_t kNoSkip = 0xffffffffu;
+
+  // Walks from element k of leaf l towards p across the faces p lies beyond (as
+  // UMeshView::walk, with neighbours found by face_neighbour): true with the hit when an element
+  // holds p strictly within kMaxWalk steps.
+  VS_HOST_DEVICE bool walk(uint32_t l, uint32_t k, const vec3f& p, Hit& hit) const {
+    constexpr int kMaxWalk = 8;
+    for (int step = 0; step < kMaxWalk; ++step) {
+      int n;
+      const uint16_t* index = element(leaves[l], k, n);
+      const uint32_t base = submeshes[leaves[l].submesh].first_vertex;
+      vec3f x[8];
+      for (int i = 0; i < n; ++i) x[i] = vertices[base + index[i]];
+      float outside = INFINITY;
+      int face = -1;
+      if (shape::locate_in_element(n, x, p, hit.w, &outside, &face, true) && outside <= 0.f) {
+        hit.leaf = l, hit.slot = k, hit.first_vertex = base, hit.n = n;
+        for (int i = 0; i < n; ++i) hit.v[i] = index[i];
+        return true;
+      }
+      if (face < 0 || !face_neighbour(l, k, index, n, face)) return false;
+    }
+    return false;
+  }
+
+  // The element holding p: a walk from the ray's previous element (hint = leaf *
+  // kMultiLeafSize + slot) first; where it ends without a strict hit, that element's leaf from
+  // there out, the leaves beside it, then the BVH (so the result is search's: a strict hit wins,
+  // none is missed). The element found is the next hint.
   VS_HOST_DEVICE Hit locate(const vec3f& p, int64_t& hint) const {
     Hit hit;
     float best = INFINITY;
     bool strict = false;
+    if (hint >= 0 && walk(uint32_t(hint / kMultiLeafSize), uint32_t(hint % kMultiLeafSize), p, hit)) {
+      hint = hit.leaf * int64_t(kMultiLeafSize) + hit.slot;
+      return hit;
+    }
+    hit = Hit{};
     if (hint >= 0) {
       const uint32_t leaf = uint32_t(hint / kMultiLeafSize);
       strict = test_leaf(leaf, p, hit, best, uint32_t(hint % kMultiLeafSize));
       // Then the leaves beside it in the Morton order, whose boxes hold p.
       for (uint32_t d = 1; d <= kNeighbourLeaves && !strict; ++d) {
-        if (leaf >= d && leaf_box(leaf - d).contains(p)) strict = test_leaf(leaf - d, p, hit, best);
-        if (!strict && leaf + d < leaf_count && leaf_box(leaf + d).contains(p))
-          strict = test_leaf(leaf + d, p, hit, best);
+        if (leaf >= d && leaf_may_hold(leaf - d, p)) strict = test_leaf(leaf - d, p, hit, best);
+        if (!strict && leaf + d < leaf_count && leaf_may_hold(leaf + d, p)) strict = test_leaf(leaf + d, p, hit, best);
       }
     }
     if (!strict) search(p, hit, best);

@@ -57,6 +57,22 @@ VS_HOST_DEVICE inline void weights(int n, float r, float s, float t, float* w, v
 inline constexpr int kMaxFaces = 6;
 VS_HOST_DEVICE constexpr int face_count(int n) { return n == 4 ? 4 : n == 8 ? 6 : 5; }
 
+// The element-local vertices of face `face` of an element of n vertices, in the numbering above.
+struct LocalFace {
+  int count;  // 3 or 4
+  int v[4];   // element-local vertex indices
+};
+VS_HOST_DEVICE inline LocalFace local_face(int n, int face) {
+  constexpr LocalFace kTet[4] = {{3, {1, 2, 3, 0}}, {3, {0, 2, 3, 0}}, {3, {0, 1, 3, 0}}, {3, {0, 1, 2, 0}}};
+  constexpr LocalFace kHex[6] = {{4, {0, 3, 7, 4}}, {4, {1, 2, 6, 5}}, {4, {0, 1, 5, 4}},
+                                 {4, {3, 2, 6, 7}}, {4, {0, 1, 2, 3}}, {4, {4, 5, 6, 7}}};
+  constexpr LocalFace kWedge[5] = {
+      {4, {0, 2, 5, 3}}, {4, {0, 1, 4, 3}}, {4, {1, 2, 5, 4}}, {3, {0, 1, 2, 0}}, {3, {3, 4, 5, 0}}};
+  constexpr LocalFace kPyramid[5] = {
+      {3, {0, 3, 4, 0}}, {3, {1, 2, 4, 0}}, {3, {0, 1, 4, 0}}, {3, {3, 2, 4, 0}}, {4, {0, 1, 2, 3}}};
+  return n == 4 ? kTet[face] : n == 8 ? kHex[face] : n == 6 ? kWedge[face] : kPyramid[face];
+}
+
 // Each face's violation at (r, s, t) (> 0: p lies beyond that face); returns the face count.
 VS_HOST_DEVICE inline int face_violations(int n, float r, float s, float t, float* v) {
   if (n == 4) {

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -33,11 +34,6 @@ Encoded encode(const std::string& demo, uint64_t elements) {
   e.values = mesh_field_values(data, mesh_fields(data)[0]);
   e.compact = build_compact_mesh(e.mesh);
   return e;
-}
-
-CompactMeshView view_of(const CompactMesh& c) {
-  return {c.nodes.data(),    c.leaves.data(),           c.indices.data(), c.submeshes.data(),
-          c.vertices.data(), uint32_t(c.leaves.size()), c.leaf_parents};
 }
 
 class CompactTest : public ::testing::TestWithParam<std::string> {};
@@ -70,19 +66,36 @@ TEST_P(CompactTest, EqualsTheReferenceAtRandomPoints) {
 TEST_P(CompactTest, QuantizedBoxesHoldTheirChildrenAndLeavesHoldEveryElementOnce) {
   const Encoded e = encode(GetParam(), 20000);
   const CompactMesh& c = e.compact;
-  // Leaf boxes recomputed from the decoded elements; node boxes from the children.
-  uint64_t decoded = 0;
+  // Every leaf decoded: its elements, as sorted reference vertex lists, are the mesh's elements
+  // (each once: the multi-leaf decode equals the plain element list); leaf boxes from them.
+  const CompactMeshView view = view_of(c);
+  std::vector<std::vector<uint32_t>> decoded, plain;
   std::vector<box3f> leaf_box(c.leaves.size(), box3f::make_empty());
-  for (size_t l = 0; l < c.leaves.size(); ++l) {
+  for (uint32_t l = 0; l < c.leaves.size(); ++l) {
     const CompactLeaf& leaf = c.leaves[l];
-    const uint16_t* index = c.indices.data() + leaf.first_index;
-    const int sizes[4] = {4, 5, 6, 8};
-    for (int t = 0; t < 4; ++t)
-      for (int k = 0; k < leaf.counts[t]; ++k, index += sizes[t], ++decoded)
-        for (int i = 0; i < sizes[t]; ++i)
-          leaf_box[l].extend(c.vertices[c.submeshes[leaf.submesh].first_vertex + index[i]]);
+    for (uint32_t k = 0; k < leaf.element_count(); ++k) {
+      uint8_t corner[8];
+      uint16_t v[8];
+      const int n = view.element(leaf, k, corner, v);
+      std::vector<uint32_t> element;
+      for (int i = 0; i < n; ++i) {
+        ASSERT_LT(corner[i], leaf.table_size());
+        const uint32_t local = c.submeshes[leaf.submesh].first_vertex + v[i];
+        element.push_back(c.source_vertex[local]);
+        leaf_box[l].extend(c.vertices[local]);
+      }
+      std::sort(element.begin(), element.end());
+      decoded.push_back(element);
+    }
   }
-  EXPECT_EQ(decoded, e.mesh.elements.size());
+  for (const UElement& el : e.mesh.elements) {
+    std::vector<uint32_t> element(el.v, el.v + el.vertex_count());
+    std::sort(element.begin(), element.end());
+    plain.push_back(element);
+  }
+  std::sort(decoded.begin(), decoded.end());
+  std::sort(plain.begin(), plain.end());
+  EXPECT_EQ(decoded, plain);
   // The exact box of a child: its leaf's elements, or the union of the exact boxes below it.
   std::function<box3f(const CompactNode&, int)> exact = [&](const CompactNode& node, int i) {
     if (node.leaf_children) return leaf_box[node.first + uint32_t(i)];
@@ -156,15 +169,15 @@ INSTANTIATE_TEST_SUITE_P(Demos, CompactTest, ::testing::Values("tets", "mixed", 
 
 TEST(Compact, BytesPerElementOfOneMillionTetsAreMeasured) {
   const Encoded e = encode("tets", 1000000);
-  const CompactBytes b = e.compact.bytes();
+  const CompactBytes b = e.compact.bytes_by_part();
   const double n = double(e.mesh.elements.size());
   std::printf(
-      "compact, %.0f tets: vertices %.2f, indices %.2f, leaves %.2f, nodes %.2f, sub-meshes %.3f, "
-      "field %.2f = %.2f B/element (%llu sub-meshes, %.1f%% vertices replicated)\n",
-      n, b.vertices / n, b.indices / n, b.leaves / n, b.nodes / n, b.submeshes / n, b.field / n, b.total() / n,
-      (unsigned long long)e.compact.submeshes.size(),
-      100.0 * double(e.compact.replicated) / double(e.mesh.vertices.size()));
-  EXPECT_LT(b.total() / n, 16.0);
+      "compact, %.0f tets: vertices %.2f, vertex tables %.2f, corners %.2f, leaves %.2f, nodes %.2f, sub-meshes "
+      "%.3f, field %.2f = %.2f B/element (%llu sub-meshes, %.1f%% vertices replicated, %.1f%% tets paired)\n",
+      n, b.vertices / n, b.tables / n, b.corners / n, b.leaves / n, b.nodes / n, b.submeshes / n, b.field / n,
+      b.total() / n, (unsigned long long)e.compact.submeshes.size(),
+      100.0 * double(e.compact.replicated) / double(e.mesh.vertices.size()), 100.0 * double(e.compact.paired_tets) / n);
+  EXPECT_LT(b.total() / n, 12.0);
 }
 
 }  // namespace

@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <unordered_map>
 
 #include "volstream/backend/parallel.h"
+#include "volstream/core/error.h"
 
 namespace vs {
 namespace {
@@ -115,26 +117,116 @@ std::vector<CompactNode> build_nodes(const std::vector<box3f>& leaf_boxes) {
   return nodes;
 }
 
-// Appends the leaf of elements [begin, end) of `order`, types in type_slot order.
+// Two tets of a leaf that share a face, and the corner of each off that face.
+struct TetPair {
+  uint32_t a, b;
+  int apex_a, apex_b;
+};
+
+// The corner of tet x that is not a vertex of tet y, when they share exactly a face; else -1.
+int apex_off_shared_face(const UElement& x, const UElement& y) {
+  int apex = -1, shared = 0;
+  for (int i = 0; i < 4; ++i) {
+    const bool in_y = x.v[i] == y.v[0] || x.v[i] == y.v[1] || x.v[i] == y.v[2] || x.v[i] == y.v[3];
+    if (in_y)
+      ++shared;
+    else
+      apex = i;
+  }
+  return shared == 3 ? apex : -1;
+}
+
+// Pairs the tets that share a face: repeatedly the unpaired tet with the fewest unpaired
+// face neighbours with its neighbour of fewest (the greedy rule for matchings: tets with few
+// options go first, so fewer are left single); the others stay single.
+void pair_tets(const UMesh& mesh, const std::vector<uint32_t>& tets, std::vector<TetPair>& pairs,
+               std::vector<uint32_t>& singles) {
+  const size_t n = tets.size();
+  std::vector<std::vector<size_t>> partners(n);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j)
+      if (apex_off_shared_face(mesh.elements[tets[i]], mesh.elements[tets[j]]) >= 0) {
+        partners[i].push_back(j);
+        partners[j].push_back(i);
+      }
+  std::vector<bool> used(n, false);
+  const auto options = [&](size_t i) {
+    size_t count = 0;
+    for (const size_t j : partners[i]) count += used[j] ? 0 : 1;
+    return count;
+  };
+  for (;;) {
+    size_t best = n, best_options = SIZE_MAX;
+    for (size_t i = 0; i < n; ++i)
+      if (!used[i] && options(i) > 0 && options(i) < best_options) best = i, best_options = options(i);
+    if (best == n) break;
+    size_t mate = n, mate_options = SIZE_MAX;
+    for (const size_t j : partners[best])
+      if (!used[j] && options(j) < mate_options) mate = j, mate_options = options(j);
+    const UElement &a = mesh.elements[tets[best]], &b = mesh.elements[tets[mate]];
+    pairs.push_back({tets[best], tets[mate], apex_off_shared_face(a, b), apex_off_shared_face(b, a)});
+    used[best] = used[mate] = true;
+  }
+  for (size_t i = 0; i < n; ++i)
+    if (!used[i]) singles.push_back(tets[i]);
+}
+
+// The leaf's corners as reference vertices, in CompactLeaf's order: pairs (the shared face in
+// the first tet's order, then each apex), single tets, pyramids, wedges, hexes.
+std::vector<uint32_t> leaf_corners(const UMesh& mesh, const std::vector<TetPair>& pairs,
+                                   const std::vector<uint32_t>& singles, const std::vector<uint32_t> (&by_type)[4]) {
+  std::vector<uint32_t> corners;
+  for (const TetPair& pair : pairs) {
+    const UElement& a = mesh.elements[pair.a];
+    for (int i = 0; i < 4; ++i)
+      if (i != pair.apex_a) corners.push_back(a.v[i]);
+    corners.push_back(a.v[pair.apex_a]);
+    corners.push_back(mesh.elements[pair.b].v[pair.apex_b]);
+  }
+  for (const uint32_t e : singles) corners.insert(corners.end(), mesh.elements[e].v, mesh.elements[e].v + 4);
+  for (int type = 1; type < 4; ++type)
+    for (const uint32_t e : by_type[type]) {
+      const UElement& el = mesh.elements[e];
+      corners.insert(corners.end(), el.v, el.v + el.vertex_count());
+    }
+  return corners;
+}
+
+// Appends the leaf of elements [begin, end) of `order`: its vertex table (new sub-mesh vertices
+// added to `local` and the vertex array) and its corners as bytes into the table.
 void add_leaf(const UMesh& mesh, const std::vector<uint32_t>& order, size_t begin, size_t end,
               std::unordered_map<uint32_t, uint32_t>& local, CompactMesh& c) {
-  CompactLeaf leaf{uint32_t(c.submeshes.size() - 1), uint32_t(c.indices.size()), {0, 0, 0, 0}};
+  std::vector<uint32_t> by_type[4];
+  for (size_t k = begin; k < end; ++k) by_type[type_slot(mesh.elements[order[k]].vertex_count())].push_back(order[k]);
+  std::vector<TetPair> pairs;
+  std::vector<uint32_t> singles;
+  pair_tets(mesh, by_type[0], pairs, singles);
+  const std::vector<uint32_t> corners = leaf_corners(mesh, pairs, singles, by_type);
+  std::vector<uint32_t> table;  // the leaf's distinct vertices, in first use
+  std::vector<uint8_t> corner_bytes;
+  for (const uint32_t v : corners) {
+    const size_t at = size_t(std::find(table.begin(), table.end(), v) - table.begin());
+    if (at == table.size()) table.push_back(v);
+    corner_bytes.push_back(uint8_t(at));  // at most kMultiLeafSize * 8 = 256 distinct vertices
+  }
+  CompactLeaf leaf{};
+  leaf.submesh = uint16_t(c.submeshes.size() - 1);
+  leaf.first_byte = uint32_t(c.bytes.size() - c.submeshes.back().first_byte);
+  leaf.table_last = uint8_t(table.size() - 1);
+  for (int type = 0; type < 4; ++type) leaf.counts[type] = uint8_t(by_type[type].size());
+  leaf.tet_pairs = uint8_t(pairs.size());
   const uint32_t base = c.submeshes.back().first_vertex;
-  for (int type = 0; type < 4; ++type)
-    for (size_t k = begin; k < end; ++k) {
-      const UElement& e = mesh.elements[order[k]];
-      const int n = e.vertex_count();
-      if (type_slot(n) != type) continue;
-      ++leaf.counts[type];
-      for (int i = 0; i < n; ++i) {
-        auto [it, added] = local.try_emplace(e.v[i], uint32_t(c.vertices.size()) - base);
-        if (added) {
-          c.vertices.push_back(mesh.vertices[e.v[i]]);
-          c.source_vertex.push_back(e.v[i]);
-        }
-        c.indices.push_back(uint16_t(it->second));
-      }
+  for (const uint32_t v : table) {
+    auto [it, added] = local.try_emplace(v, uint32_t(c.vertices.size()) - base);
+    if (added) {
+      c.vertices.push_back(mesh.vertices[v]);
+      c.source_vertex.push_back(v);
     }
+    c.bytes.push_back(uint8_t(it->second & 0xff));
+    c.bytes.push_back(uint8_t(it->second >> 8));
+  }
+  c.bytes.insert(c.bytes.end(), corner_bytes.begin(), corner_bytes.end());
+  c.paired_tets += 2 * pairs.size();
   c.leaves.push_back(leaf);
 }
 
@@ -163,7 +255,9 @@ CompactMesh build_compact_mesh(const UMesh& mesh) {
     const size_t end = std::min(order.size(), begin + kMultiLeafSize);
     const uint32_t in_use = uint32_t(c.vertices.size()) - (c.submeshes.empty() ? 0 : c.submeshes.back().first_vertex);
     if (c.submeshes.empty() || in_use + new_vertices(mesh, order, begin, end, local) > 65536) {
-      c.submeshes.push_back({uint32_t(c.vertices.size())});
+      if (c.submeshes.size() > 0xffff)
+        input_error("", "mesh too large for the compact encoding (over 65536 sub-meshes)");
+      c.submeshes.push_back({uint32_t(c.vertices.size()), 0, c.bytes.size()});
       local.clear();
     }
     add_leaf(mesh, order, begin, end, local, c);
@@ -177,10 +271,11 @@ CompactMesh build_compact_mesh(const UMesh& mesh) {
   return c;
 }
 
-CompactBytes CompactMesh::bytes() const {
+CompactBytes CompactMesh::bytes_by_part() const {
   CompactBytes b;
   b.vertices = vertices.size() * sizeof(vec3f);
-  b.indices = indices.size() * sizeof(uint16_t);
+  for (const CompactLeaf& leaf : leaves) b.tables += 2u * leaf.table_size();
+  b.corners = bytes.size() - b.tables;
   b.leaves = leaves.size() * sizeof(CompactLeaf);
   b.nodes = nodes.size() * sizeof(CompactNode);
   b.submeshes = submeshes.size() * sizeof(CompactSubmesh);

@@ -1,16 +1,21 @@
-// Paper 002's compact encoding of an unstructured mesh (issue 13), first slice, built from the
-// reference encoding (umesh.h) and sampled through the same integrator (MeshVolume<CompactMeshView>):
-//   - elements in a spatial (Morton) order, cut into multi-leaves of at most kMultiLeafSize
-//     elements, grouped by type inside a leaf, each element only the indices its type needs;
-//   - sub-meshes of consecutive leaves with at most 65536 vertices, so indices are 16-bit local
-//     ones; the vertices a sub-mesh shares with another are replicated (counted: `replicated`);
-//   - an 8-wide BVH over the leaves, built bottom-up over the Morton order, whose child boxes are
+// Paper 002's compact encoding of an unstructured mesh (issue 13), built from the reference
+// encoding (umesh.h) and sampled through the same integrator (MeshVolume<CompactMeshView>):
+//   - elements cut into multi-leaves of at most kMultiLeafSize by median splits (compact
+//     clusters), each element only the corners its type needs;
+//   - sub-meshes of consecutive leaves with at most 65536 vertices, so vertex indices are 16-bit
+//     local ones; the vertices a sub-mesh shares with another are replicated (`replicated`);
+//   - per leaf a table of its distinct vertices (16-bit sub-mesh indices), and each corner one
+//     byte into that table: a cluster's elements share most of their vertices;
+//   - tets that share a face grouped in pairs: the face's three corners, then each tet's fourth
+//     (5 bytes for two tets instead of 8);
+//   - an 8-wide BVH over the leaves, built bottom-up over the leaf order, whose child boxes are
 //     quantized to 8 bits per coordinate relative to the node's box (rounded outwards, so they
 //     always hold their children), with children addressed implicitly (first + i: no pointers,
 //     no item list);
 //   - field values per local vertex (replicated like the vertices).
-// Sampling decodes a leaf on the fly; the ray's hint is the element (leaf and slot) of its last
-// sample: that element, its leaf from there out, the leaves beside it, then the BVH.
+// Sampling decodes a leaf on the fly and walks from the ray's previous element across faces,
+// finding the neighbour by comparing vertex indices (no adjacency stored): in its leaf, the
+// leaves beside it, then the leaves whose boxes hold the face; else a BVH search decides.
 #pragma once
 #include <cfloat>
 #include <cstdint>
@@ -70,33 +75,48 @@ VS_HOST_DEVICE inline uint32_t children_holding(const CompactNode& node, const v
   return mask;
 }
 
+// A multi-leaf's bytes (CompactMesh::bytes from its sub-mesh's first_byte + first_byte): table_size little-endian
+// uint16 sub-mesh-local vertex indices, then the corners as bytes into that table: pairs of tets (5 each: the shared
+// face's three, then each tet's fourth), single tets (4 each), pyramids (5), wedges (6) and hexes (8). Element k of the
+// leaf counts in that order.
 struct CompactLeaf {
-  uint32_t submesh;
-  uint32_t first_index;  // into the 16-bit index stream
-  uint8_t counts[4];     // elements per type, type_slot order (tetra, pyramid, wedge, hexahedron)
+  uint32_t first_byte;  // from the sub-mesh's first byte
+  uint16_t submesh;     // at most 65536 sub-meshes of 65536 vertices
+  uint8_t table_last;   // distinct vertices - 1 (a leaf has 1 to kMultiLeafSize * 8 = 256)
+  uint8_t tet_pairs;    // the first 2 * tet_pairs tets are pairs
+  uint8_t counts[4];    // elements per type, type_slot order (tetra, pyramid, wedge, hexahedron)
+  VS_HOST_DEVICE uint32_t table_size() const { return uint32_t(table_last) + 1u; }
+  VS_HOST_DEVICE uint32_t element_count() const { return uint32_t(counts[0]) + counts[1] + counts[2] + counts[3]; }
+  // Corner bytes of the leaf's elements (after the table).
+  VS_HOST_DEVICE uint32_t corner_count() const {
+    return 5u * tet_pairs + 4u * (counts[0] - 2u * tet_pairs) + 5u * counts[1] + 6u * counts[2] + 8u * counts[3];
+  }
 };
 static_assert(sizeof(CompactLeaf) == 12);
 
 struct CompactSubmesh {
   uint32_t first_vertex;  // into the local vertex array (and every field's values)
+  uint32_t pad;
+  uint64_t first_byte;  // of its leaves' bytes (a leaf's first_byte counts from here)
 };
 
 // The bytes of each part (bytes_per_element's breakdown).
 struct CompactBytes {
-  uint64_t vertices = 0, indices = 0, leaves = 0, nodes = 0, submeshes = 0, field = 0;
-  uint64_t total() const { return vertices + indices + leaves + nodes + submeshes + field; }
+  uint64_t vertices = 0, tables = 0, corners = 0, leaves = 0, nodes = 0, submeshes = 0, field = 0;
+  uint64_t total() const { return vertices + tables + corners + leaves + nodes + submeshes + field; }
 };
 
 struct CompactMesh {
   std::vector<CompactNode> nodes;  // nodes[0] is the root
   std::vector<CompactLeaf> leaves;
-  std::vector<uint16_t> indices;
+  std::vector<uint8_t> bytes;  // every leaf's vertex table and corners (CompactLeaf)
   std::vector<CompactSubmesh> submeshes;
   std::vector<vec3f> vertices;            // local vertices, sub-mesh after sub-mesh
   std::vector<uint32_t> source_vertex;    // local vertex -> the reference vertex (gathers fields)
   uint64_t elements = 0, replicated = 0;  // local vertices beyond the mesh's own
+  uint64_t paired_tets = 0;               // tets stored in pairs
   uint32_t leaf_parents = 0;              // index of the first node whose children are leaves
-  CompactBytes bytes() const;
+  CompactBytes bytes_by_part() const;
   // A field given per reference vertex, per local vertex (what the renderer samples).
   std::vector<float> gather(const float* reference_values) const;
 };
@@ -107,7 +127,7 @@ CompactMesh build_compact_mesh(const UMesh& mesh);
 struct CompactMeshView {
   const CompactNode* nodes = nullptr;
   const CompactLeaf* leaves = nullptr;
-  const uint16_t* indices = nullptr;
+  const uint8_t* bytes = nullptr;
   const CompactSubmesh* submeshes = nullptr;
   const vec3f* vertices = nullptr;
   uint32_t leaf_count = 0;
@@ -128,33 +148,57 @@ struct CompactMeshView {
     float w[8];
   };
 
-  // Element k of leaf `leaf` (types in type_slot order): its vertex count and first index.
-  VS_HOST_DEVICE const uint16_t* element(const CompactLeaf& leaf, uint32_t k, int& n) const {
-    constexpr int kVertices[4] = {4, 5, 6, 8};
-    const uint16_t* index = indices + leaf.first_index;
-    for (int type = 0; type < 4; ++type) {
-      if (k < leaf.counts[type]) {
+  // Entry c of leaf's vertex table: a sub-mesh-local vertex index.
+  VS_HOST_DEVICE const uint8_t* leaf_bytes(const CompactLeaf& leaf) const {
+    return bytes + submeshes[leaf.submesh].first_byte + leaf.first_byte;
+  }
+  VS_HOST_DEVICE uint16_t table_entry(const CompactLeaf& leaf, uint32_t c) const {
+    const uint8_t* t = leaf_bytes(leaf) + 2u * c;
+    return uint16_t(t[0] | t[1] << 8);
+  }
+  VS_HOST_DEVICE const uint8_t* corners(const CompactLeaf& leaf) const {
+    return leaf_bytes(leaf) + 2u * leaf.table_size();
+  }
+
+  // Element k of the leaf: its vertex count, and its corners as table bytes (corner) and as
+  // sub-mesh-local vertex indices (v).
+  VS_HOST_DEVICE int element(const CompactLeaf& leaf, uint32_t k, uint8_t* corner, uint16_t* v) const {
+    const uint8_t* c = corners(leaf);
+    int n = 4;
+    const uint32_t paired = 2u * leaf.tet_pairs;
+    if (k < paired) {
+      const uint8_t* pair = c + (k / 2) * 5u;
+      corner[0] = pair[0], corner[1] = pair[1], corner[2] = pair[2], corner[3] = pair[3 + (k & 1u)];
+    } else {
+      c += 5u * leaf.tet_pairs;
+      k -= paired;
+      const uint32_t counts[4] = {leaf.counts[0] - paired, leaf.counts[1], leaf.counts[2], leaf.counts[3]};
+      constexpr int kVertices[4] = {4, 5, 6, 8};
+      for (int type = 0; type < 4; ++type) {
         n = kVertices[type];
-        return index + k * uint32_t(n);
+        if (k < counts[type]) break;
+        k -= counts[type];
+        c += counts[type] * uint32_t(n);
       }
-      k -= leaf.counts[type];
-      index += uint32_t(leaf.counts[type]) * uint32_t(kVertices[type]);
+      c += k * uint32_t(n);
+      for (int i = 0; i < n; ++i) corner[i] = c[i];
     }
-    n = 0;
-    return index;
+    for (int i = 0; i < n; ++i) v[i] = table_entry(leaf, corner[i]);
+    return n;
   }
 
   // Tests element k of leaf l (hit and best as for UMeshView::consider: a strict hit wins, else
   // the nearest within the tolerance); true on a strict hit.
   VS_HOST_DEVICE bool test_element(uint32_t l, uint32_t k, const vec3f& p, Hit& hit, float& best) const {
     const CompactLeaf& leaf = leaves[l];
-    int n;
-    const uint16_t* index = element(leaf, k, n);
+    uint8_t corner[8];
+    uint16_t v[8];
+    const int n = element(leaf, k, corner, v);
     const uint32_t base = submeshes[leaf.submesh].first_vertex;
     vec3f x[8];
     box3f b = box3f::make_empty();
     for (int i = 0; i < n; ++i) {
-      x[i] = vertices[base + index[i]];
+      x[i] = vertices[base + v[i]];
       b.extend(x[i]);
     }
     float w[8], outside;
@@ -164,15 +208,14 @@ struct CompactMeshView {
     hit.slot = k;
     hit.first_vertex = base;
     hit.n = n;
-    for (int i = 0; i < n; ++i) hit.v[i] = index[i], hit.w[i] = w[i];
+    for (int i = 0; i < n; ++i) hit.v[i] = v[i], hit.w[i] = w[i];
     return outside <= 0.f;
   }
 
   // Tests the elements of leaf l, nearest to element `start` first (elements are in Morton
   // order: the previous sample's neighbours are close by); true on a strict hit.
   VS_HOST_DEVICE bool test_leaf(uint32_t l, const vec3f& p, Hit& hit, float& best, uint32_t start = 0) const {
-    const CompactLeaf& leaf = leaves[l];
-    const uint32_t count = uint32_t(leaf.counts[0]) + leaf.counts[1] + leaf.counts[2] + leaf.counts[3];
+    const uint32_t count = leaves[l].element_count();
     if (start >= count) start = 0;
     for (uint32_t d = 0; d < count; ++d) {
       if (start + d < count && test_element(l, start + d, p, hit, best)) return true;
@@ -208,31 +251,32 @@ struct CompactMeshView {
     return for_each_leaf_holding(p, [&](uint32_t l) { return test_leaf(l, p, hit, best); });
   }
 
-  // The element of leaf l, other than element `skip`, whose vertices include every vertex of
-  // `face` (local indices of the leaf's sub-mesh; a triangle repeats face[0] as face[3]), or -1:
-  // the neighbour across a face is found by comparing 16-bit indices, with no adjacency stored
-  // and no geometry read. An element's vertices are distinct, so the number of its indices that
-  // are any of the face's is the number of the face's vertices it holds. The comparisons run over
-  // the leaf's whole index run in one loop the compiler vectorizes (this is the walk's hot loop).
-  VS_HOST_DEVICE int32_t face_neighbour_in_leaf(uint32_t l, uint32_t skip, const uint16_t* face, int face_size) const {
-    constexpr int kVertices[4] = {4, 5, 6, 8};
+  // The element of leaf l, other than element `skip`, whose corners include every corner of
+  // `face` (bytes of the leaf's table; a triangle repeats face[0] as face[3]), or -1: the
+  // neighbour across a face is found by comparing corners, with no adjacency stored and no
+  // geometry read. An element's corners are distinct, so the number of its corners that are any
+  // of the face's is the number of the face's corners it holds. The comparisons run over the
+  // leaf's whole corner run in one loop the compiler vectorizes (the walk's hot loop).
+  VS_HOST_DEVICE int32_t face_neighbour_in_leaf(uint32_t l, uint32_t skip, const uint8_t* face, int face_size) const {
     const CompactLeaf& leaf = leaves[l];
-    const uint16_t* index = indices + leaf.first_index;
-    uint32_t total = 0;
-    for (int type = 0; type < 4; ++type) total += uint32_t(leaf.counts[type]) * uint32_t(kVertices[type]);
+    const uint8_t* c = corners(leaf);
+    const uint32_t total = leaf.corner_count();
     uint8_t held[kMultiLeafSize * 8];
-    const uint16_t f0 = face[0], f1 = face[1], f2 = face[2], f3 = face[3];
-    for (uint32_t i = 0; i < total; ++i) {
-      const uint16_t v = index[i];
-      held[i] = uint8_t((v == f0) | (v == f1) | (v == f2) | (v == f3));
-    }
-    // Tets first: their four flags are one 32-bit word, summed by one multiply.
+    const uint8_t f0 = face[0], f1 = face[1], f2 = face[2], f3 = face[3];
+    for (uint32_t i = 0; i < total; ++i) held[i] = uint8_t((c[i] == f0) | (c[i] == f1) | (c[i] == f2) | (c[i] == f3));
     uint32_t k = 0, at = 0;
-    for (uint32_t e = 0; e < leaf.counts[0]; ++e, ++k, at += 4) {
+    for (uint32_t pair = 0; pair < leaf.tet_pairs; ++pair, k += 2, at += 5) {
+      const int shared = held[at] + held[at + 1] + held[at + 2];
+      if (shared + held[at + 3] == face_size && k != skip) return int32_t(k);
+      if (shared + held[at + 4] == face_size && k + 1 != skip) return int32_t(k + 1);
+    }
+    // Single tets: their four flags are one 32-bit word, summed by one multiply.
+    for (uint32_t e = 2u * leaf.tet_pairs; e < leaf.counts[0]; ++e, ++k, at += 4) {
       uint32_t word;
       memcpy(&word, held + at, 4);
       if (int((word * 0x01010101u) >> 24) == face_size && k != skip) return int32_t(k);
     }
+    constexpr int kVertices[4] = {4, 5, 6, 8};
     for (int type = 1; type < 4; ++type) {
       const int n = kVertices[type];
       for (uint32_t e = 0; e < leaf.counts[type]; ++e, ++k, at += uint32_t(n)) {
@@ -244,32 +288,59 @@ struct CompactMeshView {
     return -1;
   }
 
-  // The element across face `face` of element k of leaf l: in the same leaf, or in one of the
-  // leaves beside it in the Morton order that share its sub-mesh (local indices are comparable
-  // only there). False where it is none of those: a leaf further away, or the mesh's boundary.
-  VS_HOST_DEVICE bool face_neighbour(uint32_t& l, uint32_t& k, const uint16_t* element_index, int n, int face) const {
+  // The face's vertices (sub-mesh-local indices) as bytes of leaf l's table; false when one is
+  // not in it (then no element of the leaf holds the face).
+  VS_HOST_DEVICE bool face_in_table(uint32_t l, const uint16_t* face, int face_size, uint8_t* face_bytes) const {
+    const CompactLeaf& leaf = leaves[l];
+    int found = 0;
+    for (uint32_t t = 0; t < leaf.table_size(); ++t) {
+      const uint16_t v = table_entry(leaf, t);
+      for (int i = 0; i < face_size; ++i)
+        if (v == face[i]) face_bytes[i] = uint8_t(t), ++found;
+    }
+    face_bytes[3] = face_size == 3 ? face_bytes[0] : face_bytes[3];
+    return found == face_size;
+  }
+
+  // The element of another leaf `other` (of the same sub-mesh) holding the face, or -1.
+  VS_HOST_DEVICE int32_t face_neighbour_in_other_leaf(uint32_t other, const uint16_t* face, int face_size) const {
+    uint8_t face_bytes[4];
+    if (!face_in_table(other, face, face_size, face_bytes)) return -1;
+    return face_neighbour_in_leaf(other, kNoSkip, face_bytes, face_size);
+  }
+
+  // The element across face `face` of element k of leaf l (its corners and vertices given): in
+  // the same leaf, or in one of the leaves beside it that share its sub-mesh (local indices are
+  // comparable only there), or in another leaf of the sub-mesh whose box holds the face. False
+  // where it is none of those: the mesh's boundary, or a neighbour in another sub-mesh.
+  VS_HOST_DEVICE bool face_neighbour(uint32_t& l, uint32_t& k, const uint8_t* corner, const uint16_t* v, int n,
+                                     int face) const {
     const shape::LocalFace f = shape::local_face(n, face);
-    uint16_t face_index[4];
-    for (int i = 0; i < 4; ++i) face_index[i] = element_index[f.v[i < f.count ? i : 0]];
-    int32_t next = face_neighbour_in_leaf(l, k, face_index, f.count);
+    uint8_t face_bytes[4];
+    uint16_t face_vertices[4];
+    for (int i = 0; i < 4; ++i) {
+      face_bytes[i] = corner[f.v[i < f.count ? i : 0]];
+      face_vertices[i] = v[f.v[i < f.count ? i : 0]];
+    }
+    int32_t next = face_neighbour_in_leaf(l, k, face_bytes, f.count);
     if (next >= 0) return k = uint32_t(next), true;
     const uint32_t submesh = leaves[l].submesh;
     for (uint32_t d = 1; d <= kNeighbourLeaves; ++d) {
       for (const int64_t side : {int64_t(l) - d, int64_t(l) + d}) {
         if (side < 0 || side >= int64_t(leaf_count) || leaves[side].submesh != submesh) continue;
-        next = face_neighbour_in_leaf(uint32_t(side), kNoSkip, face_index, f.count);
+        next = face_neighbour_in_other_leaf(uint32_t(side), face_vertices, f.count);
         if (next >= 0) return l = uint32_t(side), k = uint32_t(next), true;
       }
     }
     // Further away: the neighbour's leaf box holds the face, so only leaves holding its centre
-    // are compared (those of the same sub-mesh; across sub-meshes the walk gives up).
+    // are compared.
     vec3f centre(0.f);
-    for (int i = 0; i < f.count; ++i) centre = centre + vertices[submeshes[submesh].first_vertex + face_index[i]];
+    for (int i = 0; i < f.count; ++i) centre = centre + vertices[submeshes[submesh].first_vertex + face_vertices[i]];
     centre = centre * (1.f / float(f.count));
     const uint32_t from = l;
     return for_each_leaf_holding(centre, [&](uint32_t other) {
       if (other == from || leaves[other].submesh != submesh) return false;
-      next = face_neighbour_in_leaf(other, kNoSkip, face_index, f.count);
+      next = face_neighbour_in_other_leaf(other, face_vertices, f.count);
       if (next >= 0) l = other, k = uint32_t(next);
       return next >= 0;
     });
@@ -282,19 +353,20 @@ struct CompactMeshView {
   VS_HOST_DEVICE bool walk(uint32_t l, uint32_t k, const vec3f& p, Hit& hit) const {
     constexpr int kMaxWalk = 8;
     for (int step = 0; step < kMaxWalk; ++step) {
-      int n;
-      const uint16_t* index = element(leaves[l], k, n);
+      uint8_t corner[8];
+      uint16_t v[8];
+      const int n = element(leaves[l], k, corner, v);
       const uint32_t base = submeshes[leaves[l].submesh].first_vertex;
       vec3f x[8];
-      for (int i = 0; i < n; ++i) x[i] = vertices[base + index[i]];
+      for (int i = 0; i < n; ++i) x[i] = vertices[base + v[i]];
       float outside = INFINITY;
       int face = -1;
       if (shape::locate_in_element(n, x, p, hit.w, &outside, &face, true) && outside <= 0.f) {
         hit.leaf = l, hit.slot = k, hit.first_vertex = base, hit.n = n;
-        for (int i = 0; i < n; ++i) hit.v[i] = index[i];
+        for (int i = 0; i < n; ++i) hit.v[i] = v[i];
         return true;
       }
-      if (face < 0 || !face_neighbour(l, k, index, n, face)) return false;
+      if (face < 0 || !face_neighbour(l, k, corner, v, n, face)) return false;
     }
     return false;
   }
@@ -338,5 +410,11 @@ struct CompactMeshView {
     return sample(values, p, no_hint);
   }
 };
+
+// The view of a host-resident compact mesh.
+inline CompactMeshView view_of(const CompactMesh& c) {
+  return {c.nodes.data(),    c.leaves.data(),           c.bytes.data(), c.submeshes.data(),
+          c.vertices.data(), uint32_t(c.leaves.size()), c.leaf_parents};
+}
 
 }  // namespace vs

@@ -64,18 +64,14 @@ FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const Opti
 const CompactMesh& UMeshRenderer::compact() {
   if (!compact_) {
     compact_ = std::make_unique<CompactMesh>(build_compact_mesh(mesh_));
-    const CompactBytes b = compact_->bytes();
+    const CompactBytes b = compact_->bytes_by_part();
     compact_counted_ = CountedBytes("compact mesh", MemorySpace::host,
                                     int64_t(b.total() - b.field + compact_->source_vertex.size() * sizeof(uint32_t)));
   }
   return *compact_;
 }
 
-CompactMeshView UMeshRenderer::compact_view() {
-  const CompactMesh& c = compact();
-  return {c.nodes.data(),    c.leaves.data(),           c.indices.data(), c.submeshes.data(),
-          c.vertices.data(), uint32_t(c.leaves.size()), c.leaf_parents};
-}
+CompactMeshView UMeshRenderer::compact_view() { return view_of(compact()); }
 
 FrameView<CompactMeshVolume> UMeshRenderer::view_compact(const FrameFields& local_fields, const OpticsView& optics,
                                                          const TfView* color_tf, const Camera& camera,

@@ -283,6 +283,25 @@ CompactBytes CompactMesh::bytes_by_part() const {
   return b;
 }
 
+CompactMeshView compact_view(const CompactMesh& host, const CompactNode* nodes, const CompactLeaf* leaves,
+                             const uint8_t* bytes, const CompactSubmesh* submeshes, const vec3f* vertices) {
+  CompactMeshView v;
+  v.nodes = nodes, v.leaves = leaves, v.bytes = bytes, v.submeshes = submeshes, v.vertices = vertices;
+  v.leaf_count = uint32_t(host.leaves.size());
+  v.leaf_parents = host.leaf_parents;
+  // Down the first children from the root: each level's first node.
+  uint32_t first = 0;
+  while (!host.nodes.empty()) {
+    if (v.levels == CompactMeshView::kMaxLevels) input_error("", "compact mesh tree deeper than 16 levels");
+    v.level_first[v.levels++] = first;
+    if (host.nodes[first].leaf_children) break;
+    first = host.nodes[first].first;
+  }
+  if (v.levels > 0 && v.level_first[v.levels - 1] != host.leaf_parents)
+    input_error("", "compact mesh tree: its leaves' parents are not its last level");
+  return v;
+}
+
 std::vector<float> CompactMesh::gather(const float* reference_values) const {
   std::vector<float> out(source_vertex.size());
   parallel_for("compact gather", int64_t(out.size()),

@@ -132,12 +132,11 @@ struct CompactMeshView {
   const vec3f* vertices = nullptr;
   uint32_t leaf_count = 0;
   uint32_t leaf_parents = 0;  // the first node whose children are leaves (leaf l: its child l % 8)
-  static constexpr uint32_t kNeighbourLeaves = 2;
-
-  // Whether leaf l's box (may) hold q (children_holding).
-  VS_HOST_DEVICE bool leaf_may_hold(uint32_t l, const vec3f& q) const {
-    return children_holding(nodes[leaf_parents + l / kCompactWidth], q) >> (l % kCompactWidth) & 1u;
-  }
+  // The tree's levels: level_first[0] = 0 (the root) .. level_first[levels - 1] = leaf_parents.
+  // A node at position i of its level has its children at 8 i .. of the level below.
+  static constexpr int kMaxLevels = 16;
+  uint32_t level_first[kMaxLevels] = {};
+  int levels = 0;
 
   struct Hit {
     int64_t leaf = -1;
@@ -225,26 +224,50 @@ struct CompactMeshView {
     return false;
   }
 
-  // Calls visit(leaf) for every leaf whose box holds q, until it returns true (then true).
+  // Calls visit(leaf) for every leaf whose box holds q below node `top` but not below its child
+  // `skip` (-1: none), until visit returns true (then true).
   template <typename Visit>
-  VS_HOST_DEVICE bool for_each_leaf_holding(const vec3f& q, Visit&& visit) const {
+  VS_HOST_DEVICE bool for_each_leaf_holding_below(uint32_t top, int skip, const vec3f& q, Visit&& visit) const {
     uint32_t stack[64];
-    int top = 0;
+    int depth = 0;
     if (!nodes) return false;
-    stack[top++] = 0;
-    while (top > 0) {
-      const CompactNode& node = nodes[stack[--top]];
-      const uint32_t holding = children_holding(node, q);
+    stack[depth++] = top;
+    while (depth > 0) {
+      const uint32_t at = stack[--depth];
+      const CompactNode& node = nodes[at];
+      uint32_t holding = children_holding(node, q);
+      if (at == top && skip >= 0) holding &= ~(1u << skip);
       for (int i = node.count - 1; i >= 0; --i) {
         if (!(holding >> i & 1u)) continue;
         if (node.leaf_children) {
           if (visit(node.first + uint32_t(i))) return true;
-        } else if (top < 64) {
-          stack[top++] = node.first + uint32_t(i);
+        } else if (depth < 64) {
+          stack[depth++] = node.first + uint32_t(i);
         }
       }
     }
     return false;
+  }
+  template <typename Visit>
+  VS_HOST_DEVICE bool for_each_leaf_holding(const vec3f& q, Visit&& visit) const {
+    return for_each_leaf_holding_below(0, -1, q, visit);
+  }
+
+  // The same leaves but those near leaf l first, and without l: up the tree from l, each
+  // ancestor's subtree without the child already searched (every other leaf once, so the set is
+  // for_each_leaf_holding's; a neighbour of l is mostly found in its parent's or grandparent's).
+  template <typename Visit>
+  VS_HOST_DEVICE bool for_each_leaf_holding_near(uint32_t l, const vec3f& q, Visit&& visit) const {
+    if (levels <= 0) return false;
+    uint32_t node = leaf_parents + l / kCompactWidth;
+    int skip = int(l % kCompactWidth);
+    for (int level = levels - 1;; --level) {
+      if (for_each_leaf_holding_below(node, skip, q, visit)) return true;
+      if (level == 0) return false;
+      const uint32_t position = node - level_first[level];
+      skip = int(position % kCompactWidth);
+      node = level_first[level - 1] + position / kCompactWidth;
+    }
   }
 
   VS_HOST_DEVICE bool search(const vec3f& p, Hit& hit, float& best) const {
@@ -310,9 +333,9 @@ struct CompactMeshView {
   }
 
   // The element across face `face` of element k of leaf l (its corners and vertices given): in
-  // the same leaf, or in one of the leaves beside it that share its sub-mesh (local indices are
-  // comparable only there), or in another leaf of the sub-mesh whose box holds the face. False
-  // where it is none of those: the mesh's boundary, or a neighbour in another sub-mesh.
+  // the same leaf, or in another leaf of the same sub-mesh (local indices are comparable only
+  // there) whose box holds the face. False where it is none of those: the mesh's boundary, or a
+  // neighbour in another sub-mesh.
   VS_HOST_DEVICE bool face_neighbour(uint32_t& l, uint32_t& k, const uint8_t* corner, const uint16_t* v, int n,
                                      int face) const {
     const shape::LocalFace f = shape::local_face(n, face);
@@ -324,22 +347,14 @@ struct CompactMeshView {
     }
     int32_t next = face_neighbour_in_leaf(l, k, face_bytes, f.count);
     if (next >= 0) return k = uint32_t(next), true;
+    // Another leaf: the neighbour's leaf box holds the face, so only leaves holding its centre
+    // are compared, nearest in the tree first.
     const uint32_t submesh = leaves[l].submesh;
-    for (uint32_t d = 1; d <= kNeighbourLeaves; ++d) {
-      for (const int64_t side : {int64_t(l) - d, int64_t(l) + d}) {
-        if (side < 0 || side >= int64_t(leaf_count) || leaves[side].submesh != submesh) continue;
-        next = face_neighbour_in_other_leaf(uint32_t(side), face_vertices, f.count);
-        if (next >= 0) return l = uint32_t(side), k = uint32_t(next), true;
-      }
-    }
-    // Further away: the neighbour's leaf box holds the face, so only leaves holding its centre
-    // are compared.
     vec3f centre(0.f);
     for (int i = 0; i < f.count; ++i) centre = centre + vertices[submeshes[submesh].first_vertex + face_vertices[i]];
     centre = centre * (1.f / float(f.count));
-    const uint32_t from = l;
-    return for_each_leaf_holding(centre, [&](uint32_t other) {
-      if (other == from || leaves[other].submesh != submesh) return false;
+    return for_each_leaf_holding_near(l, centre, [&](uint32_t other) {
+      if (leaves[other].submesh != submesh) return false;
       next = face_neighbour_in_other_leaf(other, face_vertices, f.count);
       if (next >= 0) l = other, k = uint32_t(next);
       return next >= 0;
@@ -373,12 +388,11 @@ struct CompactMeshView {
 
   // The element holding p: a walk from the ray's previous element (hint = leaf *
   // kMultiLeafSize + slot) first; where it ends without a strict hit, that element's leaf from
-  // there out, the leaves beside it, then the BVH (so the result is search's: a strict hit wins,
-  // none is missed). The element found is the next hint.
+  // there out, then every other leaf holding p, near ones first (so the result is search's: a
+  // strict hit wins, none is missed). The element found is the next hint.
   VS_HOST_DEVICE Hit locate(const vec3f& p, int64_t& hint) const {
     Hit hit;
     float best = INFINITY;
-    bool strict = false;
     if (hint >= 0 && walk(uint32_t(hint / kMultiLeafSize), uint32_t(hint % kMultiLeafSize), p, hit)) {
       hint = hit.leaf * int64_t(kMultiLeafSize) + hit.slot;
       return hit;
@@ -386,14 +400,11 @@ struct CompactMeshView {
     hit = Hit{};
     if (hint >= 0) {
       const uint32_t leaf = uint32_t(hint / kMultiLeafSize);
-      strict = test_leaf(leaf, p, hit, best, uint32_t(hint % kMultiLeafSize));
-      // Then the leaves beside it in the Morton order, whose boxes hold p.
-      for (uint32_t d = 1; d <= kNeighbourLeaves && !strict; ++d) {
-        if (leaf >= d && leaf_may_hold(leaf - d, p)) strict = test_leaf(leaf - d, p, hit, best);
-        if (!strict && leaf + d < leaf_count && leaf_may_hold(leaf + d, p)) strict = test_leaf(leaf + d, p, hit, best);
-      }
+      if (!test_leaf(leaf, p, hit, best, uint32_t(hint % kMultiLeafSize)))
+        for_each_leaf_holding_near(leaf, p, [&](uint32_t other) { return test_leaf(other, p, hit, best); });
+    } else {
+      search(p, hit, best);
     }
-    if (!strict) search(p, hit, best);
     if (hit.leaf >= 0) hint = hit.leaf * int64_t(kMultiLeafSize) + hit.slot;
     return hit;
   }
@@ -411,10 +422,13 @@ struct CompactMeshView {
   }
 };
 
+// The view of a compact mesh whose arrays are at the given pointers (host or device); `nodes`
+// is the host copy of the tree (its levels are read from it).
+CompactMeshView compact_view(const CompactMesh& host, const CompactNode* nodes, const CompactLeaf* leaves,
+                             const uint8_t* bytes, const CompactSubmesh* submeshes, const vec3f* vertices);
 // The view of a host-resident compact mesh.
 inline CompactMeshView view_of(const CompactMesh& c) {
-  return {c.nodes.data(),    c.leaves.data(),           c.bytes.data(), c.submeshes.data(),
-          c.vertices.data(), uint32_t(c.leaves.size()), c.leaf_parents};
+  return compact_view(c, c.nodes.data(), c.leaves.data(), c.bytes.data(), c.submeshes.data(), c.vertices.data());
 }
 
 }  // namespace vs

@@ -14,6 +14,7 @@
 #include "volstream/core/stopwatch.h"
 #include "volstream/io/atomic_file.h"
 #include "volstream/mpi/comm.h"
+#include "volstream/mpi/parallel_renderer.h"
 #include "volstream/stream/pipeline.h"
 #include "volstream/stream/render_stages.h"
 #include "volstream/stream/timeline.h"
@@ -111,6 +112,126 @@ void run_play(const PlayArgs& a) {
   print_report(pipeline, timeline, stats, a.pipeline);
 }
 
+// ---- Under mpirun (issue 17) ----------------------------------------------------------------
+// Each rank renders its kd region of every step (reading only its share of the values), the
+// partial images are composited onto rank 0, which writes the frames. The frames follow one
+// another (no overlap of one step's reading with the previous one's rendering yet). Every rank's
+// stages, composite included, go into one trace on rank 0, one process per rank.
+
+// The stages FrameRenderer ran for a frame, laid end to end from `start` (it runs them one after
+// another and reports their durations).
+void record_frame(Timeline& t, const FrameTimes& s, int step, Timeline::Clock::time_point start) {
+  const std::pair<Stage, double> stages[] = {{Stage::read, s.read},
+                                             {Stage::upload, s.upload},
+                                             {Stage::ranges, s.ranges},
+                                             {Stage::refit, s.classify + s.refit},
+                                             {Stage::render, s.render}};
+  for (const auto& [stage, seconds] : stages) {
+    const auto end =
+        start + std::chrono::duration_cast<Timeline::Clock::duration>(std::chrono::duration<double>(seconds));
+    t.record(stage, step, kFrameLane, start, end);
+    start = end;
+  }
+}
+
+// Every rank's timeline on rank 0 (empty elsewhere), as processes "rank R". Events travel as
+// five doubles with absolute steady-clock times: one clock for the ranks of one node (ranks on
+// other nodes keep their own offsets). `per_rank` events at most (the rest padded with stage -1).
+std::vector<std::unique_ptr<Timeline>> gather_timelines(const Timeline& mine, size_t per_rank) {
+  using namespace std::chrono;
+  const auto origin_ns = double(duration_cast<nanoseconds>(mine.origin().time_since_epoch()).count());
+  std::vector<double> flat(per_rank * 5, -1.0);
+  const std::vector<TimelineEvent> events = mine.events();
+  for (size_t i = 0; i < std::min(per_rank, events.size()); ++i) {
+    const TimelineEvent& e = events[i];
+    const double row[5] = {double(e.stage), double(e.step), double(e.lane), origin_ns + double(e.begin_ns),
+                           origin_ns + double(e.end_ns)};
+    std::copy(row, row + 5, flat.begin() + ptrdiff_t(5 * i));
+  }
+  const std::vector<double> all = mpi::gather(flat);
+  std::vector<std::unique_ptr<Timeline>> out;
+  const auto at = [](double ns) { return Timeline::Clock::time_point(nanoseconds(int64_t(ns))); };
+  for (size_t r = 0; r * flat.size() < all.size(); ++r) {
+    out.push_back(std::make_unique<Timeline>("rank " + std::to_string(r), int(r) + 1));
+    for (size_t i = 0; i < per_rank; ++i) {
+      const double* row = all.data() + r * flat.size() + 5 * i;
+      if (row[0] >= 0) out.back()->record(Stage(int(row[0])), int(row[1]), int(row[2]), at(row[3]), at(row[4]));
+    }
+  }
+  return out;
+}
+
+// Mean milliseconds per frame of each stage, one line per rank.
+void print_rank_stages(const std::vector<std::unique_ptr<Timeline>>& timelines, int frames) {
+  std::printf("mean ms per frame    read  ranges   refit  render composite  output\n");
+  const Stage shown[] = {Stage::read, Stage::ranges, Stage::refit, Stage::render, Stage::composite, Stage::output};
+  for (const auto& t : timelines) {
+    double ms[kStageCount] = {};
+    for (const TimelineEvent& e : t->events()) ms[int(e.stage)] += e.ms();
+    std::printf("%-18s", t->process().c_str());
+    for (const Stage s : shown) std::printf(" %7.2f", ms[int(s)] / std::max(frames, 1));
+    std::printf("\n");
+  }
+}
+
+void run_play_ranks(const PlayArgs& a) {
+  if (!a.timeline.empty() && mpi::rank() == 0) check_output_directory(a.timeline);
+  std::unique_ptr<Dataset> ds;
+  RenderPlan plan;
+  std::vector<int> steps;
+  std::unique_ptr<mpi::ParallelRenderer> renderer;
+  std::unique_ptr<FrameWriter> writer;
+  mpi::agreed([&] {
+    ds = std::make_unique<Dataset>(a.dir);
+    if (a.loop < 1) throw UsageError("--loop must be at least 1");
+    const std::vector<int> once = parse_steps(a.steps, ds->manifest().step_count());
+    for (int i = 0; i < a.loop; ++i) steps.insert(steps.end(), once.begin(), once.end());
+    plan = make_stream_render_plan(a.render, *ds);
+    renderer = std::make_unique<mpi::ParallelRenderer>(*ds, plan.device, plan.request, mpi::rank(), mpi::size());
+    if (mpi::rank() == 0) writer = make_writer(a, plan);
+  });
+  Timeline timeline("rank " + std::to_string(mpi::rank()), mpi::rank() + 1);
+  Progress progress("playing", steps.size(), !a.quiet && mpi::rank() == 0, "frame");
+  const Stopwatch playing;
+  for (size_t frame = 0; frame < steps.size(); ++frame) {
+    const int step = steps[frame];
+    plan.request.step = step;
+    Image partial;
+    mpi::agreed([&] {
+      FrameReport report;
+      const auto start = Timeline::Clock::now();
+      partial = renderer->render_local(plan.request, &report);
+      record_frame(timeline, report.seconds, step, start);
+    });
+    Image image;
+    {
+      const auto scope = timeline.scope(Stage::composite, step, kFrameLane);
+      image = renderer->composite(partial, plan.request, mpi::CompositeScheme::automatic);
+    }
+    mpi::agreed([&] {
+      if (!writer) return;
+      const auto scope = timeline.scope(Stage::output, step, kFrameLane);
+      writer->write(image, int(frame), step);
+    });
+    progress.set(frame + 1);
+  }
+  mpi::agreed([&] {
+    if (writer) writer->finish();
+  });
+  progress.finish();
+  const double seconds = playing.seconds();
+  const auto timelines = gather_timelines(timeline, steps.size() * (kStageCount + 1));
+  if (mpi::rank() != 0) return;
+  std::printf("played %zu frames on %d ranks in %.3f s: %.2f frames/s\n", steps.size(), mpi::size(), seconds,
+              double(steps.size()) / std::max(seconds, 1e-9));
+  print_rank_stages(timelines, int(steps.size()));
+  if (!a.timeline.empty()) {
+    std::vector<const Timeline*> all;
+    for (const auto& t : timelines) all.push_back(t.get());
+    write_chrome_trace(a.timeline, all);
+  }
+}
+
 }  // namespace
 
 void add_play_command(CLI::App& app) {
@@ -126,11 +247,7 @@ void add_play_command(CLI::App& app) {
   cmd->add_flag("-q,--quiet", a->quiet, "no progress bar");
   a->render = stream_render_defaults();
   add_render_options(cmd, a->render, RenderContext::stream);
-  cmd->callback([a] {
-    // Every rank would play the whole sequence; the data-parallel frame is `render`'s for now.
-    if (mpi::size() > 1) throw UsageError("play does not split the data among MPI ranks yet (run it without mpirun)");
-    run_play(*a);
-  });
+  cmd->callback([a] { mpi::active() ? run_play_ranks(*a) : run_play(*a); });
 }
 
 }  // namespace vs::cli

@@ -92,13 +92,13 @@ std::vector<TraceEvent> parse_trace(const json& doc) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Tableau-10 colours: the six stages first, then anything else by hash.
+// Tableau-10 colours: the seven stages first, then anything else by hash.
 const char* stage_colour(const std::string& name) {
   static const char* palette[] = {"#4e79a7", "#f28e2b", "#59a14f", "#e15759", "#76b7b2",
                                   "#edc948", "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac"};
   Stage s;
   if (parse_stage(name, s)) return palette[int(s)];
-  return palette[6 + std::hash<std::string>{}(name) % 4];
+  return palette[kStageCount + std::hash<std::string>{}(name) % (10 - kStageCount)];
 }
 
 std::string fmt(const char* format, auto... args) {

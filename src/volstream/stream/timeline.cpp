@@ -12,7 +12,7 @@
 namespace vs::stream {
 
 namespace {
-constexpr const char* kStageNames[kStageCount] = {"read", "upload", "ranges", "refit", "render", "output"};
+constexpr const char* kStageNames[kStageCount] = {"read", "upload", "ranges", "refit", "render", "composite", "output"};
 }
 
 const char* stage_name(Stage s) { return kStageNames[int(s)]; }

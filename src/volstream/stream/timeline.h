@@ -13,9 +13,10 @@
 
 namespace vs::stream {
 
-// The per-frame stages of DESIGN.md, in pipeline order.
-enum class Stage : uint8_t { read, upload, ranges, refit, render, output };
-inline constexpr int kStageCount = 6;
+// The per-frame stages of DESIGN.md, in pipeline order (composite: under mpirun, the ranks'
+// partial images blended onto rank 0).
+enum class Stage : uint8_t { read, upload, ranges, refit, render, composite, output };
+inline constexpr int kStageCount = 7;
 const char* stage_name(Stage s);
 // The stage called `name`; false if there is none.
 bool parse_stage(const std::string& name, Stage& out);

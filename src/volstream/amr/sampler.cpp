@@ -22,4 +22,13 @@ double sample_brute_force(const Cell* cells, const float* values, uint64_t n, co
   return weight > 0 ? weighted / weight : NAN;
 }
 
+std::vector<SampleBrick> make_sample_bricks(const AmrTopology& topology) {
+  std::vector<SampleBrick> out(topology.abr_bricks.size());
+  for (size_t i = 0; i < out.size(); ++i) {
+    const Brick& b = topology.bricks[topology.abr_bricks[i]];
+    out[i] = {vec3f(b.lower), 1.f / float(b.width()), b.dims, 0u, b.value_offset};
+  }
+  return out;
+}
+
 }  // namespace vs

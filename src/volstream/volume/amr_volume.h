@@ -19,8 +19,12 @@ struct AmrVolume {
   uint32_t node_count = 0;
   const BvhNode* all_nodes = nullptr;  // template BVH over all ABRs: point location
   uint32_t all_node_count = 0;
+  // The CPU's fast sampler's records (amr/sampler.h, one per abr_bricks entry); null: the
+  // reference sampler (the GPU, and tests that compare the two).
+  const SampleBrick* sample_bricks = nullptr;
 
   VS_HOST_DEVICE float sample(int field, uint32_t abr, const vec3f& p) const {
+    if (sample_bricks) return sample_abr_fast(amr.abrs, sample_bricks, fields[field], abr, p);
     AmrView v = amr;
     v.values = fields[field];
     return sample_abr(v, abr, p);

@@ -22,8 +22,11 @@ TEST(FastMath, Log2WithinItsBoundOverEveryBinade) {
   for (int e = -126; e <= 127; ++e) {
     for (int i = 0; i < 2000; ++i) {
       // Random mantissas plus the edges of the [sqrt(1/2), sqrt(2)) cut and of the binade.
-      float m = i == 0 ? 1.f : i == 1 ? std::nextafter(2.f, 0.f) : i == 2 ? 1.41421354f : i == 3 ? 1.41421366f
-                                                                                               : mantissa(rng);
+      float m = i == 0   ? 1.f
+                : i == 1 ? std::nextafter(2.f, 0.f)
+                : i == 2 ? 1.41421354f
+                : i == 3 ? 1.41421366f
+                         : mantissa(rng);
       const float x = std::ldexp(m, e);
       if (!std::isfinite(x)) continue;
       const double exact = std::log2(double(x));
@@ -33,7 +36,8 @@ TEST(FastMath, Log2WithinItsBoundOverEveryBinade) {
       worst = std::max(worst, err - 6e-8 * std::abs(exact));
       // log10 = log2 * log10(2) in float: the absolute part scaled, and a few ulps of the
       // result (log2's rounding, the product's, the constant's): 2e-7 relative.
-      ASSERT_NEAR(double(fast_log10(x)), std::log10(double(x)), 0.30103 * 2.5e-7 + 2e-7 * std::abs(std::log10(double(x))))
+      ASSERT_NEAR(double(fast_log10(x)), std::log10(double(x)),
+                  0.30103 * 2.5e-7 + 2e-7 * std::abs(std::log10(double(x))))
           << "x = " << x;
     }
   }
@@ -51,9 +55,9 @@ TEST(FastMath, Log2NearOneIsRelativelyAccurate) {
 
 TEST(FastMath, Log2SpecialValuesAsLibm) {
   const float inf = std::numeric_limits<float>::infinity();
-  for (float x : {0.f, -0.f, -1.f, -inf, inf, std::numeric_limits<float>::quiet_NaN(),
-                  std::numeric_limits<float>::denorm_min(), 1e-40f, std::numeric_limits<float>::max(),
-                  std::numeric_limits<float>::min()}) {
+  for (float x :
+       {0.f, -0.f, -1.f, -inf, inf, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::denorm_min(),
+        1e-40f, std::numeric_limits<float>::max(), std::numeric_limits<float>::min()}) {
     if (x == std::numeric_limits<float>::max() || x == std::numeric_limits<float>::min())
       EXPECT_NEAR(fast_log2(x), log2f(x), 1e-5) << x;
     else

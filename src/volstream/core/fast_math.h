@@ -42,8 +42,7 @@ VS_HOST_DEVICE inline float fast_log2(float x) {
   const float s = (m - 1.f) / (m + 1.f);
   const float s2 = s * s;
   // (2 / ln 2) (s + s^3/3 + s^5/5 + s^7/7 + s^9/9), Horner in s^2.
-  constexpr float c1 = 2.885390082f, c3 = 0.9617966940f, c5 = 0.5770780164f, c7 = 0.4121985831f,
-                  c9 = 0.3205988979f;
+  constexpr float c1 = 2.885390082f, c3 = 0.9617966940f, c5 = 0.5770780164f, c7 = 0.4121985831f, c9 = 0.3205988979f;
   const float poly = s * (c1 + s2 * (c3 + s2 * (c5 + s2 * (c7 + s2 * c9))));
   return float(exponent) + poly;
 #endif

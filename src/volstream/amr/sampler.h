@@ -79,10 +79,12 @@ double sample_brute_force(const Cell* cells, const float* values, uint64_t n, co
 // - An ABR of one brick (most samples: the inside of a brick) is an edge-clamped trilinear
 //   interpolation: the tent weights factor per axis, and a cell's weight divided by the sum over
 //   the brick is (1 - t, t) between two cells and 1 where only one cell of the brick reaches p
-//   (the half-cell shell), so no weight sum and no division. It differs from sample_abr by float
-//   rounding only: at most 1e-6 * the largest |value| of the 8 cells read (each normalised weight
-//   is within a few ulps of the reference's w / sum w and the 8 products are summed with weights
-//   adding to 1 within a few ulps); tests/amr/fast_sampler_test.cpp checks it.
+//   (the half-cell shell), which is what clamping p into the cell centres' box gives; so no
+//   weight sum and no division, seven lerps. It differs from sample_abr by float rounding
+//   only: at most 1e-6 * the largest |value| of the 8 cells read (each lerp a + t (c - a) of
+//   values bounded by M is within 2 ulps of M, three levels of them, against the reference's
+//   few ulps for w / sum w: well under 16 ulps = 1e-6 M); tests/amr/fast_sampler_test.cpp
+//   checks it.
 // NaN exactly where the reference is NaN: p beyond every cell's support, or a NaN value read
 // with a non-zero weight.
 struct SampleBrick {
@@ -100,7 +102,7 @@ std::vector<SampleBrick> make_sample_bricks(const AmrTopology& topology);
 namespace detail {
 
 // floor(q) as an int, for |q| < 2^31, without a libm call (floorf is one on baseline x86-64).
-VS_HOST_DEVICE inline int32_t floor_to_int(float q) {
+VS_HOST_DEVICE VS_FORCE_INLINE int32_t floor_to_int(float q) {
   const int32_t i = int32_t(q);
   return i - int32_t(float(i) > q);
 }
@@ -111,37 +113,22 @@ VS_HOST_DEVICE inline int32_t floor_to_int(float q) {
 struct AxisCells {
   int32_t i0, i1;
   float w0, w1;
-  bool in0, in1;
 };
-VS_HOST_DEVICE inline AxisCells axis_cells(float q, int32_t n) {
+VS_HOST_DEVICE VS_FORCE_INLINE AxisCells axis_cells(float q, int32_t n) {
   const int32_t i = floor_to_int(q);
   const float f = float(i);
-  AxisCells c;
-  c.in0 = i >= 0 && i < n;
-  c.in1 = i >= -1 && i + 1 < n;
+  const bool in0 = i >= 0 && i < n, in1 = i >= -1 && i + 1 < n;
   const float w0 = 1.f - fabsf(q - f), w1 = 1.f - fabsf(q - (f + 1.f));
-  c.w0 = c.in0 && w0 > 0.f ? w0 : 0.f;
-  c.w1 = c.in1 && w1 > 0.f ? w1 : 0.f;
-  c.i0 = c.in0 ? i : 0;
-  c.i1 = c.in1 ? i + 1 : 0;
-  return c;
+  return {in0 ? i : 0, in1 ? i + 1 : 0, in0 && w0 > 0.f ? w0 : 0.f, in1 && w1 > 0.f ? w1 : 0.f};
 }
 
-// The weights of one brick's cells divided by their sum along the axis: where only one cell of
-// the brick reaches q, its weight is 1 (the other is outside the brick and has weight 0).
-VS_HOST_DEVICE inline AxisCells normalised(AxisCells c) {
-  c.w0 = c.in1 ? c.w0 : 1.f;
-  c.w1 = c.in0 ? c.w1 : 1.f;
-  return c;
-}
-
-VS_HOST_DEVICE inline vec3f brick_cell_coords(const SampleBrick& b, const vec3f& p) {
+VS_HOST_DEVICE VS_FORCE_INLINE vec3f brick_cell_coords(const SampleBrick& b, const vec3f& p) {
   return (p - b.lower) * b.inv_width - vec3f(0.5f);  // as accumulate_brick: cell i's centre at i
 }
 
 // sum (w v) and sum w over the brick's 8 cells around p, in accumulate_brick's order.
-VS_HOST_DEVICE inline void accumulate_brick_fast(const SampleBrick& b, const float* values, const vec3f& p,
-                                                 TentSum& sum) {
+VS_HOST_DEVICE VS_FORCE_INLINE void accumulate_brick_fast(const SampleBrick& b, const float* values, const vec3f& p,
+                                                          TentSum& sum) {
   const vec3f q = brick_cell_coords(b, p);
   const AxisCells x = axis_cells(q.x, b.dims.x), y = axis_cells(q.y, b.dims.y), z = axis_cells(q.z, b.dims.z);
   const float* v = values + b.value_offset;
@@ -158,35 +145,51 @@ VS_HOST_DEVICE inline void accumulate_brick_fast(const SampleBrick& b, const flo
       }
 }
 
-// The one-brick case: edge-clamped trilinear (see above).
-VS_HOST_DEVICE inline float sample_one_brick(const SampleBrick& b, const float* values, const vec3f& p) {
+// One axis of the one-brick form: q clamped into [0, n - 1], the lower cell (at most n - 2, so
+// that the upper one, i + 1, is in the brick; both 0 when n = 1) and the upper cell's weight.
+struct ClampedAxis {
+  int32_t i0, i1;
+  float t;
+};
+VS_HOST_DEVICE VS_FORCE_INLINE ClampedAxis clamped_axis(float q, int32_t n) {
+  const float top = float(n - 1);
+  const float qc = q > 0.f ? (q < top ? q : top) : 0.f;
+  const int32_t last_lower = n > 1 ? n - 2 : 0;
+  const int32_t i = int32_t(qc);  // qc >= 0: truncation is floor
+  const int32_t i0 = i < last_lower ? i : last_lower;
+  return {i0, n > 1 ? i0 + 1 : 0, qc - float(i0)};
+}
+
+// The one-brick case: edge-clamped trilinear (see above), as nested lerps.
+VS_HOST_DEVICE VS_FORCE_INLINE float sample_one_brick(const SampleBrick& b, const float* values, const vec3f& p) {
   const vec3f q = brick_cell_coords(b, p);
   // Beyond every cell's support (weights all 0 in the reference), or NaN.
   if (!(q.x > -1.f && q.y > -1.f && q.z > -1.f && q.x < float(b.dims.x) && q.y < float(b.dims.y) &&
         q.z < float(b.dims.z)))
     return NAN;
-  const AxisCells x = normalised(axis_cells(q.x, b.dims.x)), y = normalised(axis_cells(q.y, b.dims.y)),
-                  z = normalised(axis_cells(q.z, b.dims.z));
+  const ClampedAxis x = clamped_axis(q.x, b.dims.x), y = clamped_axis(q.y, b.dims.y), z = clamped_axis(q.z, b.dims.z);
   const float* v = values + b.value_offset;
   const int32_t nx = b.dims.x, nxy = b.dims.x * b.dims.y;
-  const int32_t zs[2] = {z.i0 * nxy, z.i1 * nxy}, ys[2] = {y.i0 * nx, y.i1 * nx}, xs[2] = {x.i0, x.i1};
-  const float wz[2] = {z.w0, z.w1}, wy[2] = {y.w0, y.w1}, wx[2] = {x.w0, x.w1};
-  float result = 0.f;
-  for (int dz = 0; dz < 2; ++dz)
-    for (int dy = 0; dy < 2; ++dy)
-      for (int dx = 0; dx < 2; ++dx) {
-        const float w = wx[dx] * wy[dy] * wz[dz];
-        const float value = v[zs[dz] + ys[dy] + xs[dx]];
-        result += w > 0.f ? w * value : 0.f;
-      }
-  return result;
+  const float* z0 = v + z.i0 * nxy;
+  const float* z1 = v + z.i1 * nxy;
+  const int32_t y0 = y.i0 * nx, y1 = y.i1 * nx;
+  auto lerp = [](float a, float c, float t) { return a + t * (c - a); };
+  const float c00 = lerp(z0[y0 + x.i0], z0[y0 + x.i1], x.t), c10 = lerp(z0[y1 + x.i0], z0[y1 + x.i1], x.t);
+  const float c01 = lerp(z1[y0 + x.i0], z1[y0 + x.i1], x.t), c11 = lerp(z1[y1 + x.i0], z1[y1 + x.i1], x.t);
+  const float result = lerp(lerp(c00, c10, y.t), lerp(c01, c11, y.t), z.t);
+  if (result == result) return result;
+  // NaN: a NaN value ("no data") among the 8, which the reference skips where its weight is 0
+  // (a lerp would not); rare, so the exact sum decides.
+  TentSum sum;
+  accumulate_brick_fast(b, values, p, sum);
+  return sum.value();
 }
 
 }  // namespace detail
 
 // The fast sampler: field `values` at p (grid units) inside ABR `abr`.
-VS_HOST_DEVICE inline float sample_abr_fast(const Abr* abrs, const SampleBrick* sample_bricks, const float* values,
-                                            uint32_t abr, const vec3f& p) {
+VS_HOST_DEVICE VS_FORCE_INLINE float sample_abr_fast(const Abr* abrs, const SampleBrick* sample_bricks,
+                                                     const float* values, uint32_t abr, const vec3f& p) {
   const Abr& a = abrs[abr];
   const SampleBrick* b = sample_bricks + a.first_brick;
   if (a.brick_count == 1) return detail::sample_one_brick(*b, values, p);

@@ -93,6 +93,44 @@ TEST_P(FastSampler, EqualsTheReferencePerSample) {
               (unsigned long long)one_brick, (unsigned long long)several, worst_relative);
 }
 
+// The batch form on one-brick ABRs: both builds (the baseline forced, as on a CPU without AVX2,
+// and the AVX2 one where the CPU has it) give sample_abr_fast's floats.
+TEST_P(FastSampler, BatchesEqualPointByPointOnEveryBuild) {
+  const auto [seed, levels, refine] = GetParam();
+  const AmrTopology t = build_topology(test::random_octree_cells(seed, vec3i(3, 2, 2), levels, refine));
+  const std::vector<SampleBrick> records = make_sample_bricks(t);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> value(-100.f, 100.f), unit(0.f, 1.f);
+  std::vector<float> values(t.cell_count);
+  for (float& v : values) v = unit(rng) < 0.01f ? NAN : value(rng);
+  const AmrView view = make_view(t, values.data());
+  uint64_t checked = 0;
+  for (bool baseline : {true, false}) {
+    sample_batch_force_baseline(baseline);
+    for (uint32_t abr = 0; abr < t.abrs.size(); ++abr) {
+      const Abr& a = t.abrs[abr];
+      if (a.brick_count != 1) continue;
+      vec3f p[8];
+      float out[8];
+      const uint32_t n = 1 + abr % 8;  // short batches too
+      for (uint32_t i = 0; i < n; ++i)
+        for (int axis = 0; axis < 3; ++axis)  // the box grown a little: some points beyond the support
+          p[i][axis] = a.box.lower[axis] + (1.2f * unit(rng) - 0.1f) * (a.box.upper[axis] - a.box.lower[axis]);
+      sample_one_brick_batch(records[a.first_brick], values.data(), p, n, out);
+      for (uint32_t i = 0; i < n; ++i) {
+        const float one = sample_abr_fast(t.abrs.data(), records.data(), values.data(), abr, p[i]);
+        const float ref = sample_abr(view, abr, p[i]);
+        ASSERT_EQ(std::isnan(out[i]), std::isnan(ref)) << sample_batch_isa();
+        ASSERT_TRUE(same_bits(out[i], one)) << sample_batch_isa() << ": " << out[i] << " vs " << one;
+        if (!std::isnan(ref)) ASSERT_NEAR(out[i], ref, 1e-6 * 100.0) << sample_batch_isa();
+        ++checked;
+      }
+    }
+  }
+  sample_batch_force_baseline(false);
+  EXPECT_GT(checked, 0u);
+}
+
 INSTANTIATE_TEST_SUITE_P(RandomOctrees, FastSampler,
                          ::testing::Values(std::make_tuple(1u, 3, 0.4), std::make_tuple(2u, 4, 0.35),
                                            std::make_tuple(3u, 5, 0.3), std::make_tuple(4u, 2, 0.6),

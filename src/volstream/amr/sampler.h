@@ -160,13 +160,15 @@ VS_HOST_DEVICE VS_FORCE_INLINE ClampedAxis clamped_axis(float q, int32_t n) {
   return {i0, n > 1 ? i0 + 1 : 0, qc - float(i0)};
 }
 
-// The one-brick case: edge-clamped trilinear (see above), as nested lerps.
-VS_HOST_DEVICE VS_FORCE_INLINE float sample_one_brick(const SampleBrick& b, const float* values, const vec3f& p) {
-  const vec3f q = brick_cell_coords(b, p);
-  // Beyond every cell's support (weights all 0 in the reference), or NaN.
-  if (!(q.x > -1.f && q.y > -1.f && q.z > -1.f && q.x < float(b.dims.x) && q.y < float(b.dims.y) &&
-        q.z < float(b.dims.z)))
-    return NAN;
+// Is q (cell-centre coordinates) where some cell of the brick has a non-zero weight? (False for
+// NaN.)
+VS_HOST_DEVICE VS_FORCE_INLINE bool in_brick_support(const SampleBrick& b, const vec3f& q) {
+  return q.x > -1.f && q.y > -1.f && q.z > -1.f && q.x < float(b.dims.x) && q.y < float(b.dims.y) &&
+         q.z < float(b.dims.z);
+}
+
+// The edge-clamped trilinear at q as nested lerps; reads only cells of the brick for any q.
+VS_HOST_DEVICE VS_FORCE_INLINE float one_brick_lerps(const SampleBrick& b, const float* values, const vec3f& q) {
   const ClampedAxis x = clamped_axis(q.x, b.dims.x), y = clamped_axis(q.y, b.dims.y), z = clamped_axis(q.z, b.dims.z);
   const float* v = values + b.value_offset;
   const int32_t nx = b.dims.x, nxy = b.dims.x * b.dims.y;
@@ -176,10 +178,17 @@ VS_HOST_DEVICE VS_FORCE_INLINE float sample_one_brick(const SampleBrick& b, cons
   auto lerp = [](float a, float c, float t) { return a + t * (c - a); };
   const float c00 = lerp(z0[y0 + x.i0], z0[y0 + x.i1], x.t), c10 = lerp(z0[y1 + x.i0], z0[y1 + x.i1], x.t);
   const float c01 = lerp(z1[y0 + x.i0], z1[y0 + x.i1], x.t), c11 = lerp(z1[y1 + x.i0], z1[y1 + x.i1], x.t);
-  const float result = lerp(lerp(c00, c10, y.t), lerp(c01, c11, y.t), z.t);
+  return lerp(lerp(c00, c10, y.t), lerp(c01, c11, y.t), z.t);
+}
+
+// The one-brick case (see above): NaN beyond the brick's support, else the lerps; a NaN value
+// ("no data") among the 8 read, which the reference skips where its weight is 0 (a lerp would
+// not), is rare, so then the exact sum decides.
+VS_HOST_DEVICE VS_FORCE_INLINE float sample_one_brick(const SampleBrick& b, const float* values, const vec3f& p) {
+  const vec3f q = brick_cell_coords(b, p);
+  if (!in_brick_support(b, q)) return NAN;
+  const float result = one_brick_lerps(b, values, q);
   if (result == result) return result;
-  // NaN: a NaN value ("no data") among the 8, which the reference skips where its weight is 0
-  // (a lerp would not); rare, so the exact sum decides.
   TentSum sum;
   accumulate_brick_fast(b, values, p, sum);
   return sum.value();
@@ -197,5 +206,16 @@ VS_HOST_DEVICE VS_FORCE_INLINE float sample_abr_fast(const Abr* abrs, const Samp
   for (uint32_t i = 0; i < a.brick_count; ++i) detail::accumulate_brick_fast(b[i], values, p, sum);
   return sum.value();
 }
+
+// CPU only: the one-brick case for n <= 8 points at once (a batch of samples along a ray, all
+// in one ABR), in 8 SIMD lanes. Compiled twice (sampler_batch.cpp), for baseline x86-64 and
+// with AVX2, chosen once by the CPU it runs on; both give sample_abr_fast's floats bit for bit
+// (no FMA: nothing is contracted).
+void sample_one_brick_batch(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out);
+// The build sample_one_brick_batch runs: "avx2" or "baseline". Forcing the baseline makes it run
+// whatever the CPU (tests: a CPU without AVX2; the environment's VOLSTREAM_CPU_BASELINE=1 sets
+// it at start-up).
+const char* sample_batch_isa();
+void sample_batch_force_baseline(bool on);
 
 }  // namespace vs

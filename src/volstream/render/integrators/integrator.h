@@ -307,7 +307,8 @@ VS_HOST_DEVICE inline Steps make_steps(const IntegratorSettings& st, const Ray& 
 // depend on one another, so the core overlaps their long chains of dependent operations; only
 // compositing is serial. The same samples, colours, opacities and order as the one-by-one loop
 // below (take_sample), so the same image bit for bit; a ray that turns opaque inside a batch has
-// computed up to kSampleBatch - 1 samples it does not use (and does not count).
+// computed up to kSampleBatch - 1 samples it does not use (and does not count). A volume with
+// sample_batch (AmrVolume) reconstructs the batch in one call, in SIMD lanes (amr/sampler.h).
 inline constexpr uint32_t kSampleBatch = 8;
 
 template <typename V>
@@ -317,9 +318,18 @@ inline void march_interval_batched(const FrameView<V>& v, const Ray& ray, const 
     const uint32_t m = steps.n - k0 < kSampleBatch ? steps.n - k0 : kSampleBatch;
     float t[kSampleBatch], len_ref[kSampleBatch], f[kSampleBatch], alpha[kSampleBatch];
     Rgba c[kSampleBatch];
-    for (uint32_t i = 0; i < m; ++i) {
-      steps.at(k0 + i, jitter, t[i], len_ref[i]);
-      f[i] = sample(v.volume, 0, iv.region, ray.at(t[i]), s);
+    if constexpr (requires(const vec3f* p, float* out) { v.volume.sample_batch(0, iv.region, p, m, out); }) {
+      vec3f p[kSampleBatch];  // a volume that samples a batch at once (AmrVolume: SIMD lanes)
+      for (uint32_t i = 0; i < m; ++i) {
+        steps.at(k0 + i, jitter, t[i], len_ref[i]);
+        p[i] = ray.at(t[i]);
+      }
+      v.volume.sample_batch(0, iv.region, p, m, f);
+    } else {
+      for (uint32_t i = 0; i < m; ++i) {
+        steps.at(k0 + i, jitter, t[i], len_ref[i]);
+        f[i] = sample(v.volume, 0, iv.region, ray.at(t[i]), s);
+      }
     }
     for (uint32_t i = 0; i < m; ++i) {  // a NaN f (no data) looks up entry 0; it is skipped below
       c[i] = v.optics.tf.lookup(f[i]);

@@ -14,6 +14,7 @@
 #include "volstream/amr/abrs.h"
 #include "volstream/amr/bricks.h"
 #include "volstream/amr/sampler.h"
+#include "volstream/core/simd.h"
 
 namespace vs {
 namespace {
@@ -106,7 +107,7 @@ TEST_P(FastSampler, BatchesEqualPointByPointOnEveryBuild) {
   const AmrView view = make_view(t, values.data());
   uint64_t checked = 0;
   for (bool baseline : {true, false}) {
-    sample_batch_force_baseline(baseline);
+    simd::force_baseline(baseline);
     for (uint32_t abr = 0; abr < t.abrs.size(); ++abr) {
       const Abr& a = t.abrs[abr];
       if (a.brick_count != 1) continue;
@@ -120,14 +121,16 @@ TEST_P(FastSampler, BatchesEqualPointByPointOnEveryBuild) {
       for (uint32_t i = 0; i < n; ++i) {
         const float one = sample_abr_fast(t.abrs.data(), records.data(), values.data(), abr, p[i]);
         const float ref = sample_abr(view, abr, p[i]);
-        ASSERT_EQ(std::isnan(out[i]), std::isnan(ref)) << sample_batch_isa();
-        ASSERT_TRUE(same_bits(out[i], one)) << sample_batch_isa() << ": " << out[i] << " vs " << one;
-        if (!std::isnan(ref)) ASSERT_NEAR(out[i], ref, 1e-6 * 100.0) << sample_batch_isa();
+        ASSERT_EQ(std::isnan(out[i]), std::isnan(ref)) << simd::isa();
+        ASSERT_TRUE(same_bits(out[i], one)) << simd::isa() << ": " << out[i] << " vs " << one;
+        if (!std::isnan(ref)) {
+          ASSERT_NEAR(out[i], ref, 1e-6 * 100.0) << simd::isa();
+        }
         ++checked;
       }
     }
   }
-  sample_batch_force_baseline(false);
+  simd::force_baseline(false);
   EXPECT_GT(checked, 0u);
 }
 

@@ -2,12 +2,14 @@
 // powf definition, with the error bounds the header states.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
 
 #include "volstream/core/fast_math.h"
+#include "volstream/core/simd.h"
 #include "volstream/render/optics/optics.h"
 
 namespace vs {
@@ -102,6 +104,50 @@ TEST(FastMath, CorrectedAlphaWithinTwoMillionthsOfThePowfDefinition) {
   std::printf("corrected_alpha: worst error %.3g\n", worst);
   EXPECT_EQ(corrected_alpha(0.f, 3.f), 0.f);
   EXPECT_EQ(corrected_alpha(1.f, 0.5f), 1.f);
+}
+
+// The batch form the CPU's march uses (optics.h, tf_lookup_batch) gives TfView::lookup's colour
+// and corrected_alpha's opacity bit for bit on both builds, on a linear and a log scale, for
+// values of every kind (zero, negative, subnormal, infinite, NaN, beyond the range).
+TEST(FastMath, TransferBatchEqualsTheScalarFunctionsOnEveryBuild) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  const float inf = std::numeric_limits<float>::infinity();
+  for (bool log_scale : {false, true}) {
+    TransferFunctionSpec spec;
+    spec.colors = builtin_color_map("viridis");
+    spec.opacity = {{0.f, 0.f}, {0.3f, 0.9f}, {0.5f, 0.f}, {0.7f, 1.f}, {1.f, 0.4f}};
+    spec.lo = log_scale ? 1e-4f : -2.f;
+    spec.hi = log_scale ? 10.f : 3.f;
+    spec.log_scale = log_scale;
+    const TransferTable table(spec);
+    const TfView tf = table.view();
+    for (bool baseline : {true, false}) {
+      simd::force_baseline(baseline);
+      for (int batch = 0; batch < 400; ++batch) {
+        float f[8], len[8], alpha[8];
+        Rgba color[8];
+        const uint32_t n = 1 + uint32_t(batch) % 8;
+        for (uint32_t k = 0; k < n; ++k) {
+          const float u = unit(rng);
+          f[k] = batch < 8 && k == 0 ? std::array<float, 8>{0.f, -1.f, 1e-40f, inf, NAN, 1e9f, 1e-30f, -inf}[batch]
+                 : log_scale         ? std::pow(10.f, -5.f + 7.f * u)
+                                     : -3.f + 7.f * u;
+          len[k] = 0.05f + 4.f * unit(rng);
+        }
+        tf_lookup_batch(tf, f, len, n, color, alpha);
+        for (uint32_t k = 0; k < n; ++k) {
+          const Rgba c = tf.lookup(f[k]);
+          const float a = c.a > 0.f ? corrected_alpha(c.a, len[k]) : 0.f;
+          ASSERT_TRUE(same_float(color[k].r, c.r) && same_float(color[k].g, c.g) && same_float(color[k].b, c.b) &&
+                      same_float(color[k].a, c.a))
+              << simd::isa() << " f " << f[k];
+          ASSERT_TRUE(same_float(alpha[k], a)) << simd::isa() << " f " << f[k] << ": " << alpha[k] << " vs " << a;
+        }
+      }
+    }
+  }
+  simd::force_baseline(false);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "volstream/amr/ranges.h"
 #include "volstream/amr/sampler.h"
 #include "volstream/core/error.h"
+#include "volstream/core/simd.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/io/image.h"
 #include "volstream/render/integrators/abr_renderer.h"
@@ -369,9 +370,9 @@ TEST(Render, CpuFastPathsKeepTheImage) {
       return r.render(Device::cpu, v, &st);
     };
     FrameStats st[4];
-    sample_batch_force_baseline(true);  // as on a CPU without AVX2
+    simd::force_baseline(true);  // as on a CPU without AVX2
     const Image baseline = render(true, true, st[3]);
-    sample_batch_force_baseline(false);
+    simd::force_baseline(false);
     const Image fast = render(true, true, st[0]), one_by_one = render(true, false, st[1]);
     const Image reference = render(false, false, st[2]);
     ASSERT_GT(mean_alpha(reference), 0.05);
@@ -379,7 +380,7 @@ TEST(Render, CpuFastPathsKeepTheImage) {
     // either build.
     EXPECT_EQ(std::memcmp(baseline.rgba.data(), one_by_one.rgba.data(), fast.rgba.size() * sizeof(float)), 0);
     EXPECT_EQ(std::memcmp(fast.rgba.data(), one_by_one.rgba.data(), fast.rgba.size() * sizeof(float)), 0)
-        << sample_batch_isa();
+        << simd::isa();
     EXPECT_EQ(st[0].samples, st[1].samples);
     EXPECT_EQ(st[0].samples, st[2].samples);
     EXPECT_EQ(st[3].samples, st[2].samples);

@@ -209,13 +209,9 @@ VS_HOST_DEVICE VS_FORCE_INLINE float sample_abr_fast(const Abr* abrs, const Samp
 
 // CPU only: the one-brick case for n <= 8 points at once (a batch of samples along a ray, all
 // in one ABR), in 8 SIMD lanes. Compiled twice (sampler_batch.cpp), for baseline x86-64 and
-// with AVX2, chosen once by the CPU it runs on; both give sample_abr_fast's floats bit for bit
+// with AVX2, chosen by the CPU it runs on (core/simd.h); both give sample_abr_fast's floats bit for bit
 // (no FMA: nothing is contracted).
 void sample_one_brick_batch(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out);
-// The build sample_one_brick_batch runs: "avx2" or "baseline". Forcing the baseline makes it run
-// whatever the CPU (tests: a CPU without AVX2; the environment's VOLSTREAM_CPU_BASELINE=1 sets
-// it at start-up).
-const char* sample_batch_isa();
-void sample_batch_force_baseline(bool on);
+// (core/simd.h says which build runs and forces the baseline.)
 
 }  // namespace vs

@@ -1,30 +1,17 @@
-// The one-brick sampler over a batch of points in 8 SIMD lanes (GCC/Clang vector extensions),
-// built for baseline x86-64 (SSE2: two 4-wide halves) and for AVX2 (8 wide), with the choice
-// made once at start-up from the CPU (amr/sampler.h). The body is one always-inlined function,
-// so both builds compute the same thing, and only the two entry points carry a target: AVX2 code
-// never leaks into baseline callers. No FMA in the AVX2 build (target "avx2" only), so no
-// contraction either: both builds give sample_abr_fast's floats bit for bit.
-#include <atomic>
+// The one-brick sampler over a batch of points in 8 SIMD lanes, built for baseline x86-64 (SSE2:
+// two 4-wide halves) and for AVX2 (8 wide), chosen by the CPU (core/simd.h): both give
+// sample_abr_fast's floats bit for bit.
 #include <cmath>
-#include <cstdlib>
 
 #include "volstream/amr/sampler.h"
-
-// The 8-lane helpers below are always inlined into the two entry points: no vector value ever
-// crosses a call, so GCC's note that a 32-byte vector's calling convention differs with AVX
-// does not apply.
-#if defined(__clang__)
-#pragma clang diagnostic ignored "-Wpsabi"
-#elif defined(__GNUC__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
+#include "volstream/core/simd.h"
 
 namespace vs {
 namespace {
 
-constexpr uint32_t kLanes = 8;
-typedef float f8 __attribute__((vector_size(kLanes * sizeof(float))));
-typedef int32_t i8 __attribute__((vector_size(kLanes * sizeof(int32_t))));
+using simd::f8;
+using simd::i8;
+using simd::kLanes;
 
 // detail::clamped_axis in lanes: q clamped into [0, n - 1], lower cell index and upper weight.
 struct LaneAxis {
@@ -86,43 +73,15 @@ void batch_baseline(const SampleBrick& b, const float* values, const vec3f* p, u
   batch_body(b, values, p, n, out);
 }
 
-using BatchFn = void (*)(const SampleBrick&, const float*, const vec3f*, uint32_t, float*);
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// ISA flags only (no arch=, no FMA): the header's inline functions keep inlining into it, and no
-// multiply-add is contracted.
-__attribute__((target("avx2"))) void batch_avx2(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n,
-                                                float* out) {
+VS_TARGET_AVX2 void batch_avx2(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out) {
   batch_body(b, values, p, n, out);
 }
-BatchFn best_batch() {
-  __builtin_cpu_init();  // may run before main (static initialisation)
-  return __builtin_cpu_supports("avx2") ? batch_avx2 : batch_baseline;
-}
-#else
-BatchFn best_batch() { return batch_baseline; }
-#endif
-
-const BatchFn g_best = best_batch();
-// VOLSTREAM_CPU_BASELINE=1 starts with the baseline build (benchmarks: what a CPU without AVX2
-// gets from the same binary).
-bool baseline_from_environment() {
-  const char* e = std::getenv("VOLSTREAM_CPU_BASELINE");
-  return e && e[0] == '1';
-}
-std::atomic<bool> g_force_baseline{baseline_from_environment()};
-
-BatchFn current() { return g_force_baseline.load(std::memory_order_relaxed) ? batch_baseline : g_best; }
 
 }  // namespace
 
 void sample_one_brick_batch(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out) {
   if (n == 0) return;
-  current()(b, values, p, n, out);
+  (simd::use_avx2() ? batch_avx2 : batch_baseline)(b, values, p, n, out);
 }
-
-const char* sample_batch_isa() { return current() == batch_baseline ? "baseline" : "avx2"; }
-
-void sample_batch_force_baseline(bool on) { g_force_baseline.store(on, std::memory_order_relaxed); }
 
 }  // namespace vs

@@ -310,6 +310,7 @@ VS_HOST_DEVICE inline Steps make_steps(const IntegratorSettings& st, const Ray& 
 // computed up to kSampleBatch - 1 samples it does not use (and does not count). A volume with
 // sample_batch (AmrVolume) reconstructs the batch in one call, in SIMD lanes (amr/sampler.h).
 inline constexpr uint32_t kSampleBatch = 8;
+inline constexpr uint32_t kMinBatchSteps = 4;
 
 template <typename V>
 inline void march_interval_batched(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, const Steps& steps,
@@ -331,10 +332,7 @@ inline void march_interval_batched(const FrameView<V>& v, const Ray& ray, const 
         f[i] = sample(v.volume, 0, iv.region, ray.at(t[i]), s);
       }
     }
-    for (uint32_t i = 0; i < m; ++i) {  // a NaN f (no data) looks up entry 0; it is skipped below
-      c[i] = v.optics.tf.lookup(f[i]);
-      alpha[i] = c[i].a > 0.f ? corrected_alpha(c[i].a, len_ref[i]) : 0.f;
-    }
+    tf_lookup_batch(v.optics.tf, f, len_ref, m, c, alpha);  // a NaN f (no data) is skipped below
     for (uint32_t i = 0; i < m; ++i) {
       ++s.samples;
       if (is_nan(f[i]) || !(c[i].a > 0.f) || !owns(v, ray.at(t[i]))) continue;
@@ -355,7 +353,8 @@ VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray,
   const Steps steps = make_steps(st, ray, width, iv.t0, iv.t1);
 #if !defined(__CUDA_ARCH__)
   if constexpr (kOptics == OpticsKind::tf) {
-    if (st.cpu_batches && st.iso_count == 0 && !st.shade) {
+    // Short intervals (small ABRs: jet's are a few cells) gain nothing from a batch's setup.
+    if (st.cpu_batches && st.iso_count == 0 && !st.shade && steps.n >= kMinBatchSteps) {
       march_interval_batched(v, ray, iv, steps, jitter, s);
       return;
     }

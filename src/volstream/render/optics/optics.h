@@ -56,6 +56,12 @@ VS_HOST_DEVICE inline float corrected_alpha(float alpha, float len_ref) {
   return alpha >= 1.f ? 1.f : 1.f - fast_exp2_nonpositive(len_ref * fast_log2(1.f - alpha));
 }
 
+// CPU only: for n <= 8 samples f with step lengths len_ref (in reference steps), the transfer
+// function's colour (tf.lookup) and the corrected opacity (corrected_alpha where the colour's
+// alpha > 0, else 0), in SIMD lanes (tf_batch.cpp, core/simd.h): the same floats as those
+// functions on either build.
+void tf_lookup_batch(const TfView& tf, const float* f, const float* len_ref, uint32_t n, Rgba* color, float* alpha);
+
 // What a kernel reads of the optics: the transfer function (also used by the blackbody model's
 // isosurfaces and classification) and the blackbody tables.
 struct OpticsView {

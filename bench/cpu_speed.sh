@@ -5,7 +5,9 @@
 #            ColorTransferFunction.add_layers(6)): transparent, so no ray stops early;
 #   jet:     `demo jet --cells 1e6`, 512x512, the demo's default look.
 # For each case and binary: the whole command's wall time (median, min, max over REPEATS runs)
-# and the render stage's samples per second as `render` prints them. With YT=1 also yt's volume
+# and the render stage's samples per second as `render` prints them. The new binary runs twice:
+# as it chooses (AVX2 where the CPU has it) and as on a CPU without AVX2
+# (VOLSTREAM_CPU_BASELINE=1, tag new-sse2). With YT=1 also yt's volume
 # renderer on the same plotfile (installs python3-yt with apt-get when it is missing); yt's
 # second render is the fair figure.
 # usage: bench/cpu_speed.sh BASE_BINARY NEW_BINARY OUT_DIR   (REPEATS=7, YT=0|1)
@@ -36,11 +38,12 @@ ARGS[jet]="$OUT/jet --size 512x512"
 
 # One run: prints "wall_s render_s Msamples Msamples_per_s".
 run_once() {
-  local bin="$1" case="$2" tag="$3" log start end
+  local bin="$1" case="$2" tag="$3" log start end baseline=0
+  [ "$tag" = new-sse2 ] && baseline=1
   log="$OUT/${case}_${tag}.log"
   start=$(date +%s.%N)
   # shellcheck disable=SC2086
-  "$bin" render ${ARGS[$case]} -o "$OUT/${case}_${tag}.pfm" >"$log"
+  VOLSTREAM_CPU_BASELINE=$baseline "$bin" render ${ARGS[$case]} -o "$OUT/${case}_${tag}.pfm" >"$log"
   end=$(date +%s.%N)
   read -r secs ms mps < <(sed -nE 's/^render [0-9x]+: ([0-9.]+)s \([0-9.]+s CPU time\), ([0-9.]+) M samples, ([0-9.]+) M samples\/s.*/\1 \2 \3/p' "$log")
   echo "$(echo "$end - $start" | bc -l) $secs $ms $mps"
@@ -54,12 +57,13 @@ for case in layered jet; do
   for ((i = 0; i < REPEATS; ++i)); do  # alternate, so that load changes hit both alike
     echo "base $(run_once "$BASE" "$case" base)" >>"$OUT/${case}_runs.txt"
     echo "new $(run_once "$NEW" "$case" new)" >>"$OUT/${case}_runs.txt"
+    echo "new-sse2 $(run_once "$NEW" "$case" new-sse2)" >>"$OUT/${case}_runs.txt"
   done
-  for tag in base new; do
+  for tag in base new new-sse2; do
     wall=$(awk -v t=$tag '$1 == t {print $2}' "$OUT/${case}_runs.txt" | stats)
     mps=$(awk -v t=$tag '$1 == t {print $5}' "$OUT/${case}_runs.txt" | stats)
     ms=$(awk -v t=$tag '$1 == t {print $4; exit}' "$OUT/${case}_runs.txt")
-    printf "%-8s %-5s whole command %s s, render %s M samples/s, %s M samples\n" "$case" "$tag" "$wall" "$mps" "$ms"
+    printf "%-8s %-8s whole command %s s, render %s M samples/s, %s M samples\n" "$case" "$tag" "$wall" "$mps" "$ms"
   done
   "$PY" - "$OUT/${case}_base.pfm" "$OUT/${case}_new.pfm" <<'EOF'
 import sys
@@ -76,6 +80,11 @@ d = srgb8(a) - srgb8(b)
 print("         images: RMSE %.4f 8-bit codes, max %d codes, max linear diff %.2e" %
       (np.sqrt(np.mean(d * d)), np.abs(d).max(), np.abs(a - b).max()))
 EOF
+  if cmp -s "$OUT/${case}_new.pfm" "$OUT/${case}_new-sse2.pfm"; then
+    echo "         new and new-sse2 images: identical"
+  else
+    echo "         new and new-sse2 images: DIFFER"
+  fi
 done
 echo "# load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
 

@@ -18,7 +18,7 @@ struct LaneAxis {
   i8 i0, i1;
   f8 t;
 };
-VS_FORCE_INLINE LaneAxis lane_axis(f8 q, int32_t n) {
+VS_FORCE_INLINE LaneAxis lane_axis(const f8& q, int32_t n) {
   const f8 zero = f8{} + 0.f, top = zero + float(n - 1);
   f8 qc = q > zero ? q : zero;
   qc = qc < top ? qc : top;
@@ -28,13 +28,13 @@ VS_FORCE_INLINE LaneAxis lane_axis(f8 q, int32_t n) {
   return {i0, i0 + (n > 1 ? 1 : 0), qc - __builtin_convertvector(i0, f8)};
 }
 
-VS_FORCE_INLINE f8 gather(const float* v, i8 index) {
+VS_FORCE_INLINE f8 gather(const float* v, const i8& index) {
   f8 out;
   for (uint32_t k = 0; k < kLanes; ++k) out[k] = v[index[k]];
   return out;
 }
 
-VS_FORCE_INLINE f8 lerp(f8 a, f8 c, f8 t) { return a + t * (c - a); }
+VS_FORCE_INLINE f8 lerp(const f8& a, const f8& c, const f8& t) { return a + t * (c - a); }
 
 // detail::sample_one_brick for 8 points; lanes n..7 repeat the last point and are not written.
 VS_FORCE_INLINE void batch_body(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out) {

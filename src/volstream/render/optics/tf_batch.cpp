@@ -14,12 +14,12 @@ using simd::i8;
 using simd::kLanes;
 using simd::u8;
 
-VS_FORCE_INLINE f8 bits_to_float(u8 b) {
+VS_FORCE_INLINE f8 bits_to_float(const u8& b) {
   f8 f;
   __builtin_memcpy(&f, &b, sizeof f);
   return f;
 }
-VS_FORCE_INLINE u8 float_to_bits(f8 f) {
+VS_FORCE_INLINE u8 float_to_bits(const f8& f) {
   u8 b;
   __builtin_memcpy(&b, &f, sizeof b);
   return b;
@@ -27,7 +27,7 @@ VS_FORCE_INLINE u8 float_to_bits(f8 f) {
 VS_FORCE_INLINE f8 splat(float x) { return f8{} + x; }
 
 // fast_log2's normal-float path (core/fast_math.h).
-VS_FORCE_INLINE f8 log2_lanes(f8 x) {
+VS_FORCE_INLINE f8 log2_lanes(const f8& x) {
   constexpr uint32_t kSqrtHalfBits = 0x3f3504f3u;
   const u8 shifted = float_to_bits(x) - kSqrtHalfBits;
   const i8 exponent = i8(shifted) >> 23;
@@ -40,7 +40,7 @@ VS_FORCE_INLINE f8 log2_lanes(f8 x) {
 }
 
 // fast_exp2_nonpositive.
-VS_FORCE_INLINE f8 exp2_lanes(f8 y) {
+VS_FORCE_INLINE f8 exp2_lanes(const f8& y) {
   constexpr float kRound = 12582912.f;
   const f8 n = (y + kRound) - kRound;
   const f8 f = y - n;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "volstream/backend/parallel.h"
+
 namespace vs {
 
 double sample_brute_force(const Cell* cells, const float* values, uint64_t n, const vec3d& p) {
@@ -20,6 +22,16 @@ double sample_brute_force(const Cell* cells, const float* values, uint64_t n, co
     }
   }
   return weight > 0 ? weighted / weight : NAN;
+}
+
+std::vector<SampleBrick> make_sample_bricks(const AmrTopology& topology) {
+  std::vector<SampleBrick> out(topology.abr_bricks.size());
+  // Millions of entries on large datasets (jet 1e6: 1.9 M): on every core.
+  parallel_for("sample_bricks", int64_t(out.size()), [&](int64_t i) {
+    const Brick& b = topology.bricks[topology.abr_bricks[size_t(i)]];
+    out[size_t(i)] = {vec3f(b.lower), 1.f / float(b.width()), b.dims, 0u, b.value_offset};
+  });
+  return out;
 }
 
 }  // namespace vs

@@ -4,6 +4,7 @@
 #pragma once
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "volstream/amr/model.h"
 
@@ -63,5 +64,154 @@ VS_HOST_DEVICE inline float sample_abr(const AmrView& v, uint32_t abr, const vec
 
 // The reference: the same sum over every cell, with no bricks or ABRs involved (double precision).
 double sample_brute_force(const Cell* cells, const float* values, uint64_t n, const vec3d& p);
+
+// ---------------------------------------------------------------------------------------------
+// The CPU's fast sampler: the same tent basis, laid out and computed for the per-sample loop.
+//
+// Records per entry of the ABRs' brick lists (ABR a's bricks are sample_bricks[a.first_brick ..
+// + a.brick_count)), so a sample reads the ABR and then its bricks' records in a row instead of
+// chasing abr_bricks -> bricks. Per brick the 2x2x2 cells around p are summed without branches:
+// indices clamped into the brick, weights of cells outside it set to 0.
+//
+// - sample_abr_fast on an ABR of several bricks gives exactly sample_abr's float (the same
+//   weights summed in the same order; cells of weight 0 add exactly 0, also where their value is
+//   NaN, as the reference skips them).
+// - An ABR of one brick (most samples: the inside of a brick) is an edge-clamped trilinear
+//   interpolation: the tent weights factor per axis, and a cell's weight divided by the sum over
+//   the brick is (1 - t, t) between two cells and 1 where only one cell of the brick reaches p
+//   (the half-cell shell), which is what clamping p into the cell centres' box gives; so no
+//   weight sum and no division, seven lerps. It differs from sample_abr by float rounding
+//   only: at most 1e-6 * the largest |value| of the 8 cells read (each lerp a + t (c - a) of
+//   values bounded by M is within 2 ulps of M, three levels of them, against the reference's
+//   few ulps for w / sum w: well under 16 ulps = 1e-6 M); tests/amr/fast_sampler_test.cpp
+//   checks it.
+// NaN exactly where the reference is NaN: p beyond every cell's support, or a NaN value read
+// with a non-zero weight.
+struct SampleBrick {
+  vec3f lower;      // grid units
+  float inv_width;  // 1 / cell width
+  vec3i dims;
+  uint32_t reserved = 0;
+  uint64_t value_offset;
+};
+static_assert(sizeof(SampleBrick) == 40);
+
+// sample_bricks for a topology: one record per entry of abr_bricks.
+std::vector<SampleBrick> make_sample_bricks(const AmrTopology& topology);
+
+namespace detail {
+
+// floor(q) as an int, for |q| < 2^31, without a libm call (floorf is one on baseline x86-64).
+VS_HOST_DEVICE VS_FORCE_INLINE int32_t floor_to_int(float q) {
+  const int32_t i = int32_t(q);
+  return i - int32_t(float(i) > q);
+}
+
+// The brick's two cells along one axis around q (cell-centre coordinates): indices clamped into
+// [0, n) and their tent weights, 0 for a cell outside the brick. The weights are computed as
+// accumulate_brick computes them, so that sums over several bricks match it bit for bit.
+struct AxisCells {
+  int32_t i0, i1;
+  float w0, w1;
+};
+VS_HOST_DEVICE VS_FORCE_INLINE AxisCells axis_cells(float q, int32_t n) {
+  const int32_t i = floor_to_int(q);
+  const float f = float(i);
+  const bool in0 = i >= 0 && i < n, in1 = i >= -1 && i + 1 < n;
+  const float w0 = 1.f - fabsf(q - f), w1 = 1.f - fabsf(q - (f + 1.f));
+  return {in0 ? i : 0, in1 ? i + 1 : 0, in0 && w0 > 0.f ? w0 : 0.f, in1 && w1 > 0.f ? w1 : 0.f};
+}
+
+VS_HOST_DEVICE VS_FORCE_INLINE vec3f brick_cell_coords(const SampleBrick& b, const vec3f& p) {
+  return (p - b.lower) * b.inv_width - vec3f(0.5f);  // as accumulate_brick: cell i's centre at i
+}
+
+// sum (w v) and sum w over the brick's 8 cells around p, in accumulate_brick's order.
+VS_HOST_DEVICE VS_FORCE_INLINE void accumulate_brick_fast(const SampleBrick& b, const float* values, const vec3f& p,
+                                                          TentSum& sum) {
+  const vec3f q = brick_cell_coords(b, p);
+  const AxisCells x = axis_cells(q.x, b.dims.x), y = axis_cells(q.y, b.dims.y), z = axis_cells(q.z, b.dims.z);
+  const float* v = values + b.value_offset;
+  const int32_t nx = b.dims.x, nxy = b.dims.x * b.dims.y;
+  const int32_t zs[2] = {z.i0 * nxy, z.i1 * nxy}, ys[2] = {y.i0 * nx, y.i1 * nx}, xs[2] = {x.i0, x.i1};
+  const float wz[2] = {z.w0, z.w1}, wy[2] = {y.w0, y.w1}, wx[2] = {x.w0, x.w1};
+  for (int dz = 0; dz < 2; ++dz)
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx) {
+        const float w = wx[dx] * wy[dy] * wz[dz];
+        const float value = v[zs[dz] + ys[dy] + xs[dx]];
+        sum.weight += w;
+        sum.weighted_value += w > 0.f ? w * value : 0.f;
+      }
+}
+
+// One axis of the one-brick form: q clamped into [0, n - 1], the lower cell (at most n - 2, so
+// that the upper one, i + 1, is in the brick; both 0 when n = 1) and the upper cell's weight.
+struct ClampedAxis {
+  int32_t i0, i1;
+  float t;
+};
+VS_HOST_DEVICE VS_FORCE_INLINE ClampedAxis clamped_axis(float q, int32_t n) {
+  const float top = float(n - 1);
+  const float qc = q > 0.f ? (q < top ? q : top) : 0.f;
+  const int32_t last_lower = n > 1 ? n - 2 : 0;
+  const int32_t i = int32_t(qc);  // qc >= 0: truncation is floor
+  const int32_t i0 = i < last_lower ? i : last_lower;
+  return {i0, n > 1 ? i0 + 1 : 0, qc - float(i0)};
+}
+
+// Is q (cell-centre coordinates) where some cell of the brick has a non-zero weight? (False for
+// NaN.)
+VS_HOST_DEVICE VS_FORCE_INLINE bool in_brick_support(const SampleBrick& b, const vec3f& q) {
+  return q.x > -1.f && q.y > -1.f && q.z > -1.f && q.x < float(b.dims.x) && q.y < float(b.dims.y) &&
+         q.z < float(b.dims.z);
+}
+
+// The edge-clamped trilinear at q as nested lerps; reads only cells of the brick for any q.
+VS_HOST_DEVICE VS_FORCE_INLINE float one_brick_lerps(const SampleBrick& b, const float* values, const vec3f& q) {
+  const ClampedAxis x = clamped_axis(q.x, b.dims.x), y = clamped_axis(q.y, b.dims.y), z = clamped_axis(q.z, b.dims.z);
+  const float* v = values + b.value_offset;
+  const int32_t nx = b.dims.x, nxy = b.dims.x * b.dims.y;
+  const float* z0 = v + z.i0 * nxy;
+  const float* z1 = v + z.i1 * nxy;
+  const int32_t y0 = y.i0 * nx, y1 = y.i1 * nx;
+  auto lerp = [](float a, float c, float t) { return a + t * (c - a); };
+  const float c00 = lerp(z0[y0 + x.i0], z0[y0 + x.i1], x.t), c10 = lerp(z0[y1 + x.i0], z0[y1 + x.i1], x.t);
+  const float c01 = lerp(z1[y0 + x.i0], z1[y0 + x.i1], x.t), c11 = lerp(z1[y1 + x.i0], z1[y1 + x.i1], x.t);
+  return lerp(lerp(c00, c10, y.t), lerp(c01, c11, y.t), z.t);
+}
+
+// The one-brick case (see above): NaN beyond the brick's support, else the lerps; a NaN value
+// ("no data") among the 8 read, which the reference skips where its weight is 0 (a lerp would
+// not), is rare, so then the exact sum decides.
+VS_HOST_DEVICE VS_FORCE_INLINE float sample_one_brick(const SampleBrick& b, const float* values, const vec3f& p) {
+  const vec3f q = brick_cell_coords(b, p);
+  if (!in_brick_support(b, q)) return NAN;
+  const float result = one_brick_lerps(b, values, q);
+  if (result == result) return result;
+  TentSum sum;
+  accumulate_brick_fast(b, values, p, sum);
+  return sum.value();
+}
+
+}  // namespace detail
+
+// The fast sampler: field `values` at p (grid units) inside ABR `abr`.
+VS_HOST_DEVICE VS_FORCE_INLINE float sample_abr_fast(const Abr* abrs, const SampleBrick* sample_bricks,
+                                                     const float* values, uint32_t abr, const vec3f& p) {
+  const Abr& a = abrs[abr];
+  const SampleBrick* b = sample_bricks + a.first_brick;
+  if (a.brick_count == 1) return detail::sample_one_brick(*b, values, p);
+  TentSum sum;
+  for (uint32_t i = 0; i < a.brick_count; ++i) detail::accumulate_brick_fast(b[i], values, p, sum);
+  return sum.value();
+}
+
+// CPU only: the one-brick case for n <= 8 points at once (a batch of samples along a ray, all
+// in one ABR), in 8 SIMD lanes. Compiled twice (sampler_batch.cpp), for baseline x86-64 and
+// with AVX2, chosen by the CPU it runs on (core/simd.h); both give sample_abr_fast's floats bit for bit
+// (no FMA: nothing is contracted).
+void sample_one_brick_batch(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out);
+// (core/simd.h says which build runs and forces the baseline.)
 
 }  // namespace vs

@@ -232,6 +232,7 @@ RenderTimes DeviceScene::render(const FrameView<AmrVolume>& h, const float* devi
   d.volume.node_count = uint32_t(m.refit_nodes.size());
   d.volume.all_nodes = m.template_nodes.data();
   d.volume.all_node_count = uint32_t(m.template_nodes.size());
+  d.volume.sample_bricks = nullptr;  // host records: the GPU samples with the reference sampler
   return m.render(h, d, upload);
 }
 

@@ -54,7 +54,13 @@ AmrRenderer::AmrRenderer(const AmrTopology& topology, const WorldTransform& tran
     : AmrRenderer(topology, transform, vs::world_bounds(topology, transform)) {}
 
 AmrRenderer::AmrRenderer(const AmrTopology& topology, const WorldTransform& transform, const Box3<double>& world_bounds)
-    : topology_(topology), transform_(transform), world_bounds_(world_bounds), skipping_(abr_boxes(topology)) {}
+    : topology_(topology),
+      transform_(transform),
+      world_bounds_(world_bounds),
+      skipping_(abr_boxes(topology)),
+      sample_bricks_(make_sample_bricks(topology)),
+      sample_bricks_bytes_("ABR sample bricks", MemorySpace::host,
+                           int64_t(sample_bricks_.size() * sizeof(SampleBrick))) {}
 
 uint64_t AmrRenderer::classify(const std::vector<Range>& abr_ranges, const TransferTable& tf,
                                const IntegratorSettings& iso, bool skip, FrameStats* stats) {
@@ -81,6 +87,7 @@ FrameView<AmrVolume> AmrRenderer::view(const FrameFields& fields, const OpticsVi
   v.volume.node_count = uint32_t(skipping_.refit_nodes().size());
   v.volume.all_nodes = skipping_.template_bvh().nodes.data();
   v.volume.all_node_count = uint32_t(skipping_.template_bvh().nodes.size());
+  v.volume.sample_bricks = sample_bricks_.data();  // the CPU's; the GPU's view drops it
   fill_frame(v, optics, color_tf, fields.second != nullptr, camera, settings, transform_, world_bounds());
   return v;
 }

@@ -133,6 +133,9 @@ class AmrRenderer {
   WorldTransform transform_;
   Box3<double> world_bounds_;
   RegionBvh skipping_;  // over the ABR boxes
+  // The CPU's fast sampler's records (amr/sampler.h), built once with the renderer.
+  std::vector<SampleBrick> sample_bricks_;
+  CountedBytes sample_bricks_bytes_;
 };
 
 // The world box of the leaf cells.

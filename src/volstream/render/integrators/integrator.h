@@ -301,6 +301,48 @@ VS_HOST_DEVICE inline Steps make_steps(const IntegratorSettings& st, const Ray& 
   return s;
 }
 
+#if !defined(__CUDA_ARCH__)
+// The CPU's march of a transfer-function interval without isosurfaces or shading, in batches of
+// kSampleBatch samples: a batch's reconstructions, table lookups and opacity corrections do not
+// depend on one another, so the core overlaps their long chains of dependent operations; only
+// compositing is serial. The same samples, colours, opacities and order as the one-by-one loop
+// below (take_sample), so the same image bit for bit; a ray that turns opaque inside a batch has
+// computed up to kSampleBatch - 1 samples it does not use (and does not count). A volume with
+// sample_batch (AmrVolume) reconstructs the batch in one call, in SIMD lanes (amr/sampler.h).
+inline constexpr uint32_t kSampleBatch = 8;
+inline constexpr uint32_t kMinBatchSteps = 4;
+
+template <typename V>
+inline void march_interval_batched(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, const Steps& steps,
+                                   float jitter, RayState& s) {
+  for (uint32_t k0 = 0; k0 < steps.n; k0 += kSampleBatch) {
+    const uint32_t m = steps.n - k0 < kSampleBatch ? steps.n - k0 : kSampleBatch;
+    float t[kSampleBatch], len_ref[kSampleBatch], f[kSampleBatch], alpha[kSampleBatch];
+    Rgba c[kSampleBatch];
+    if constexpr (requires(const vec3f* p, float* out) { v.volume.sample_batch(0, iv.region, p, m, out); }) {
+      vec3f p[kSampleBatch];  // a volume that samples a batch at once (AmrVolume: SIMD lanes)
+      for (uint32_t i = 0; i < m; ++i) {
+        steps.at(k0 + i, jitter, t[i], len_ref[i]);
+        p[i] = ray.at(t[i]);
+      }
+      v.volume.sample_batch(0, iv.region, p, m, f);
+    } else {
+      for (uint32_t i = 0; i < m; ++i) {
+        steps.at(k0 + i, jitter, t[i], len_ref[i]);
+        f[i] = sample(v.volume, 0, iv.region, ray.at(t[i]), s);
+      }
+    }
+    tf_lookup_batch(v.optics.tf, f, len_ref, m, c, alpha);  // a NaN f (no data) is skipped below
+    for (uint32_t i = 0; i < m; ++i) {
+      ++s.samples;
+      if (is_nan(f[i]) || !(c[i].a > 0.f) || !owns(v, ray.at(t[i]))) continue;
+      s.acc.blend_gray(c[i].r, c[i].g, c[i].b, alpha[i]);
+      if (finished(v, s)) return;
+    }
+  }
+}
+#endif
+
 // Marches one region's interval.
 template <OpticsKind kOptics, typename V>
 VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, float jitter,
@@ -309,6 +351,15 @@ VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray,
   if (!(iv.t1 - iv.t0 > 0.f)) return;
   const float width = st.adaptive ? v.volume.step_width(iv.region) : 1.f;
   const Steps steps = make_steps(st, ray, width, iv.t0, iv.t1);
+#if !defined(__CUDA_ARCH__)
+  if constexpr (kOptics == OpticsKind::tf) {
+    // Short intervals (small ABRs: jet's are a few cells) gain nothing from a batch's setup.
+    if (st.cpu_batches && st.iso_count == 0 && !st.shade && steps.n >= kMinBatchSteps) {
+      march_interval_batched(v, ray, iv, steps, jitter, s);
+      return;
+    }
+  }
+#endif
   if (st.iso_count > 0) {
     if (s.prev.valid && iv.t0 - s.prev.end > 1e-4f * steps.dt) close_interval(v, ray, s);
     if (!s.prev.valid) {  // start the crossing test at the interval's entry face (just inside)

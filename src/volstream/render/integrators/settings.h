@@ -34,6 +34,10 @@ struct IntegratorSettings {
   // opaque the ranks in front of it are, so stopping early would drop a different tail of the
   // ray than one process does.
   uint32_t early_termination = 1;
+  // CPU: march transfer-function intervals without isosurfaces or shading in batches of samples
+  // (integrator.h, march_interval_batched; the same image). 0: one sample at a time, the GPU's
+  // loop, which tests compare with.
+  uint32_t cpu_batches = 1;
 };
 
 }  // namespace vs

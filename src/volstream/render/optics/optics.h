@@ -49,9 +49,18 @@ struct Accum {
 };
 
 // alpha' = 1 - (1 - alpha)^len_ref: the table's opacity per reference step over len_ref of them.
+// With core/fast_math.h's log2 and exp2 on the CPU: within 2e-6 of 1 - powf(1 - alpha, len_ref)
+// for alpha in [0, 1] and len_ref in (0, 64] (tests/render/fast_math_test.cpp); whole images
+// are checked against the libm definition by the golden-image tests.
 VS_HOST_DEVICE inline float corrected_alpha(float alpha, float len_ref) {
-  return alpha >= 1.f ? 1.f : 1.f - exp2f(len_ref * log2f(1.f - alpha));
+  return alpha >= 1.f ? 1.f : 1.f - fast_exp2_nonpositive(len_ref * fast_log2(1.f - alpha));
 }
+
+// CPU only: for n <= 8 samples f with step lengths len_ref (in reference steps), the transfer
+// function's colour (tf.lookup) and the corrected opacity (corrected_alpha where the colour's
+// alpha > 0, else 0), in SIMD lanes (tf_batch.cpp, core/simd.h): the same floats as those
+// functions on either build.
+void tf_lookup_batch(const TfView& tf, const float* f, const float* len_ref, uint32_t n, Rgba* color, float* alpha);
 
 // What a kernel reads of the optics: the transfer function (also used by the blackbody model's
 // isosurfaces and classification) and the blackbody tables.

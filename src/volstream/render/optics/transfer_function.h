@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "volstream/core/color.h"
+#include "volstream/core/fast_math.h"
 #include "volstream/core/math.h"
 
 namespace vs {
@@ -29,9 +30,11 @@ struct TfView {
   float lo = 0.f;          // scaled (log10 when log_scale) value of table entry 0
   float inv_span = 1.f;    // 1 / (scaled hi - scaled lo)
 
+  // fast_log10 (core/fast_math.h): within 8e-8 + 2e-7 |log10 v| of log10 (tested), a shift of
+  // a table position by under 1e-3 entries for a 6-decade table at |log10 v| < 20.
   VS_HOST_DEVICE float scaled(float v) const {
     if (!log_scale) return v;
-    return v > 0.f ? log10f(v) : -INFINITY;
+    return v > 0.f ? fast_log10(v) : -INFINITY;
   }
   // Continuous table coordinate in [0, size-1] (values outside the range clamp to the ends).
   VS_HOST_DEVICE float position(float v) const {

@@ -1,0 +1,87 @@
+// The one-brick sampler over a batch of points in 8 SIMD lanes, built for baseline x86-64 (SSE2:
+// two 4-wide halves) and for AVX2 (8 wide), chosen by the CPU (core/simd.h): both give
+// sample_abr_fast's floats bit for bit.
+#include <cmath>
+
+#include "volstream/amr/sampler.h"
+#include "volstream/core/simd.h"
+
+namespace vs {
+namespace {
+
+using simd::f8;
+using simd::i8;
+using simd::kLanes;
+
+// detail::clamped_axis in lanes: q clamped into [0, n - 1], lower cell index and upper weight.
+struct LaneAxis {
+  i8 i0, i1;
+  f8 t;
+};
+VS_FORCE_INLINE LaneAxis lane_axis(const f8& q, int32_t n) {
+  const f8 zero = f8{} + 0.f, top = zero + float(n - 1);
+  f8 qc = q > zero ? q : zero;
+  qc = qc < top ? qc : top;
+  const i8 last_lower = i8{} + (n > 1 ? n - 2 : 0);
+  const i8 i = __builtin_convertvector(qc, i8);  // qc >= 0: truncation is floor
+  const i8 i0 = i < last_lower ? i : last_lower;
+  return {i0, i0 + (n > 1 ? 1 : 0), qc - __builtin_convertvector(i0, f8)};
+}
+
+VS_FORCE_INLINE f8 gather(const float* v, const i8& index) {
+  f8 out;
+  for (uint32_t k = 0; k < kLanes; ++k) out[k] = v[index[k]];
+  return out;
+}
+
+VS_FORCE_INLINE f8 lerp(const f8& a, const f8& c, const f8& t) { return a + t * (c - a); }
+
+// detail::sample_one_brick for 8 points; lanes n..7 repeat the last point and are not written.
+VS_FORCE_INLINE void batch_body(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out) {
+  f8 px, py, pz;
+  for (uint32_t k = 0; k < kLanes; ++k) {
+    const vec3f& pk = p[k < n ? k : n - 1];
+    px[k] = pk.x;
+    py[k] = pk.y;
+    pz[k] = pk.z;
+  }
+  const f8 half = f8{} + 0.5f, inv_w = f8{} + b.inv_width;
+  // As detail::brick_cell_coords, operation for operation.
+  const f8 qx = (px - b.lower.x) * inv_w - half, qy = (py - b.lower.y) * inv_w - half,
+           qz = (pz - b.lower.z) * inv_w - half;
+  const f8 minus_one = f8{} - 1.f;
+  const i8 inside = (qx > minus_one) & (qy > minus_one) & (qz > minus_one) & (qx < float(b.dims.x)) &
+                    (qy < float(b.dims.y)) & (qz < float(b.dims.z));
+  const LaneAxis x = lane_axis(qx, b.dims.x), y = lane_axis(qy, b.dims.y), z = lane_axis(qz, b.dims.z);
+  const float* v = values + b.value_offset;
+  const int32_t nx = b.dims.x, nxy = b.dims.x * b.dims.y;
+  const i8 z0 = z.i0 * nxy, z1 = z.i1 * nxy, y0 = y.i0 * nx, y1 = y.i1 * nx;
+  const f8 c00 = lerp(gather(v, z0 + y0 + x.i0), gather(v, z0 + y0 + x.i1), x.t);
+  const f8 c10 = lerp(gather(v, z0 + y1 + x.i0), gather(v, z0 + y1 + x.i1), x.t);
+  const f8 c01 = lerp(gather(v, z1 + y0 + x.i0), gather(v, z1 + y0 + x.i1), x.t);
+  const f8 c11 = lerp(gather(v, z1 + y1 + x.i0), gather(v, z1 + y1 + x.i1), x.t);
+  const f8 r = lerp(lerp(c00, c10, y.t), lerp(c01, c11, y.t), z.t);
+  const f8 result = inside != 0 ? r : f8{} + NAN;
+  for (uint32_t k = 0; k < n; ++k) {
+    const float value = result[k];
+    // Outside the support (NaN, as the scalar form) or a NaN value read: the scalar form decides.
+    out[k] = value == value || !inside[k] ? value : detail::sample_one_brick(b, values, p[k]);
+  }
+}
+
+void batch_baseline(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out) {
+  batch_body(b, values, p, n, out);
+}
+
+VS_TARGET_AVX2 void batch_avx2(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out) {
+  batch_body(b, values, p, n, out);
+}
+
+}  // namespace
+
+void sample_one_brick_batch(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out) {
+  if (n == 0) return;
+  (simd::use_avx2() ? batch_avx2 : batch_baseline)(b, values, p, n, out);
+}
+
+}  // namespace vs

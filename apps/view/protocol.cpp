@@ -247,4 +247,11 @@ std::vector<uint32_t> histogram(const std::vector<float>& values, const Transfer
   return counts;
 }
 
+bool websocket_origin_allowed(const char* origin, const char* host) {
+  if (!origin) return true;
+  if (!host || !*host) return false;
+  // Origin is scheme://host[:port] with no path; the viewer serves plain http.
+  return std::string_view(origin) == std::string("http://") + host;
+}
+
 }  // namespace vs::view

@@ -29,6 +29,12 @@ inline constexpr uint32_t kMinSide = 16, kMaxSide = 4096;
 inline constexpr uint32_t kPreviewDivisor = 3;
 inline constexpr int kHistogramBins = 256;
 
+// Whether a WebSocket handshake may be accepted: browsers let any page open a socket to
+// 127.0.0.1, so a page from elsewhere could drive the viewer and read its frames. Browsers send
+// the page's Origin; it must name the host the page was served from (the request's Host header).
+// No Origin at all is a client that is not a browser page (a script), which is accepted.
+bool websocket_origin_allowed(const char* origin, const char* host);
+
 // A message the page sent that cannot be honoured; its what() goes back to the page.
 struct ProtocolError : std::runtime_error {
   using std::runtime_error::runtime_error;

@@ -281,7 +281,11 @@ int serve_page(mg_connection* conn, void*) {
   return 200;
 }
 
-int on_ws_connect(const mg_connection*, void*) { return 0; }  // 0: accept
+// 0 accepts the handshake; a page from another origin is refused (websocket_origin_allowed).
+int on_ws_connect(const mg_connection* conn, void*) {
+  mg_connection* c = const_cast<mg_connection*>(conn);  // civetweb's header lookup takes it non-const
+  return websocket_origin_allowed(mg_get_header(c, "Origin"), mg_get_header(c, "Host")) ? 0 : 1;
+}
 void on_ws_ready(mg_connection* conn, void* sessions) { static_cast<Sessions*>(sessions)->open(conn); }
 int on_ws_data(mg_connection* conn, int bits, char* data, size_t size, void* sessions) {
   const int opcode = bits & 0xf;

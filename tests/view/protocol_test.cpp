@@ -156,6 +156,19 @@ TEST(ViewProtocol, HistogramCountsValuesInTheRange) {
   EXPECT_EQ(histogram({0.f, 1.f, 5.f, 50.f, 100.f}, tf, 2), (std::vector<uint32_t>{2, 2}));
 }
 
+// A page from another site must not open a socket to the viewer; its own page and non-browser
+// clients (no Origin) may.
+TEST(ViewProtocol, WebSocketsOnlyFromTheViewersOwnPage) {
+  EXPECT_TRUE(websocket_origin_allowed("http://127.0.0.1:8080", "127.0.0.1:8080"));
+  EXPECT_TRUE(websocket_origin_allowed("http://localhost:9000", "localhost:9000"));
+  EXPECT_TRUE(websocket_origin_allowed(nullptr, "127.0.0.1:8080"));
+  EXPECT_FALSE(websocket_origin_allowed("http://evil.example", "127.0.0.1:8080"));
+  EXPECT_FALSE(websocket_origin_allowed("http://127.0.0.1:8081", "127.0.0.1:8080"));
+  EXPECT_FALSE(websocket_origin_allowed("https://127.0.0.1:8080", "127.0.0.1:8080"));
+  EXPECT_FALSE(websocket_origin_allowed("null", "127.0.0.1:8080"));
+  EXPECT_FALSE(websocket_origin_allowed("http://127.0.0.1:8080", nullptr));
+}
+
 TEST(LatestRequest, KeepsOnlyTheNewest) {
   LatestRequest<int> latest;
   for (int i = 0; i < 5; ++i) latest.post(i);

@@ -1,5 +1,6 @@
 // The unstructured-mesh integrator (volume/umesh_volume.h) on the GPU: the same kernel source as
-// the CPU's. The mesh, its element BVH and the macrocells are uploaded once; per frame the refit
+// the CPU's, for the reference encoding (DeviceMesh) and paper 002's compact one
+// (DeviceCompactMesh). The mesh, its acceleration structure and the macrocells are uploaded once; per frame the refit
 // region nodes (classified on the host from the macrocell ranges) are uploaded and the field
 // values come as device pointers. Links without CUDA too (umesh_backend_stub.cpp: throws).
 #pragma once
@@ -20,6 +21,9 @@ template <typename Locator>
 struct MeshVolume;
 struct UMeshView;
 using UMeshVolume = MeshVolume<UMeshView>;
+struct CompactMeshView;
+using CompactMeshVolume = MeshVolume<CompactMeshView>;
+struct CompactMesh;
 }  // namespace vs
 
 namespace vs::cuda {
@@ -38,6 +42,23 @@ class DeviceMesh {
   RenderTimes render(const FrameView<UMeshVolume>& host_view);
   // Field values (device pointer) at grid points, NaN outside every element.
   std::vector<float> probe(const float* device_values, const std::vector<vec3f>& grid_points);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The compact encoding (umesh/compact.h) on the GPU; fields per local vertex
+// (CompactMesh::gather order) as device pointers.
+class DeviceCompactMesh {
+ public:
+  DeviceCompactMesh(const CompactMesh& mesh, const MacroCells& cells);
+  ~DeviceCompactMesh();
+  DeviceCompactMesh(const DeviceCompactMesh&) = delete;
+  DeviceCompactMesh& operator=(const DeviceCompactMesh&) = delete;
+
+  RenderTimes render(const FrameView<CompactMeshVolume>& host_view);  // as DeviceMesh::render
+  std::vector<float> probe(const float* device_local_values, const std::vector<vec3f>& grid_points);
 
  private:
   struct Impl;

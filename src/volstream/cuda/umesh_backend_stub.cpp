@@ -15,5 +15,11 @@ DeviceMesh::~DeviceMesh() = default;
 RenderTimes DeviceMesh::render(const FrameView<UMeshVolume>&) { no_cuda(); }
 std::vector<float> DeviceMesh::probe(const float*, const std::vector<vec3f>&) { no_cuda(); }
 
+struct DeviceCompactMesh::Impl {};
+DeviceCompactMesh::DeviceCompactMesh(const CompactMesh&, const MacroCells&) { no_cuda(); }
+DeviceCompactMesh::~DeviceCompactMesh() = default;
+RenderTimes DeviceCompactMesh::render(const FrameView<CompactMeshVolume>&) { no_cuda(); }
+std::vector<float> DeviceCompactMesh::probe(const float*, const std::vector<vec3f>&) { no_cuda(); }
+
 }  // namespace vs::cuda
 #endif

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "volstream/backend/parallel.h"
+#include "volstream/umesh/compact_store.h"
 
 namespace vs {
 namespace {
@@ -92,28 +93,49 @@ MacroCells build_macrocells(const std::vector<box3f>& boxes) {
   return m;
 }
 
-std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& m, const float* values) {
+namespace {
+
+// The ranges over an encoding's elements: elements_of(item, add) calls add(box, vertex indices,
+// vertex count) for the elements of one item of work (an element, a leaf), items in parallel.
+template <typename ElementsOf>
+std::vector<Range> ranges_over(const MacroCells& m, int64_t items, const float* values, ElementsOf&& elements_of) {
   std::vector<uint32_t> lo(m.boxes.size(), ordered(INFINITY)), hi(m.boxes.size(), ordered(-INFINITY));
-  parallel_for("macrocell ranges", int64_t(mesh.elements.size()), [&](int64_t i) {
-    const UElement& e = mesh.elements[size_t(i)];
-    float elo = INFINITY, ehi = -INFINITY;
-    const int n = e.vertex_count();
-    for (int k = 0; k < n; ++k) {
-      const float v = values[e.v[k]];
-      if (std::isfinite(v)) elo = std::min(elo, v), ehi = std::max(ehi, v);
-    }
-    if (!(elo <= ehi)) return;
-    const uint32_t olo = ordered(elo), ohi = ordered(ehi);
-    for_each_cell(m.grid, element_box(mesh.vertices.data(), e), [&](uint64_t c) {
-      const int32_t r = m.region_of_cell[c];
-      if (r < 0) return;  // cannot happen for the mesh the cells were built from; never index -1
-      atomic_min(lo[size_t(r)], olo);
-      atomic_max(hi[size_t(r)], ohi);
+  parallel_for("macrocell ranges", items, [&](int64_t item) {
+    elements_of(item, [&](const box3f& box, const uint32_t* vertex, int n) {
+      float elo = INFINITY, ehi = -INFINITY;
+      for (int k = 0; k < n; ++k) {
+        const float v = values[vertex[k]];
+        if (std::isfinite(v)) elo = std::min(elo, v), ehi = std::max(ehi, v);
+      }
+      if (!(elo <= ehi)) return;
+      const uint32_t olo = ordered(elo), ohi = ordered(ehi);
+      for_each_cell(m.grid, box, [&](uint64_t c) {
+        const int32_t r = m.region_of_cell[c];
+        if (r < 0) return;  // cannot happen for the mesh the cells were built from; never index -1
+        atomic_min(lo[size_t(r)], olo);
+        atomic_max(hi[size_t(r)], ohi);
+      });
     });
   });
   std::vector<Range> ranges(m.boxes.size());
   for (size_t r = 0; r < ranges.size(); ++r) ranges[r] = {from_ordered(lo[r]), from_ordered(hi[r])};
   return ranges;
+}
+
+}  // namespace
+
+std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& m, const float* values) {
+  return ranges_over(m, int64_t(mesh.elements.size()), values, [&](int64_t i, auto&& add) {
+    const UElement& e = mesh.elements[size_t(i)];
+    add(element_box(mesh.vertices.data(), e), e.v, e.vertex_count());
+  });
+}
+
+std::vector<Range> macrocell_ranges(const CompactMesh& mesh, const MacroCells& m, const float* local_values) {
+  return ranges_over(m, int64_t(mesh.leaves.size()), local_values, [&](int64_t l, auto&& add) {
+    for_each_element_of_leaf(mesh, uint32_t(l),
+                             [&](const CompactElement& e) { add(e.box(mesh.vertices.data()), e.vertex, e.n); });
+  });
 }
 
 }  // namespace vs

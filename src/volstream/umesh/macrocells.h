@@ -12,6 +12,7 @@
 
 #include "volstream/amr/model.h"
 #include "volstream/core/math.h"
+#include "volstream/umesh/compact.h"
 #include "volstream/umesh/umesh.h"
 
 namespace vs {
@@ -57,5 +58,7 @@ MacroCells build_macrocells(const std::vector<box3f>& element_boxes);
 // (shape functions are convex combinations, so no value inside an element leaves its vertices'
 // range); empty (lo > hi) where none is finite.
 std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& cells, const float* values);
+// The same over the compact encoding, with values per local vertex (CompactMesh::gather order).
+std::vector<Range> macrocell_ranges(const CompactMesh& mesh, const MacroCells& cells, const float* local_values);
 
 }  // namespace vs

@@ -1,0 +1,75 @@
+// Paper 002's compact encoding (compact.h) as a dataset stores it (issue 13): which arrays are
+// files, the checks that make a read-back CompactMesh safe to sample, and the per-element decoding
+// that everything but sampling (macrocells, brute-force probes, checks) goes through, so that no
+// reference UMesh is ever built from a compact dataset.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "volstream/core/math.h"
+#include "volstream/umesh/compact.h"
+
+namespace vs {
+
+// The arrays of a CompactMesh a dataset stores, one raw little-endian file of records each (the
+// structs of compact.h as they are in memory): f(file name, array). Storing one more array is one
+// more line here; the manifest records each file's record count under its name.
+template <typename Mesh, typename F>
+void for_each_compact_array(Mesh& c, F&& f) {
+  f("compact_nodes.bin", c.nodes);
+  f("compact_leaves.bin", c.leaves);
+  f("compact_indices.bin", c.indices);
+  f("compact_submeshes.bin", c.submeshes);
+  f("compact_vertices.bin", c.vertices);
+}
+
+// The view sampling reads.
+inline CompactMeshView make_compact_view(const CompactMesh& c) {
+  return {c.nodes.data(),    c.leaves.data(),           c.indices.data(), c.submeshes.data(),
+          c.vertices.data(), uint32_t(c.leaves.size()), c.leaf_parents};
+}
+
+// One element decoded from its leaf: vertex count and absolute local vertex indices (into
+// CompactMesh::vertices and into the values of a (field, step)).
+struct CompactElement {
+  int n = 0;
+  uint32_t vertex[8];
+  box3f box(const vec3f* vertices) const {
+    box3f b = box3f::make_empty();
+    for (int i = 0; i < n; ++i) b.extend(vertices[vertex[i]]);
+    return b;
+  }
+};
+
+inline uint32_t leaf_element_count(const CompactLeaf& leaf) {
+  return uint32_t(leaf.counts[0]) + leaf.counts[1] + leaf.counts[2] + leaf.counts[3];
+}
+
+// Calls f(element) for each element of leaf l, in slot order.
+template <typename F>
+void for_each_element_of_leaf(const CompactMesh& c, uint32_t l, F&& f) {
+  const CompactMeshView view = make_compact_view(c);
+  const CompactLeaf& leaf = c.leaves[l];
+  const uint32_t base = c.submeshes[leaf.submesh].first_vertex;
+  for (uint32_t k = 0, count = leaf_element_count(leaf); k < count; ++k) {
+    CompactElement e;
+    const uint16_t* index = view.element(leaf, k, e.n);
+    for (int i = 0; i < e.n; ++i) e.vertex[i] = base + index[i];
+    f(e);
+  }
+}
+
+// Element boxes in leaf order (the macrocells' input, as element_boxes(UMesh) for the reference).
+std::vector<box3f> element_boxes(const CompactMesh& c);
+
+// InputError naming the file at fault (in `dir`) unless `c` as read is safe and right to sample:
+// finite vertices; sub-meshes ascending from 0, each of at most 65536 vertices; every leaf of 1 ..
+// kMultiLeafSize elements, in a sub-mesh, its index run inside the index array and every index
+// inside its sub-mesh; the element counts by type those of the manifest; nodes of 1 .. 8
+// children that point forward and form a tree (every node and leaf reached once from the root,
+// depth within the search stack); leaf_parents the nodes whose children are the leaves in order;
+// every quantized child box holding its child.
+void check_compact_mesh(const CompactMesh& c, const uint64_t by_type[4], const std::filesystem::path& dir);
+
+}  // namespace vs

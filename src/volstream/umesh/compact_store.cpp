@@ -9,17 +9,6 @@
 namespace vs {
 namespace fs = std::filesystem;
 
-std::vector<box3f> element_boxes(const CompactMesh& c) {
-  std::vector<uint64_t> first(c.leaves.size() + 1, 0);  // each leaf's first element
-  for (size_t l = 0; l < c.leaves.size(); ++l) first[l + 1] = first[l] + leaf_element_count(c.leaves[l]);
-  std::vector<box3f> boxes(first.back());
-  parallel_for("element boxes", int64_t(c.leaves.size()), [&](int64_t l) {
-    uint64_t at = first[size_t(l)];
-    for_each_element_of_leaf(c, uint32_t(l), [&](const CompactElement& e) { boxes[at++] = e.box(c.vertices.data()); });
-  });
-  return boxes;
-}
-
 namespace {
 
 constexpr uint32_t kMaxSubmeshVertices = 65536;

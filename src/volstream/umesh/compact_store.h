@@ -60,9 +60,6 @@ void for_each_element_of_leaf(const CompactMesh& c, uint32_t l, F&& f) {
   }
 }
 
-// Element boxes in leaf order (the macrocells' input, as element_boxes(UMesh) for the reference).
-std::vector<box3f> element_boxes(const CompactMesh& c);
-
 // InputError naming the file at fault (in `dir`) unless `c` as read is safe and right to sample:
 // finite vertices; sub-meshes ascending from 0, each of at most 65536 vertices; every leaf of 1 ..
 // kMultiLeafSize elements, in a sub-mesh, its index run inside the index array and every index

@@ -52,7 +52,9 @@ struct MacroCells {
 // largest extent (a flat, axis-aligned element has a box of no volume).
 float element_size(const box3f& element_box);
 
-MacroCells build_macrocells(const std::vector<box3f>& element_boxes);
+// From either encoding's elements (the same cells: they depend on the element boxes only).
+MacroCells build_macrocells(const UMesh& mesh);
+MacroCells build_macrocells(const CompactMesh& mesh);
 
 // Per region: the range of the finite values at the vertices of the elements overlapping it
 // (shape functions are convex combinations, so no value inside an element leaves its vertices'

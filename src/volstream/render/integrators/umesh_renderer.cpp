@@ -30,8 +30,7 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
       bounds_(world_bounds(mesh ? mesh->vertices : stored->vertices, transform)),
       skipping_([&] {
         Stopwatch watch;
-        // The same macrocells from either encoding: they depend on the element boxes only.
-        cells_ = build_macrocells(mesh ? element_boxes(*mesh) : element_boxes(*stored));
+        cells_ = mesh ? build_macrocells(*mesh) : build_macrocells(*stored);
         build_seconds_ = watch.seconds();
         return cells_.boxes;
       }()) {

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "volstream/io/dataset.h"
 #include "volstream/io/import.h"
 
 namespace vs::cli {
@@ -14,6 +15,7 @@ struct ConvertArgs {
   std::string out;
   bool quiet = false, file_order = false;
   std::vector<std::string> fields;
+  std::string encoding = "compact";  // meshes
 };
 }  // namespace
 
@@ -43,13 +45,19 @@ void add_convert_command(CLI::App& app) {
                 "also write every step in the input's cell order and the permutation to device order (file_index.bin), "
                 "for the streaming pipeline's flatten pass (doubles the values on disk)");
   cmd->add_option("--fields", a->fields, "keep only these fields (comma-separated; default: all)")->delimiter(',');
+  cmd->add_option("--encoding", a->encoding,
+                  "meshes: compact (paper 002's encoding, 16-bit local indices) or reference (32-byte elements, "
+                  "element BVH and face adjacency: CUDA renders, comparisons)")
+      ->check(CLI::IsMember({"compact", "reference"}))
+      ->capture_default_str();
   cmd->add_flag("-q,--quiet", a->quiet, "no progress bar");
   cmd->add_option("--scalars", a->scalars,
                   "meshes (UGRID): NAME=FILE, a raw little-endian float32 file of one value per point; repeatable");
   cmd->callback([a] {
     a->in.inputs.assign(a->inputs.begin(), a->inputs.end());
     for (const std::string& s : a->scalars) a->in.scalars.push_back(parse_raw_scalars(s));
-    const std::string report = import_to_dataset(a->in, a->out, {a->quiet, a->file_order, a->fields});
+    ConvertOptions options{a->quiet, a->file_order, a->fields, parse_mesh_encoding(a->encoding)};
+    const std::string report = import_to_dataset(a->in, a->out, options);
     std::printf("wrote %s %s\n", a->out.c_str(), report.c_str());
   });
 }

@@ -39,6 +39,7 @@ void add_demo_command(CLI::App& app) {
     bool quiet = false;
     bool file_order = false;
     std::vector<std::string> fields;
+    std::string encoding = "compact";  // meshes
   };
   auto args = std::make_shared<Args>();
   auto* cmd =
@@ -60,14 +61,18 @@ void add_demo_command(CLI::App& app) {
                 "also write every step in the generator's cell order and the permutation to device order "
                 "(file_index.bin), for the streaming pipeline's flatten pass (doubles the values on disk)");
   cmd->add_option("--fields", args->fields, "write only these fields (comma-separated; default: all)")->delimiter(',');
+  cmd->add_option("--encoding", args->encoding,
+                  "mesh demos: compact (paper 002's encoding) or reference (element BVH and face adjacency)")
+      ->check(CLI::IsMember({"compact", "reference"}))
+      ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar");
   cmd->callback([args] {
     if (is_mesh_demo(args->name)) {
       MeshDemoOptions o{args->name, uint64_t(std::clamp(args->elements, 0.0, 1e12)), args->steps};
       for (const std::string& file : args->mesh_files) write_mesh_file(file, make_mesh_demo(o, 0));
       auto series = make_mesh_demo_series(o);
-      const MeshConvertStats stats =
-          convert_mesh_to_dataset(*series, args->out, {args->quiet, args->file_order, args->fields});
+      const MeshConvertStats stats = convert_mesh_to_dataset(
+          *series, args->out, {args->quiet, args->file_order, args->fields, parse_mesh_encoding(args->encoding)});
       std::printf(
           "wrote %s: demo %s, %llu elements, %llu vertices, %d steps (mesh %.2fs, encode %.2fs, values %.2fs)\n",
           args->out.c_str(), args->name.c_str(), (unsigned long long)stats.elements, (unsigned long long)stats.vertices,

@@ -21,19 +21,28 @@ void add_device_bytes(const Dataset& ds, nlohmann::json& summary) {
 // What the renderer keeps resident for the mesh (topology, one field, acceleration structures;
 // built here, as a render would) and that divided by the elements: bytes_per_element.
 void add_mesh_resident_bytes(const Dataset& ds, nlohmann::json& summary) {
-  const UMeshRenderer renderer(ds.mesh(), ds.mesh_accel(), ds.manifest().transform);
+  const WorldTransform& transform = ds.manifest().transform;
+  const UMeshRenderer renderer = ds.is_compact_mesh() ? UMeshRenderer(ds.compact_mesh(), transform)
+                                                      : UMeshRenderer(ds.mesh(), ds.mesh_accel(), transform);
   const UMeshBytes b = renderer.bytes();
-  summary["resident_bytes"] = {{"vertices", b.vertices},
-                               {"elements", b.elements},
-                               {"element_bvh_nodes", b.bvh_nodes},
-                               {"element_bvh_items", b.bvh_items},
-                               {"face_neighbors", b.face_neighbors},
-                               {"macrocells", b.macrocells},
-                               {"macrocell_bvh", b.region_bvh},
-                               {"one_field", b.field},
-                               {"total", b.total()}};
-  summary["bytes_per_element"] = double(b.total()) / double(ds.mesh().elements.size());
-  summary["element_bvh_nodes"] = renderer.element_bvh().nodes.size();
+  if (ds.is_compact_mesh()) {
+    summary["resident_bytes"] = {{"local_vertices", b.compact.vertices}, {"vertex_tables", b.compact.tables},
+                                 {"corners", b.compact.corners},         {"leaves", b.compact.leaves},
+                                 {"leaf_bvh_nodes", b.compact.nodes},    {"submeshes", b.compact.submeshes}};
+    summary["leaf_bvh_nodes"] = ds.compact_mesh().nodes.size();
+  } else {
+    summary["resident_bytes"] = {{"vertices", b.vertices},
+                                 {"elements", b.elements},
+                                 {"element_bvh_nodes", b.bvh_nodes},
+                                 {"element_bvh_items", b.bvh_items},
+                                 {"face_neighbors", b.face_neighbors}};
+    summary["element_bvh_nodes"] = renderer.element_bvh().nodes.size();
+  }
+  summary["resident_bytes"]["macrocells"] = b.macrocells;
+  summary["resident_bytes"]["macrocell_bvh"] = b.region_bvh;
+  summary["resident_bytes"]["one_field"] = b.field;
+  summary["resident_bytes"]["total"] = b.total();
+  summary["bytes_per_element"] = double(b.total()) / double(ds.manifest().mesh.elements);
   summary["macrocells"] = renderer.region_count();
   summary["acceleration_build_seconds"] = renderer.build_seconds();
 }

@@ -59,7 +59,7 @@ void add_probe_command(CLI::App& app) {
     std::string dir, field, points;
     int step = 0;
     std::string device = "cpu";
-    std::string encoding = "reference";
+    std::string encoding = "stored";
     bool brute = false;
   };
   auto a = std::make_shared<Args>();
@@ -69,10 +69,13 @@ void add_probe_command(CLI::App& app) {
   cmd->add_option("--field", a->field, "field name (default: the first)");
   cmd->add_option("--step", a->step, "time step")->capture_default_str();
   cmd->add_option("--points", a->points, "file of points (default: stdin)");
-  cmd->add_flag("--brute-force", a->brute, "sum over all cells instead of the ABRs (the reference)");
+  cmd->add_flag("--brute-force", a->brute,
+                "sum over all cells instead of the ABRs, or test every mesh element (either encoding): the reference");
   cmd->add_option("--device", a->device, "cpu | cuda | auto: where the ABR probes run")->capture_default_str();
-  cmd->add_option("--encoding", a->encoding, "meshes: reference | compact (paper 002's encoding, built at load)")
-      ->check(CLI::IsMember({"reference", "compact"}))
+  cmd->add_option("--encoding", a->encoding,
+                  "meshes: stored (the dataset's) | reference | compact (paper 002's encoding; built at load from a "
+                  "reference dataset)")
+      ->check(CLI::IsMember({"stored", "reference", "compact"}))
       ->capture_default_str();
   cmd->callback([a] {
     const Dataset ds(a->dir);
@@ -90,9 +93,8 @@ void add_probe_command(CLI::App& app) {
     if (a->brute) {
       out = probe_brute_force(ds, field, a->step, world);
     } else {
-      FrameRenderer renderer(ds, resolve_device(a->device));
-      const std::vector<float> v = renderer.probe(
-          field, a->step, world, a->encoding == "compact" ? MeshEncoding::compact : MeshEncoding::reference);
+      FrameRenderer renderer(ds, resolve_device(a->device, ds));
+      const std::vector<float> v = renderer.probe(field, a->step, world, parse_mesh_encoding(a->encoding));
       std::copy(v.begin(), v.end(), out.begin());
     }
     std::string text;

@@ -65,9 +65,10 @@ void add_render_options(CLI::App* cmd, RenderOptions& o, RenderContext context) 
                 "converted since 2026-11-22, per brick and looser before)" +
                     not_streamed);
   cmd->add_option("--encoding", o.encoding,
-                  "meshes: reference (the stored element BVH and face adjacency) or compact (paper 002's encoding, "
-                  "built at load; CPU)")
-      ->check(CLI::IsMember({"reference", "compact"}))
+                  "meshes: stored (the dataset's), reference (the element BVH and face adjacency; datasets converted "
+                  "with --encoding reference) or compact (paper 002's encoding; built at load from a reference "
+                  "dataset; CPU)")
+      ->check(CLI::IsMember({"stored", "reference", "compact"}))
       ->capture_default_str();
   cmd->add_option("--background", o.background, "R,G,B background in [0,1] (sRGB)")->capture_default_str();
   cmd->add_flag("--alpha", o.alpha,
@@ -228,7 +229,7 @@ RenderPlan make_render_plan(const RenderOptions& o, const Dataset& ds, const std
   r.skip = !o.no_skip;
   r.range_mode = o.brick_ranges ? RangeMode::per_brick : RangeMode::tight;
   r.stored_ranges = o.stored_ranges;
-  r.mesh_encoding = o.encoding == "compact" ? MeshEncoding::compact : MeshEncoding::reference;
+  r.mesh_encoding = parse_mesh_encoding(o.encoding);
   r.camera = make_camera(o, ds, r.width, r.height);
   p.background = vec3f(parse_vec3(o.background, "--background"));
   if (!o.color_field.empty()) {
@@ -236,7 +237,7 @@ RenderPlan make_render_plan(const RenderOptions& o, const Dataset& ds, const std
     r.color_tf = make_color_field_transfer_function(m, r.second_field, range_steps, r.tf, o.log);
   }
   apply_integrator_options(o, ds, r);
-  p.device = resolve_device(o.device);
+  p.device = resolve_device(o.device, ds);
   return p;
 }
 

@@ -24,7 +24,7 @@ struct RenderOptions {
   double fov = 35, rate = 2, iso_alpha = 1, unit_distance = 0;
   bool log = false, ortho = false, no_skip = false, no_adaptive = false, no_jitter = false, shade = false;
   bool stored_ranges = false, alpha = false, brick_ranges = false;
-  std::string encoding = "reference";  // meshes: reference | compact
+  std::string encoding = "stored";  // meshes: stored | reference | compact
   // Integrator and optics (render only; paper 004's block raycaster and blackbody model).
   std::string integrator = "auto", reconstruction = "trilinear", optics = "tf", temperature_field = "temperature";
   std::string density_scale = "auto";                          // auto (the transfer function's scale), linear or log

@@ -9,6 +9,9 @@
 #include <string>
 
 #include "volstream/core/error.h"
+#include "volstream/frame/frame_renderer.h"
+#include "volstream/frame/look.h"
+#include "volstream/io/dataset.h"
 
 namespace vs::fuzz {
 namespace fs = std::filesystem;
@@ -71,6 +74,21 @@ void expect_clean(const std::function<void()>& f) {
     std::fprintf(stderr, "unexpected exception: %s\n", e.what());
     std::abort();
   }
+}
+
+void exercise_mesh_dataset(const fs::path& dir) {
+  expect_clean([&] {
+    Dataset ds(dir);
+    FrameRenderer renderer(ds, Device::cpu);
+    const std::vector<vec3d> points = {vec3d(0.5, 0.5, 0.5), vec3d(0.1, 0.9, 0.2)};
+    (void)renderer.probe(0, 0, points);
+    (void)probe_brute_force(ds, 0, 0, points);
+    FrameRequest r;
+    r.width = r.height = 8;
+    r.tf = make_transfer_function(ds.manifest(), 0, {0}, {});
+    r.camera = default_view(ds, r.width, r.height);
+    (void)renderer.render(r);
+  });
 }
 
 }  // namespace vs::fuzz

@@ -19,5 +19,8 @@ void copy_tree(const std::filesystem::path& from, const std::filesystem::path& t
 bool apply_patch(const std::vector<std::filesystem::path>& files, const uint8_t* data, size_t size);
 // Runs f; InputError and UsageError are the expected outcomes of bad input, anything else aborts.
 void expect_clean(const std::function<void()>& f);
+// Opens the mesh dataset in `dir` (either encoding) and, under expect_clean, probes it (through
+// its point location and by brute force) and renders a tiny frame.
+void exercise_mesh_dataset(const std::filesystem::path& dir);
 
 }  // namespace vs::fuzz

@@ -1,8 +1,6 @@
 // The native dataset reader on a mesh dataset (kind umesh): a small mixed mesh with one of its
-// files patched, then opened, its BVH and macrocells built, probed and rendered.
+// files patched, then opened, its BVH and macrocells built, probed (also by brute force) and rendered.
 #include "fuzz_util.h"
-#include "volstream/frame/frame_renderer.h"
-#include "volstream/frame/look.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/mesh_convert.h"
 
@@ -31,15 +29,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                                                     work / "mesh_neighbors.bin",
                                                     work / "fields/0_density/step_000000.f32"};
   if (!fuzz::apply_patch(files, data, size)) return 0;
-  fuzz::expect_clean([&] {
-    Dataset ds(work);
-    FrameRenderer renderer(ds, Device::cpu);
-    (void)renderer.probe(0, 0, {vec3d(0.5, 0.5, 0.5), vec3d(0.1, 0.9, 0.2)});
-    FrameRequest r;
-    r.width = r.height = 8;
-    r.tf = make_transfer_function(ds.manifest(), 0, {0}, {});
-    r.camera = default_view(ds, r.width, r.height);
-    (void)renderer.render(r);
-  });
+  fuzz::exercise_mesh_dataset(work);
   return 0;
 }

@@ -69,7 +69,7 @@ class Viewer {
       : dataset_path(args.dir),
         dataset(ds),
         initial{args.render, 0, false},
-        renderer_(ds, resolve_device(args.render.device)) {
+        renderer_(ds, resolve_device(args.render.device, ds)) {
     cli::make_render_plan(initial.options, ds, {0});  // bad options: one line before the server starts
   }
 

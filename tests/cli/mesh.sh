@@ -2,7 +2,8 @@
 # Unstructured meshes end to end: demo meshes written as .vtu, legacy .vtk and UGRID (ascii and
 # binary) convert to datasets that probe the same values; probe equals --brute-force at 10^4
 # random points on the tet, mixed and non-convex demos; info, render and play work; a .pvd
-# time series converts; bad mesh input is one line and exit 2.
+# time series converts; bad mesh input is one line and exit 2; the compact encoding (the default)
+# probes and renders what the reference one does, and refuses reference-only requests.
 source "$(dirname "$0")/common.bash"
 cd "$WORK"
 
@@ -67,4 +68,22 @@ sed 's/s1.vtu/small.vtu/' series.pvd >mixed_meshes.pvd
 expect_bad_input ".pvd with different meshes" convert mixed_meshes.pvd -o bad2
 expect_bad_input "--scalars without =" convert m.lb8.ugrid --scalars linear -o bad3
 expect_bad_input "block integrator on a mesh" render holes -o x.png --integrator blocks
+# The compact encoding (the default) and the reference one give the same probes and pictures;
+# info reports the compact bytes; reference-only requests and damaged compact files are one line.
+"$VS" demo mixed --elements 4000 --steps 1 -o mixed_ref -q --encoding reference
+grep -q '"mesh_encoding": "compact"' mixed/manifest.json || fail "demo did not store the compact encoding"
+grep -q '"mesh_encoding": "reference"' mixed_ref/manifest.json || fail "--encoding reference not stored"
+"$VS" probe mixed --field density --points pts_mixed.txt >compact.txt
+"$VS" probe mixed_ref --field density --points pts_mixed.txt >reference.txt
+echo -n "compact vs reference: "
+compare_probes compact.txt reference.txt || fail "the compact dataset probes other values"
+"$VS" render mixed -o compact.png --size 64x64 >/dev/null
+"$VS" render mixed_ref -o reference.png --size 64x64 >/dev/null
+cmp -s compact.png reference.png || fail "the compact dataset renders another picture"
+"$VS" info mixed --json | grep -q '"leaf_bvh_nodes"' || fail "info shows no compact resident bytes"
+expect_bad_input "reference encoding of a compact dataset" render mixed -o x.png --encoding reference
+cp -r mixed broken
+head -c 1000 mixed/compact_bytes.bin >broken/compact_bytes.bin
+expect_bad_input "truncated compact indices" probe broken --points pts_mixed.txt
+grep -q compact_bytes.bin "$WORK/err.txt" || fail "the error does not name the damaged file"
 echo "mesh CLI ok"

@@ -125,19 +125,37 @@ struct FrameRenderer::Impl {
 
   UMeshRenderer& umesh_renderer() {
     if (!umesh) {
-      umesh = std::make_unique<UMeshRenderer>(dataset.mesh(), dataset.mesh_accel(), dataset.manifest().transform);
+      const WorldTransform& transform = dataset.manifest().transform;
+      umesh = dataset.is_compact_mesh()
+                  ? std::make_unique<UMeshRenderer>(dataset.compact_mesh(), transform)
+                  : std::make_unique<UMeshRenderer>(dataset.mesh(), dataset.mesh_accel(), transform);
       device_mesh.reset();
     }
     return *umesh;
   }
-  // The slots' values per local vertex of the compact encoding, gathered when they change.
-  std::vector<float> compact_values[kVolumeFields];
+  // The encoding that samples a request: the stored one unless it asks for another; a compact
+  // dataset has no reference encoding to sample.
+  MeshEncoding sampled_encoding(MeshEncoding requested) const {
+    const MeshEncoding stored = dataset.manifest().mesh.encoding;
+    if (requested == MeshEncoding::stored) return stored;
+    if (requested == MeshEncoding::reference && stored == MeshEncoding::compact)
+      needs_reference_encoding("render or probe --encoding reference");
+    return requested;
+  }
+  void require_cpu_for_compact(const char* what) const {
+    if (device == Device::cpu) return;
+    if (dataset.is_compact_mesh()) needs_reference_encoding(std::string("meshes on CUDA (") + what + ")");
+    throw UsageError(std::string("the compact mesh encoding ") + what + " on the CPU only so far");
+  }
+  // The slots' values per local vertex of the compact encoding (gathered when they change, unless
+  // the dataset stores them so).
+  std::vector<float> compact_storage[kVolumeFields];
+  const float* compact_values[kVolumeFields] = {};
   uint64_t compact_generation[kVolumeFields] = {};
   void update_compact_fields() {
     for (int s = 0; s < kVolumeFields; ++s) {
       if (compact_generation[s] == slots[s].generation) continue;
-      const float* values = host_values(s);
-      compact_values[s] = values ? umesh->compact().gather(values) : std::vector<float>{};
+      compact_values[s] = umesh->compact_values(host_values(s), compact_storage[s]);
       compact_generation[s] = slots[s].generation;
     }
   }
@@ -404,14 +422,13 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
   if (dataset_.is_mesh()) {
     UMeshRenderer& mesh = m.umesh_renderer();
     const TfView* colors = color_iso ? &color_view : nullptr;
-    if (r.mesh_encoding == MeshEncoding::compact) {
-      if (m.device != Device::cpu) throw UsageError("the compact mesh encoding renders on the CPU only so far");
+    if (m.sampled_encoding(r.mesh_encoding) == MeshEncoding::compact) {
+      m.require_cpu_for_compact("renders");
       m.update_compact_fields();
       FrameStats stats;
-      img = render_view_cpu(mesh.view_compact({m.compact_values[0].data(),
-                                               m.compact_values[1].empty() ? nullptr : m.compact_values[1].data()},
-                                              optics, colors, r.camera, frame_settings(r)),
-                            &stats);
+      img = render_view_cpu(
+          mesh.view_compact({m.compact_values[0], m.compact_values[1]}, optics, colors, r.camera, frame_settings(r)),
+          &stats);
       local.seconds.render += stats.render_seconds;
       local.samples = stats.samples;
     } else {
@@ -480,8 +497,8 @@ std::vector<float> FrameRenderer::probe(int field, int step, const std::vector<v
   FrameTimes ignored;
   m.load(0, field, step, ignored);
   const std::vector<vec3f> grid = grid_points(dataset_.manifest().transform, world);
-  if (dataset_.is_mesh() && mesh_encoding == MeshEncoding::compact) {
-    if (device_ != Device::cpu) throw UsageError("the compact mesh encoding probes on the CPU only so far");
+  if (dataset_.is_mesh() && m.sampled_encoding(mesh_encoding) == MeshEncoding::compact) {
+    m.require_cpu_for_compact("probes");
     return m.umesh_renderer().probe_compact(m.kernel_values(0), grid);
   }
   if (dataset_.is_mesh())
@@ -492,8 +509,14 @@ std::vector<float> FrameRenderer::probe(int field, int step, const std::vector<v
   return probe_points(dataset_.topology(), abr.template_bvh(), m.kernel_values(0), grid);
 }
 
+Device resolve_device(const std::string& name, const Dataset& dataset) {
+  return name == "auto" && dataset.is_compact_mesh() ? Device::cpu : resolve_device(name);
+}
+
 std::vector<double> probe_brute_force(const Dataset& ds, int field, int step, const std::vector<vec3d>& world) {
   const std::vector<float> values = ds.load_values(field, step);
+  if (ds.is_compact_mesh())  // values per local vertex
+    return probe_brute_force(ds.compact_mesh(), values.data(), grid_points(ds.manifest().transform, world));
   if (ds.is_mesh()) return probe_brute_force(ds.mesh(), values.data(), grid_points(ds.manifest().transform, world));
   const std::vector<Cell> cells = ds.load_cells();
   std::vector<double> out(world.size());

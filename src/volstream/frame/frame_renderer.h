@@ -32,10 +32,6 @@ enum class IntegratorKind {
   blocks,  // paper 004: kd-tree blocks, nearest/trilinear, fixed steps with an exact last one
 };
 
-// How a mesh is sampled: the stored reference encoding, or paper 002's compact one (built from
-// it at load for now: umesh/compact.h).
-enum class MeshEncoding { reference, compact };
-
 // Everything one frame shows.
 struct FrameRequest {
   int step = 0;
@@ -51,10 +47,12 @@ struct FrameRequest {
   Reconstruction reconstruction = Reconstruction::trilinear;  // blocks
   OpticsKind optics = OpticsKind::tf;
   BlackbodyParams blackbody;
-  bool skip = true;                                      // abr: empty-space skipping
-  RangeMode range_mode = RangeMode::tight;               // abr on the CPU: tight or per-brick ABR ranges
-  bool stored_ranges = false;                            // abr: the dataset's stored ranges instead
-  MeshEncoding mesh_encoding = MeshEncoding::reference;  // meshes: which encoding samples (CPU)
+  bool skip = true;                         // abr: empty-space skipping
+  RangeMode range_mode = RangeMode::tight;  // abr on the CPU: tight or per-brick ABR ranges
+  bool stored_ranges = false;               // abr: the dataset's stored ranges instead
+  // Meshes: the encoding that samples (io/dataset.h): the stored one; compact also for a dataset
+  // stored in the reference encoding (built at load, CPU); reference only for such a dataset.
+  MeshEncoding mesh_encoding = MeshEncoding::stored;
 };
 
 struct FrameTimes {
@@ -96,7 +94,7 @@ class FrameRenderer {
   // Values of `field` at `step` at world points through the ABRs (amr/probe.h; on the GPU on
   // CUDA, through the same device scene as the frames), NaN outside the data.
   std::vector<float> probe(int field, int step, const std::vector<vec3d>& world_points,
-                           MeshEncoding mesh_encoding = MeshEncoding::reference);
+                           MeshEncoding mesh_encoding = MeshEncoding::stored);
 
   Device device() const { return device_; }
   const Dataset& dataset() const { return dataset_; }
@@ -111,6 +109,9 @@ class FrameRenderer {
   std::unique_ptr<Impl> impl_;
   uint64_t visible_ = 0;
 };
+
+// resolve_device, except that "auto" is the CPU for a mesh stored compact (it renders only there).
+Device resolve_device(const std::string& name, const Dataset& dataset);
 
 // The reference for probe(): the tent-basis sum over every cell, no bricks or ABRs (double
 // precision; amr/sampler.h's sample_brute_force).

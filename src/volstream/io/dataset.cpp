@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <stdexcept>
+#include <type_traits>
 
 #include "volstream/amr/abrs.h"
 #include "volstream/amr/bricks.h"
@@ -20,6 +21,7 @@
 #include "volstream/core/stopwatch.h"
 #include "volstream/io/atomic_file.h"
 #include "volstream/io/binary_file.h"
+#include "volstream/umesh/compact_store.h"
 
 namespace vs {
 namespace fs = std::filesystem;
@@ -29,6 +31,13 @@ int DatasetManifest::field_index(const std::string& name) const {
   for (size_t i = 0; i < fields.size(); ++i)
     if (fields[i].name == name) return int(i);
   return -1;
+}
+
+MeshEncoding parse_mesh_encoding(const std::string& name) {
+  if (name == "stored") return MeshEncoding::stored;
+  if (name == "reference") return MeshEncoding::reference;
+  if (name == "compact") return MeshEncoding::compact;
+  throw UsageError("unknown mesh encoding '" + name + "' (stored, reference or compact)");
 }
 
 namespace dataset_files {
@@ -69,8 +78,16 @@ json manifest_to_json(const DatasetManifest& m) {
     j["kind"] = "umesh";
     j["vertex_count"] = m.mesh.vertices;
     j["element_count"] = m.mesh.elements;
-    j["bvh_node_count"] = m.mesh.bvh_nodes;
     for (int t = 0; t < 4; ++t) j["elements_by_type"][kTypeSlotNames[t]] = m.mesh.by_type[t];
+    if (m.mesh.compact()) {
+      j["mesh_encoding"] = "compact";
+      j["compact"] = {{"local_vertices", m.mesh.local_vertices},
+                      {"leaf_parents", m.mesh.leaf_parents},
+                      {"records", m.mesh.compact_records}};
+    } else {
+      j["mesh_encoding"] = "reference";
+      j["bvh_node_count"] = m.mesh.bvh_nodes;
+    }
   } else {
     j["kind"] = "amr";
     j["grid_bounds"] = {{"lower", to_json(m.grid_bounds.lower)}, {"upper", to_json(m.grid_bounds.upper)}};
@@ -110,8 +127,19 @@ DatasetManifest manifest_from_json(const json& j) {
     m.kind = DatasetKind::umesh;
     m.mesh.vertices = j.at("vertex_count").get<uint64_t>();
     m.mesh.elements = j.at("element_count").get<uint64_t>();
-    m.mesh.bvh_nodes = j.at("bvh_node_count").get<uint64_t>();
     for (int t = 0; t < 4; ++t) m.mesh.by_type[t] = j.at("elements_by_type").at(kTypeSlotNames[t]).get<uint64_t>();
+    const std::string encoding = j.value("mesh_encoding", "reference");  // absent before issue 13
+    if (encoding == "compact") {
+      const json& c = j.at("compact");
+      m.mesh.encoding = MeshEncoding::compact;
+      m.mesh.local_vertices = c.at("local_vertices").get<uint64_t>();
+      m.mesh.leaf_parents = c.at("leaf_parents").get<uint64_t>();
+      m.mesh.compact_records = c.at("records").get<std::map<std::string, uint64_t>>();
+    } else if (encoding == "reference") {
+      m.mesh.bvh_nodes = j.at("bvh_node_count").get<uint64_t>();
+    } else {
+      throw std::runtime_error("unknown mesh_encoding '" + encoding + "'");
+    }
   } else if (kind == "amr") {
     m.grid_bounds.lower = vec_from_json<int32_t>(j.at("grid_bounds").at("lower"));
     m.grid_bounds.upper = vec_from_json<int32_t>(j.at("grid_bounds").at("upper"));
@@ -180,9 +208,16 @@ void validate_manifest(const DatasetManifest& m) {
   if (m.kind == DatasetKind::umesh) {
     const MeshCounts& c = m.mesh;
     if (c.vertices == 0 || c.elements == 0) fail("no vertices or elements");
-    if (c.vertices >= kNoVertex || c.elements >= (uint64_t(1) << 32) / shape::kMaxFaces || c.bvh_nodes == 0 ||
-        c.bvh_nodes > 2 * c.elements)
+    if (c.vertices >= kNoVertex || c.elements >= (uint64_t(1) << 32) / shape::kMaxFaces) fail("counts out of range");
+    if (c.compact()) {
+      // Each array at most what 2^32 elements could need; the files must have these sizes.
+      if (c.local_vertices == 0 || c.local_vertices >= kNoVertex || c.leaf_parents >= kNoVertex)
+        fail("compact counts out of range");
+      for (const auto& [file, records] : c.compact_records)
+        if (records > 8 * c.elements + c.local_vertices + 1) fail("compact record count of " + file + " out of range");
+    } else if (c.bvh_nodes == 0 || c.bvh_nodes > 2 * c.elements) {
       fail("counts out of range");
+    }
     if (c.by_type[0] + c.by_type[1] + c.by_type[2] + c.by_type[3] != c.elements)
       fail("elements by type do not add up to element_count");
     return;
@@ -307,10 +342,28 @@ void DatasetWriter::write_mesh(const UMesh& mesh) {
   write_file(dir_ / dataset_files::kMeshNeighbors, accel.neighbors.data(), accel.neighbors.size() * sizeof(uint32_t));
 }
 
+void DatasetWriter::write_compact_mesh(const UMesh& mesh, const CompactMesh& compact) {
+  manifest_.kind = DatasetKind::umesh;
+  manifest_.mesh.encoding = MeshEncoding::compact;
+  manifest_.mesh.vertices = mesh.vertices.size();
+  manifest_.mesh.elements = mesh.elements.size();
+  for (int t = 0; t < 4; ++t) manifest_.mesh.by_type[t] = mesh.count_by_type[t];
+  manifest_.mesh.local_vertices = compact.vertices.size();
+  manifest_.mesh.leaf_parents = compact.leaf_parents;
+  for_each_compact_array(compact, [&](const char* file, const auto& array) {
+    write_file(dir_ / file, array.data(), array.size() * sizeof(array[0]));
+    manifest_.mesh.compact_records[file] = array.size();
+  });
+}
+
 void DatasetWriter::write_values(int field, int step, const std::vector<float>& values) {
+  write_values(field, step, values, value_range(values.data(), values.size()));
+}
+
+void DatasetWriter::write_values(int field, int step, const std::vector<float>& values, Range step_range) {
   FieldInfo& f = manifest_.fields.at(size_t(field));
   write_file(dir_ / dataset_files::field_values(f, step), values.data(), values.size() * sizeof(float), kFileAlignment);
-  f.step_ranges.at(size_t(step)) = value_range(values.data(), values.size());
+  f.step_ranges.at(size_t(step)) = step_range;
   if (manifest_.kind == DatasetKind::umesh) return;  // mesh ranges are per macrocell, made at load
   const auto abr_ranges = compute_abr_ranges(*topology_, values.data());
   write_file(dir_ / dataset_files::field_ranges(f, step), abr_ranges.data(), abr_ranges.size() * sizeof(Range));
@@ -367,6 +420,7 @@ Dataset::Dataset(const fs::path& dir) : dir_(dir) {
 }
 
 void Dataset::load_mesh() {
+  if (manifest_.mesh.compact()) return load_compact_mesh();
   mesh_.vertices = read_records<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
   mesh_.elements = read_records<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
   for (int t = 0; t < 4; ++t) mesh_.count_by_type[t] = manifest_.mesh.by_type[t];
@@ -380,6 +434,44 @@ void Dataset::load_mesh() {
                              int64_t(mesh_.vertices.size() * sizeof(vec3f) + mesh_.elements.size() * sizeof(UElement) +
                                      mesh_accel_.bvh.nodes.size() * sizeof(ElementBvhNode) +
                                      (mesh_accel_.bvh.items.size() + mesh_accel_.neighbors.size()) * sizeof(uint32_t)));
+}
+
+// The compact arrays, each of the manifest's record count (a file the manifest does not list, or
+// lists and the table does not know, is a damaged dataset), then checked as a whole.
+void Dataset::load_compact_mesh() {
+  const fs::path manifest_path = dir_ / dataset_files::kManifest;
+  std::map<std::string, uint64_t> unread = manifest_.mesh.compact_records;
+  for_each_compact_array(compact_, [&](const char* file, auto& array) {
+    const auto it = unread.find(file);
+    if (it == unread.end()) input_error(manifest_path.string(), std::string("no record count for ") + file);
+    array = read_records<typename std::decay_t<decltype(array)>::value_type>(dir_ / file, it->second);
+    unread.erase(it);
+  });
+  if (!unread.empty()) input_error(manifest_path.string(), "unknown compact array " + unread.begin()->first);
+  if (compact_.vertices.size() != manifest_.mesh.local_vertices)
+    input_error(manifest_path.string(), "local_vertices does not match compact_vertices.bin");
+  compact_.elements = manifest_.mesh.elements;
+  compact_.leaf_parents = uint32_t(manifest_.mesh.leaf_parents);
+  compact_.replicated =
+      compact_.vertices.size() - std::min<uint64_t>(compact_.vertices.size(), manifest_.mesh.vertices);
+  check_compact_mesh(compact_, manifest_.mesh.by_type, dir_);
+  const CompactBytes b = compact_.bytes_by_part();
+  mesh_bytes_ = CountedBytes("compact mesh", MemorySpace::host, int64_t(b.total() - b.field));
+}
+
+const UMesh& Dataset::mesh() const {
+  if (is_compact_mesh()) throw std::logic_error("Dataset::mesh: the dataset stores the compact encoding");
+  return mesh_;
+}
+
+const MeshAccel& Dataset::mesh_accel() const {
+  if (is_compact_mesh()) throw std::logic_error("Dataset::mesh_accel: the dataset stores the compact encoding");
+  return mesh_accel_;
+}
+
+const CompactMesh& Dataset::compact_mesh() const {
+  if (!is_compact_mesh()) throw std::logic_error("Dataset::compact_mesh: the dataset stores no compact encoding");
+  return compact_;
 }
 
 std::vector<Cell> Dataset::load_cells() const {

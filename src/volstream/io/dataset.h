@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "volstream/amr/source.h"
 #include "volstream/backend/memory.h"
 #include "volstream/io/binary_file.h"
+#include "volstream/umesh/compact.h"
 #include "volstream/umesh/mesh_accel.h"
 #include "volstream/umesh/umesh.h"
 
@@ -38,10 +40,24 @@ struct LevelInfo {
 // What a dataset holds: AMR cells (bricks, ABRs) or an unstructured mesh (umesh/umesh.h).
 enum class DatasetKind { amr, umesh };
 
+// How a mesh is stored and sampled: the reference encoding (umesh/umesh.h, with its element BVH
+// and face adjacency) or paper 002's compact one (umesh/compact.h). `stored` (requests only):
+// whichever the dataset holds.
+enum class MeshEncoding { stored, reference, compact };
+// "stored" | "reference" | "compact" (UsageError otherwise).
+MeshEncoding parse_mesh_encoding(const std::string& name);
+
 struct MeshCounts {
   uint64_t vertices = 0, elements = 0;
   uint64_t by_type[4] = {};  // umesh.h type_slot order: tetra, pyramid, wedge, hexahedron
-  uint64_t bvh_nodes = 0;    // element BVH nodes stored (mesh_accel.h)
+  uint64_t bvh_nodes = 0;    // reference: element BVH nodes stored (mesh_accel.h)
+  // Manifest key "mesh_encoding" (absent in older datasets: reference).
+  MeshEncoding encoding = MeshEncoding::reference;
+  // compact: the records in each array file (umesh/compact_files.h), the local vertices (the
+  // values per (field, step)) and the first node whose children are leaves.
+  std::map<std::string, uint64_t> compact_records;
+  uint64_t local_vertices = 0, leaf_parents = 0;
+  bool compact() const { return encoding == MeshEncoding::compact; }
 };
 
 struct DatasetManifest {
@@ -60,8 +76,10 @@ struct DatasetManifest {
   // "file_order"; absent in older datasets, which means false).
   bool file_order = false;
   int step_count() const { return int(step_times.size()); }
-  // Values per (field, step) file: cells (AMR) or vertices (mesh).
-  uint64_t value_count() const { return kind == DatasetKind::umesh ? mesh.vertices : cell_count; }
+  // Values per (field, step) file: cells (AMR), vertices (mesh) or local vertices (compact mesh).
+  uint64_t value_count() const {
+    return kind == DatasetKind::amr ? cell_count : mesh.compact() ? mesh.local_vertices : mesh.vertices;
+  }
   int field_index(const std::string& name) const;  // -1 if absent
 };
 
@@ -96,8 +114,14 @@ class DatasetWriter {
                 const std::vector<std::string>& field_names);
   void write_topology(const AmrTopology& topology, const std::vector<Cell>& device_cells);
   void write_mesh(const UMesh& mesh);  // an unstructured-mesh dataset (kind umesh)
+  // The same mesh in the compact encoding instead (built by the caller from `mesh`, whose
+  // counts go to the manifest); values are then written per local vertex.
+  void write_compact_mesh(const UMesh& mesh, const CompactMesh& compact);
   // values: cell_count floats in device order. Computes and stores the per-ABR ranges.
   void write_values(int field, int step, const std::vector<float>& values);
+  // A mesh step whose stored values (per local vertex) are not those its range is taken over
+  // (per vertex of the mesh: a vertex of no element counts, as in the reference encoding).
+  void write_values(int field, int step, const std::vector<float>& values, Range step_range);
   // The file-order copies: `index[device position]` = position in the file-order values (a
   // permutation of 0 .. cell_count-1), written once; then per (field, step) the values in that
   // order. Writing the index marks the dataset as having file-order copies.
@@ -128,8 +152,13 @@ class Dataset {
   const AmrTopology& topology() const { return topology_; }  // AMR (empty for a mesh)
   DatasetKind kind() const { return manifest_.kind; }
   bool is_mesh() const { return manifest_.kind == DatasetKind::umesh; }
-  const UMesh& mesh() const { return mesh_; }                  // umesh (empty for AMR)
-  const MeshAccel& mesh_accel() const { return mesh_accel_; }  // umesh: its stored BVH and adjacency
+  // A mesh in the reference encoding (logic_error for a compact one: it is never built at load).
+  const UMesh& mesh() const;
+  const MeshAccel& mesh_accel() const;  // the reference encoding's stored BVH and adjacency
+  bool is_compact_mesh() const { return is_mesh() && manifest_.mesh.compact(); }
+  const CompactMesh& compact_mesh() const;  // a mesh stored compact (logic_error otherwise)
+  // The mesh's vertices in either encoding (the compact one replicates some: same bounds).
+  const std::vector<vec3f>& mesh_vertices() const { return is_compact_mesh() ? compact_.vertices : mesh_.vertices; }
   const std::filesystem::path& dir() const { return dir_; }
   std::vector<Cell> load_cells() const;  // device order; for brute-force reference only
   // All values in device order, or with a part only those of its bricks (in its device order).
@@ -154,11 +183,13 @@ class Dataset {
 
  private:
   void load_mesh();
+  void load_compact_mesh();
   std::filesystem::path dir_;
   DatasetManifest manifest_;
   AmrTopology topology_;
   UMesh mesh_;
   MeshAccel mesh_accel_;
+  CompactMesh compact_;
   CountedBytes mesh_bytes_;
   CountedBytes brick_bytes_, abr_bytes_, abr_list_bytes_;  // the topology's host memory
   DatasetPart part_;
@@ -173,6 +204,9 @@ struct ConvertOptions {
   bool quiet = false;               // no progress bar
   bool file_order = false;          // also write every step in file (source) order + file_index.bin
   std::vector<std::string> fields;  // the source's fields to keep (empty: all); InputError for an unknown name
+  // Meshes: the encoding stored (reference or compact; `stored` means reference). The CLI's
+  // default is compact.
+  MeshEncoding mesh_encoding = MeshEncoding::reference;
   static ConvertOptions silent() {  // everything, no progress bar
     ConvertOptions o;
     o.quiet = true;

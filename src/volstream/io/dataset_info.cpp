@@ -4,6 +4,8 @@
 #include <bit>
 #include <cstdio>
 
+#include "volstream/umesh/compact_store.h"
+
 namespace vs {
 using json = nlohmann::json;
 
@@ -37,7 +39,7 @@ json mesh_summary(const Dataset& ds) {
   j["kind"] = "umesh";
   j["path"] = ds.dir().string();
   j["source"] = m.source;
-  const Box3<double> b = world_bounds(ds.mesh(), m.transform);
+  const Box3<double> b = world_bounds(ds.mesh_vertices(), m.transform);
   j["domain"] = {{"lower", {b.lower.x, b.lower.y, b.lower.z}}, {"upper", {b.upper.x, b.upper.y, b.upper.z}}};
   j["vertices"] = m.mesh.vertices;
   j["elements"] = m.mesh.elements;
@@ -45,11 +47,19 @@ json mesh_summary(const Dataset& ds) {
   j["steps"] = m.step_count();
   j["step_times"] = m.step_times;
   j["fields"] = field_summary(m);
-  const uint64_t values = align_up(m.mesh.vertices * sizeof(float));
-  j["bytes"] = {{"mesh_vertices", m.mesh.vertices * sizeof(vec3f)},
-                {"mesh_elements", m.mesh.elements * sizeof(UElement)},
-                {"values_per_field_step", values},
-                {"values_total", values * m.fields.size() * uint64_t(m.step_count())}};
+  j["encoding"] = m.mesh.compact() ? "compact" : "reference";
+  const uint64_t values = align_up(m.value_count() * sizeof(float));
+  if (m.mesh.compact()) {
+    j["local_vertices"] = m.mesh.local_vertices;
+    for_each_compact_array(ds.compact_mesh(), [&](const char* file, const auto& array) {
+      j["bytes"][file] = array.size() * sizeof(array[0]);
+    });
+  } else {
+    j["bytes"] = {{"mesh_vertices", m.mesh.vertices * sizeof(vec3f)},
+                  {"mesh_elements", m.mesh.elements * sizeof(UElement)}};
+  }
+  j["bytes"]["values_per_field_step"] = values;
+  j["bytes"]["values_total"] = values * m.fields.size() * uint64_t(m.step_count());
   return j;
 }
 
@@ -143,8 +153,8 @@ std::string format_mesh_summary(const json& j) {
   append(s, "domain    [%g, %g, %g] - [%g, %g, %g]\n", d["lower"][0].get<double>(), d["lower"][1].get<double>(),
          d["lower"][2].get<double>(), d["upper"][0].get<double>(), d["upper"][1].get<double>(),
          d["upper"][2].get<double>());
-  append(s, "mesh      %llu vertices, %llu elements\n", (unsigned long long)j["vertices"].get<uint64_t>(),
-         (unsigned long long)j["elements"].get<uint64_t>());
+  append(s, "mesh      %llu vertices, %llu elements, %s encoding\n", (unsigned long long)j["vertices"].get<uint64_t>(),
+         (unsigned long long)j["elements"].get<uint64_t>(), j.value("encoding", "reference").c_str());
   for (const auto& [type, count] : j["elements_by_type"].items())
     append(s, "  %-12s %12llu\n", type.c_str(), (unsigned long long)count.get<uint64_t>());
   append(s, "steps     %d (t = %g .. %g)\n", j["steps"].get<int>(), j["step_times"].front().get<double>(),

@@ -5,8 +5,10 @@
 #include <bit>
 #include <cfloat>
 #include <cmath>
+#include <mutex>
 
 #include "volstream/backend/parallel.h"
+#include "volstream/umesh/compact_store.h"
 
 namespace vs {
 namespace {
@@ -40,13 +42,12 @@ void for_each_cell(const MacroGrid& g, const box3f& b, F&& f) {
       for (int x = lo.x; x <= hi.x; ++x) f(g.index({x, y, z}));
 }
 
-MacroGrid make_grid(const std::vector<box3f>& boxes) {
+MacroGrid make_grid(const box3f& bounds, uint64_t elements) {
   MacroGrid g;
-  g.bounds = box3f::make_empty();
-  for (const box3f& b : boxes) g.bounds.extend(b);
+  g.bounds = bounds;
   const vec3f size = vmax(g.bounds.size(), vec3f(1e-30f));
   // Cubic cells, about kElementsPerMacrocell elements each, at most 256 per axis.
-  const double cells = std::max(1.0, double(boxes.size()) / kElementsPerMacrocell);
+  const double cells = std::max(1.0, double(elements) / kElementsPerMacrocell);
   const double edge = std::cbrt(double(size.x) * size.y * size.z / cells);
   for (int a = 0; a < 3; ++a) {
     g.dims[a] = std::clamp(int(std::ceil(size[a] / edge)), 1, 256);
@@ -64,14 +65,38 @@ float element_size(const box3f& b) {
   return std::max(root, float(std::min(1e-3 * reduce_max(s), double(FLT_MAX))));
 }
 
-MacroCells build_macrocells(const std::vector<box3f>& boxes) {
+namespace {
+
+// The grid over the elements' boxes and the non-empty cells with their smallest element's size.
+// visit_elements(item, add) calls add(box, vertex indices, vertex count) for the elements of one
+// item of work (an element, a leaf: elements_of below), items in parallel; no array of all boxes
+// is made, so the load's peak memory is the encoding's.
+template <typename ElementsOf>
+MacroCells build_over(int64_t items, ElementsOf&& visit_elements) {
+  box3f bounds = box3f::make_empty();
+  uint64_t elements = 0;
+  std::mutex merge;
+  parallel_for_ranges(
+      items,
+      [&](int64_t begin, int64_t end) {
+        box3f b = box3f::make_empty();
+        uint64_t n = 0;
+        for (int64_t item = begin; item < end; ++item)
+          visit_elements(item, [&](const box3f& box, const uint32_t*, int) { b.extend(box), ++n; });
+        const std::lock_guard<std::mutex> lock(merge);
+        bounds.extend(b);
+        elements += n;
+      },
+      1024);
   MacroCells m;
-  m.grid = make_grid(boxes);
+  m.grid = make_grid(bounds, elements);
   const uint64_t n = m.grid.cell_count();
   std::vector<uint32_t> finest(n, ordered(INFINITY));
-  parallel_for("macrocell sizes", int64_t(boxes.size()), [&](int64_t e) {
-    const uint32_t size = ordered(element_size(boxes[size_t(e)]));
-    for_each_cell(m.grid, boxes[size_t(e)], [&](uint64_t c) { atomic_min(finest[c], size); });
+  parallel_for("macrocell sizes", items, [&](int64_t item) {
+    visit_elements(item, [&](const box3f& box, const uint32_t*, int) {
+      const uint32_t size = ordered(element_size(box));
+      for_each_cell(m.grid, box, [&](uint64_t c) { atomic_min(finest[c], size); });
+    });
   });
   m.region_of_cell.assign(n, -1);
   for (int z = 0; z < m.grid.dims.z; ++z)
@@ -92,28 +117,60 @@ MacroCells build_macrocells(const std::vector<box3f>& boxes) {
   return m;
 }
 
-std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& m, const float* values) {
+// The ranges over an encoding's elements (visit_elements as for build_over).
+template <typename ElementsOf>
+std::vector<Range> ranges_over(const MacroCells& m, int64_t items, const float* values, ElementsOf&& visit_elements) {
   std::vector<uint32_t> lo(m.boxes.size(), ordered(INFINITY)), hi(m.boxes.size(), ordered(-INFINITY));
-  parallel_for("macrocell ranges", int64_t(mesh.elements.size()), [&](int64_t i) {
-    const UElement& e = mesh.elements[size_t(i)];
-    float elo = INFINITY, ehi = -INFINITY;
-    const int n = e.vertex_count();
-    for (int k = 0; k < n; ++k) {
-      const float v = values[e.v[k]];
-      if (std::isfinite(v)) elo = std::min(elo, v), ehi = std::max(ehi, v);
-    }
-    if (!(elo <= ehi)) return;
-    const uint32_t olo = ordered(elo), ohi = ordered(ehi);
-    for_each_cell(m.grid, element_box(mesh.vertices.data(), e), [&](uint64_t c) {
-      const int32_t r = m.region_of_cell[c];
-      if (r < 0) return;  // cannot happen for the mesh the cells were built from; never index -1
-      atomic_min(lo[size_t(r)], olo);
-      atomic_max(hi[size_t(r)], ohi);
+  parallel_for("macrocell ranges", items, [&](int64_t item) {
+    visit_elements(item, [&](const box3f& box, const uint32_t* vertex, int n) {
+      float elo = INFINITY, ehi = -INFINITY;
+      for (int k = 0; k < n; ++k) {
+        const float v = values[vertex[k]];
+        if (std::isfinite(v)) elo = std::min(elo, v), ehi = std::max(ehi, v);
+      }
+      if (!(elo <= ehi)) return;
+      const uint32_t olo = ordered(elo), ohi = ordered(ehi);
+      for_each_cell(m.grid, box, [&](uint64_t c) {
+        const int32_t r = m.region_of_cell[c];
+        if (r < 0) return;  // cannot happen for the mesh the cells were built from; never index -1
+        atomic_min(lo[size_t(r)], olo);
+        atomic_max(hi[size_t(r)], ohi);
+      });
     });
   });
   std::vector<Range> ranges(m.boxes.size());
   for (size_t r = 0; r < ranges.size(); ++r) ranges[r] = {from_ordered(lo[r]), from_ordered(hi[r])};
   return ranges;
+}
+
+// Each encoding's elements as the macrocells read them: items of work (an element, a leaf), each
+// calling add(box, vertex indices, vertex count) for its elements.
+auto elements_of(const UMesh& mesh) {
+  return [&mesh](int64_t i, auto&& add) {
+    const UElement& e = mesh.elements[size_t(i)];
+    add(element_box(mesh.vertices.data(), e), e.v, e.vertex_count());
+  };
+}
+auto elements_of(const CompactMesh& mesh) {
+  return [&mesh, view = view_of(mesh)](int64_t l, auto&& add) {
+    for_each_element_of_leaf(mesh, view, uint32_t(l),
+                             [&](const CompactElement& e) { add(e.box(mesh.vertices.data()), e.vertex, e.n); });
+  };
+}
+
+}  // namespace
+
+MacroCells build_macrocells(const UMesh& mesh) { return build_over(int64_t(mesh.elements.size()), elements_of(mesh)); }
+MacroCells build_macrocells(const CompactMesh& mesh) {
+  return build_over(int64_t(mesh.leaves.size()), elements_of(mesh));
+}
+
+std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& m, const float* values) {
+  return ranges_over(m, int64_t(mesh.elements.size()), values, elements_of(mesh));
+}
+
+std::vector<Range> macrocell_ranges(const CompactMesh& mesh, const MacroCells& m, const float* local_values) {
+  return ranges_over(m, int64_t(mesh.leaves.size()), local_values, elements_of(mesh));
 }
 
 }  // namespace vs

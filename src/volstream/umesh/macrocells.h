@@ -12,6 +12,7 @@
 
 #include "volstream/amr/model.h"
 #include "volstream/core/math.h"
+#include "volstream/umesh/compact.h"
 #include "volstream/umesh/umesh.h"
 
 namespace vs {
@@ -51,11 +52,15 @@ struct MacroCells {
 // largest extent (a flat, axis-aligned element has a box of no volume).
 float element_size(const box3f& element_box);
 
-MacroCells build_macrocells(const std::vector<box3f>& element_boxes);
+// From either encoding's elements (the same cells: they depend on the element boxes only).
+MacroCells build_macrocells(const UMesh& mesh);
+MacroCells build_macrocells(const CompactMesh& mesh);
 
 // Per region: the range of the finite values at the vertices of the elements overlapping it
 // (shape functions are convex combinations, so no value inside an element leaves its vertices'
 // range); empty (lo > hi) where none is finite.
 std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& cells, const float* values);
+// The same over the compact encoding, with values per local vertex (CompactMesh::gather order).
+std::vector<Range> macrocell_ranges(const CompactMesh& mesh, const MacroCells& cells, const float* local_values);
 
 }  // namespace vs

@@ -13,9 +13,9 @@ std::vector<box3f> element_boxes(const UMesh& mesh) {
   return boxes;
 }
 
-Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transform) {
+Box3<double> world_bounds(const std::vector<vec3f>& vertices, const WorldTransform& transform) {
   Box3<double> b{vec3d(INFINITY), vec3d(-INFINITY)};
-  for (const vec3f& v : mesh.vertices) b.extend(transform.to_world(vec3d(v)));
+  for (const vec3f& v : vertices) b.extend(transform.to_world(vec3d(v)));
   if (b.empty()) b = {vec3d(0), vec3d(1)};
   return b;
 }

@@ -17,8 +17,11 @@ struct MeshAccel {
 };
 
 std::vector<box3f> element_boxes(const UMesh& mesh);
-// The world box of the mesh's vertices.
-Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transform);
+// The world box of the mesh's vertices (in either encoding).
+Box3<double> world_bounds(const std::vector<vec3f>& vertices, const WorldTransform& transform);
+inline Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transform) {
+  return world_bounds(mesh.vertices, transform);
+}
 MeshAccel build_mesh_accel(const UMesh& mesh);
 
 // InputError naming `file` unless `accel` is a sound structure over `mesh`: node links in range

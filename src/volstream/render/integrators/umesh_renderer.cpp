@@ -1,26 +1,36 @@
 #include "volstream/render/integrators/umesh_renderer.h"
 
 #include "volstream/backend/parallel.h"
+#include "volstream/core/error.h"
 #include "volstream/core/stopwatch.h"
+#include "volstream/umesh/compact_store.h"
 
 namespace vs {
 
+void needs_reference_encoding(const std::string& feature) {
+  throw UsageError("this dataset stores the compact mesh encoding; convert with --encoding reference for " + feature);
+}
+
 UMeshRenderer::UMeshRenderer(const UMesh& mesh, const MeshAccel& accel, const WorldTransform& transform)
-    : UMeshRenderer(mesh, nullptr, &accel, transform) {}
+    : UMeshRenderer(&mesh, nullptr, &accel, nullptr, transform) {}
 
 UMeshRenderer::UMeshRenderer(const UMesh& mesh, const WorldTransform& transform)
-    : UMeshRenderer(mesh, std::make_unique<MeshAccel>(build_mesh_accel(mesh)), nullptr, transform) {}
+    : UMeshRenderer(&mesh, std::make_unique<MeshAccel>(build_mesh_accel(mesh)), nullptr, nullptr, transform) {}
 
-UMeshRenderer::UMeshRenderer(const UMesh& mesh, std::unique_ptr<MeshAccel> owned, const MeshAccel* borrowed,
-                             const WorldTransform& transform)
+UMeshRenderer::UMeshRenderer(const CompactMesh& stored, const WorldTransform& transform)
+    : UMeshRenderer(nullptr, nullptr, nullptr, &stored, transform) {}
+
+UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned, const MeshAccel* borrowed,
+                             const CompactMesh* stored, const WorldTransform& transform)
     : mesh_(mesh),
       owned_(std::move(owned)),
-      accel_(borrowed ? *borrowed : *owned_),
+      accel_(borrowed ? borrowed : owned_.get()),
+      stored_(stored),
       transform_(transform),
-      bounds_(world_bounds(mesh, transform)),
+      bounds_(world_bounds(mesh ? mesh->vertices : stored->vertices, transform)),
       skipping_([&] {
         Stopwatch watch;
-        cells_ = build_macrocells(element_boxes(mesh));
+        cells_ = mesh ? build_macrocells(*mesh) : build_macrocells(*stored);
         build_seconds_ = watch.seconds();
         return cells_.boxes;
       }()) {
@@ -30,13 +40,15 @@ UMeshRenderer::UMeshRenderer(const UMesh& mesh, std::unique_ptr<MeshAccel> owned
   counted_ = CountedBytes("mesh macrocells", MemorySpace::host, int64_t(accel + b.macrocells + b.region_bvh));
 }
 
+const MeshAccel& UMeshRenderer::reference_accel() const {
+  if (!mesh_) needs_reference_encoding("the reference encoding's element BVH");
+  return *accel_;
+}
+
 UMeshView UMeshRenderer::mesh_view() const {
-  return {mesh_.vertices.data(),
-          mesh_.elements.data(),
-          accel_.bvh.nodes.data(),
-          accel_.bvh.items.data(),
-          uint32_t(accel_.bvh.nodes.size()),
-          accel_.neighbors.data()};
+  const MeshAccel& accel = reference_accel();
+  return {mesh_->vertices.data(), mesh_->elements.data(),           accel.bvh.nodes.data(),
+          accel.bvh.items.data(), uint32_t(accel.bvh.nodes.size()), accel.neighbors.data()};
 }
 
 template <typename Locator>
@@ -62,8 +74,9 @@ FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const Opti
 }
 
 const CompactMesh& UMeshRenderer::compact() {
+  if (stored_) return *stored_;
   if (!compact_) {
-    compact_ = std::make_unique<CompactMesh>(build_compact_mesh(mesh_));
+    compact_ = std::make_unique<CompactMesh>(build_compact_mesh(*mesh_));
     const CompactBytes b = compact_->bytes_by_part();
     compact_counted_ = CountedBytes("compact mesh", MemorySpace::host,
                                     int64_t(b.total() - b.field + compact_->source_vertex.size() * sizeof(uint32_t)));
@@ -73,6 +86,12 @@ const CompactMesh& UMeshRenderer::compact() {
 
 CompactMeshView UMeshRenderer::compact_view() { return view_of(compact()); }
 
+const float* UMeshRenderer::compact_values(const float* values, std::vector<float>& storage) {
+  if (stored_ || !values) return values;
+  storage = compact().gather(values);
+  return storage.data();
+}
+
 FrameView<CompactMeshVolume> UMeshRenderer::view_compact(const FrameFields& local_fields, const OpticsView& optics,
                                                          const TfView* color_tf, const Camera& camera,
                                                          const FrameSettings& settings) {
@@ -81,10 +100,11 @@ FrameView<CompactMeshVolume> UMeshRenderer::view_compact(const FrameFields& loca
 
 std::vector<float> UMeshRenderer::probe_compact(const float* values, const std::vector<vec3f>& points) {
   const CompactMeshView view = compact_view();
-  const std::vector<float> local = compact().gather(values);
+  std::vector<float> storage;
+  const float* local = compact_values(values, storage);
   std::vector<float> out(points.size());
   parallel_for("probe", int64_t(points.size()),
-               [&](int64_t i) { out[size_t(i)] = view.sample(local.data(), points[size_t(i)]); });
+               [&](int64_t i) { out[size_t(i)] = view.sample(local, points[size_t(i)]); });
   return out;
 }
 
@@ -98,15 +118,38 @@ std::vector<float> UMeshRenderer::probe(const float* values, const std::vector<v
 
 UMeshBytes UMeshRenderer::bytes() const {
   UMeshBytes b;
-  b.vertices = mesh_.vertices.size() * sizeof(vec3f);
-  b.elements = mesh_.elements.size() * sizeof(UElement);
-  b.bvh_nodes = accel_.bvh.nodes.size() * sizeof(ElementBvhNode);
-  b.face_neighbors = accel_.neighbors.size() * sizeof(uint32_t);
-  b.bvh_items = accel_.bvh.items.size() * sizeof(uint32_t);
+  if (mesh_) {
+    b.vertices = mesh_->vertices.size() * sizeof(vec3f);
+    b.elements = mesh_->elements.size() * sizeof(UElement);
+    b.bvh_nodes = accel_->bvh.nodes.size() * sizeof(ElementBvhNode);
+    b.face_neighbors = accel_->neighbors.size() * sizeof(uint32_t);
+    b.bvh_items = accel_->bvh.items.size() * sizeof(uint32_t);
+    b.field = mesh_->vertices.size() * sizeof(float);
+  } else {
+    b.compact = stored_->bytes_by_part();
+    b.field = b.compact.field;
+    b.compact.field = 0;
+  }
   b.macrocells = cells_.bytes();
   b.region_bvh = 2 * skipping_.template_bvh().nodes.size() * sizeof(BvhNode);  // template + refit copy
-  b.field = mesh_.vertices.size() * sizeof(float);
   return b;
+}
+
+std::vector<double> probe_brute_force(const CompactMesh& mesh, const float* local_values,
+                                      const std::vector<vec3f>& points) {
+  const CompactMeshView view = view_of(mesh);
+  std::vector<double> out(points.size(), NAN);
+  parallel_for("probe_brute_force", int64_t(points.size()), [&](int64_t i) {
+    CompactMeshView::Hit hit;
+    float best = INFINITY;
+    for (uint32_t l = 0; l < view.leaf_count; ++l)
+      if (view.test_leaf(l, points[size_t(i)], hit, best)) break;
+    if (hit.leaf < 0) return;
+    double f = 0;
+    for (int k = 0; k < hit.n; ++k) f += double(hit.w[k]) * double(local_values[hit.first_vertex + hit.v[k]]);
+    out[size_t(i)] = f;
+  });
+  return out;
 }
 
 std::vector<double> probe_brute_force(const UMesh& mesh, const float* values, const std::vector<vec3f>& points) {

@@ -21,12 +21,15 @@
 
 namespace vs {
 
-// Resident bytes of each structure the renderer keeps for a mesh (info, bytes_per_element).
+// Resident bytes of each structure the renderer keeps for a mesh (info, bytes_per_element): the
+// reference encoding's parts, or the stored compact encoding's (`compact`, its field excluded).
 struct UMeshBytes {
   uint64_t vertices = 0, elements = 0, bvh_nodes = 0, bvh_items = 0, face_neighbors = 0, macrocells = 0, region_bvh = 0,
            field = 0;
+  CompactBytes compact;
   uint64_t total() const {
-    return vertices + elements + bvh_nodes + bvh_items + face_neighbors + macrocells + region_bvh + field;
+    return vertices + elements + bvh_nodes + bvh_items + face_neighbors + macrocells + region_bvh + field +
+           compact.total();
   }
 };
 
@@ -36,8 +39,15 @@ class UMeshRenderer {
   UMeshRenderer(const UMesh& mesh, const MeshAccel& accel, const WorldTransform& transform);
   // Builds its own BVH and adjacency (tests, meshes not read from a dataset).
   UMeshRenderer(const UMesh& mesh, const WorldTransform& transform);
+  // A mesh stored in the compact encoding (keeps a reference): no reference encoding exists, so
+  // only the compact views and probes work, and values are per local vertex.
+  UMeshRenderer(const CompactMesh& stored, const WorldTransform& transform);
+  bool has_reference() const { return mesh_ != nullptr; }
 
-  std::vector<Range> ranges(const float* values) const { return macrocell_ranges(mesh_, cells_, values); }
+  // Values as the dataset stores them: per vertex (reference) or per local vertex (compact).
+  std::vector<Range> ranges(const float* values) const {
+    return mesh_ ? macrocell_ranges(*mesh_, cells_, values) : macrocell_ranges(*stored_, cells_, values);
+  }
   uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso, bool skip,
                     SkipStats* stats = nullptr) {
     return skipping_.classify(ranges, tf, iso, skip, stats);
@@ -52,33 +62,39 @@ class UMeshRenderer {
   // Field values at grid points through the element BVH, NaN outside every element.
   std::vector<float> probe(const float* values, const std::vector<vec3f>& grid_points) const;
 
-  // Paper 002's compact encoding (umesh/compact.h), built from the mesh on first use: its view
-  // takes fields per local vertex (CompactMesh::gather), the macrocells and skipping are shared.
+  // Paper 002's compact encoding (umesh/compact.h): the stored one, or built from the reference
+  // mesh on first use. Its view takes fields per local vertex (compact_values), the macrocells
+  // and skipping are shared.
   const CompactMesh& compact();
+  // Values as the dataset stores them, per local vertex: themselves for a stored compact mesh,
+  // else gathered into `storage`.
+  const float* compact_values(const float* values, std::vector<float>& storage);
   FrameView<CompactMeshVolume> view_compact(const FrameFields& local_fields, const OpticsView& optics,
                                             const TfView* color_tf, const Camera& camera,
                                             const FrameSettings& settings);
-  std::vector<float> probe_compact(const float* values, const std::vector<vec3f>& grid_points);
+  std::vector<float> probe_compact(const float* values, const std::vector<vec3f>& grid_points);  // stored order
 
   UMeshView mesh_view() const;
   const MacroCells& macrocells() const { return cells_; }
-  const ElementBvh& element_bvh() const { return accel_.bvh; }
-  const std::vector<uint32_t>& face_neighbors() const { return accel_.neighbors; }
+  const ElementBvh& element_bvh() const { return reference_accel().bvh; }
+  const std::vector<uint32_t>& face_neighbors() const { return reference_accel().neighbors; }
   size_t region_count() const { return cells_.boxes.size(); }
   UMeshBytes bytes() const;
   double build_seconds() const { return build_seconds_; }
 
  private:
-  UMeshRenderer(const UMesh& mesh, std::unique_ptr<MeshAccel> owned, const MeshAccel* borrowed,
-                const WorldTransform& transform);
+  UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned, const MeshAccel* borrowed,
+                const CompactMesh* stored, const WorldTransform& transform);
+  const MeshAccel& reference_accel() const;  // UsageError for a stored compact mesh
   template <typename Locator>
   FrameView<MeshVolume<Locator>> make_view(const Locator& locator, const FrameFields& fields, const OpticsView& optics,
                                            const TfView* color_tf, const Camera& camera,
                                            const FrameSettings& settings) const;
   CompactMeshView compact_view();
-  const UMesh& mesh_;
+  const UMesh* mesh_;                 // null for a stored compact mesh
   std::unique_ptr<MeshAccel> owned_;  // when built here
-  const MeshAccel& accel_;
+  const MeshAccel* accel_;            // with mesh_
+  const CompactMesh* stored_;         // a stored compact mesh
   WorldTransform transform_;
   Box3<double> bounds_;  // world box of the vertices (the default reference step), once per mesh
   double build_seconds_ = 0;
@@ -92,5 +108,11 @@ class UMeshRenderer {
 // The reference for probe(): every element tested for every point (no BVH), double precision
 // interpolation of the weights found.
 std::vector<double> probe_brute_force(const UMesh& mesh, const float* values, const std::vector<vec3f>& grid_points);
+// The same over every decoded element of a compact mesh (no BVH, no walk), values per local vertex.
+std::vector<double> probe_brute_force(const CompactMesh& mesh, const float* local_values,
+                                      const std::vector<vec3f>& grid_points);
+
+// The one line for a feature that needs the reference encoding on a dataset stored compact.
+[[noreturn]] void needs_reference_encoding(const std::string& feature);
 
 }  // namespace vs

@@ -1,0 +1,66 @@
+// Paper 002's compact encoding (compact.h) as a dataset stores it (issue 13): which arrays are
+// files, the checks that make a read-back CompactMesh safe to sample, and the per-element decoding
+// that everything but sampling (macrocells, brute-force probes, checks) goes through, so that no
+// reference UMesh is ever built from a compact dataset.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "volstream/core/math.h"
+#include "volstream/umesh/compact.h"
+
+namespace vs {
+
+// The arrays of a CompactMesh a dataset stores, one raw little-endian file of records each (the
+// structs of compact.h as they are in memory): f(file name, array). Storing one more array is one
+// more line here; the manifest records each file's record count under its name.
+template <typename Mesh, typename F>
+void for_each_compact_array(Mesh& c, F&& f) {
+  f("compact_nodes.bin", c.nodes);
+  f("compact_leaves.bin", c.leaves);
+  f("compact_bytes.bin", c.bytes);
+  f("compact_submeshes.bin", c.submeshes);
+  f("compact_vertices.bin", c.vertices);
+}
+
+// One element decoded from its leaf: vertex count and absolute local vertex indices (into
+// CompactMesh::vertices and into the values of a (field, step)).
+struct CompactElement {
+  int n = 0;
+  uint32_t vertex[8];
+  box3f box(const vec3f* vertices) const {
+    box3f b = box3f::make_empty();
+    for (int i = 0; i < n; ++i) b.extend(vertices[vertex[i]]);
+    return b;
+  }
+};
+
+// Calls f(element) for each element of leaf l, in slot order.
+template <typename F>
+void for_each_element_of_leaf(const CompactMesh& c, const CompactMeshView& view, uint32_t l, F&& f) {
+  const CompactLeaf& leaf = c.leaves[l];
+  const uint32_t base = c.submeshes[leaf.submesh].first_vertex;
+  for (uint32_t k = 0, count = leaf.element_count(); k < count; ++k) {
+    CompactElement e;
+    uint8_t corner[8] = {};
+    uint16_t v[8] = {};
+    e.n = view.element(leaf, k, corner, v);
+    for (int i = 0; i < e.n; ++i) e.vertex[i] = base + v[i];
+    f(e);
+  }
+}
+
+// InputError naming the file at fault (in `dir`) unless `c` as read is safe and right to sample:
+// finite vertices; sub-meshes ascending from 0, each of at most 65536 vertices, their byte runs
+// ascending inside the byte array; every leaf of 1 .. kMultiLeafSize elements (at most all its
+// tets paired), in a sub-mesh, its vertex table and corners inside its sub-mesh's bytes, every
+// table entry inside its sub-mesh and every corner inside its table; the element counts by type
+// those of the manifest; nodes of 1 .. 8 children that point forward and form a tree (every
+// node and leaf reached once from the root, depth within the search stack) laid out by levels
+// as the sampler addresses them (a node at position i of its level has its children at 8 i .. of
+// the next); leaf_parents the nodes whose children are the leaves in order; every quantized
+// child box holding its child.
+void check_compact_mesh(const CompactMesh& c, const uint64_t by_type[4], const std::filesystem::path& dir);
+
+}  // namespace vs

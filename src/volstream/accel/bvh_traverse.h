@@ -128,7 +128,7 @@ VS_HOST_DEVICE inline void bvh_for_each_leaf(const BvhNode* nodes, uint32_t node
                                              const vec3f& dir, Visit&& visit) {
   const SlabRay slab(org, dir);
   // Each batch is a traversal from the root; on the CPU a larger batch pays on scenes of many
-  // small regions (jet: 486k ABRs, render CPU time 16: 0.81 s, 32: 0.79 s, 64: 0.77 s, the same
+  // small regions (jet: 486k ABRs, render CPU time 16: 0.82 s, 32: 0.80 s, 64: 0.77 s, the same
   // image). The GPU keeps 16 (its hits live in local memory; not measured here).
 #ifdef __CUDA_ARCH__
   constexpr int kBatch = 16;

@@ -122,6 +122,14 @@ struct SahBuilder {
     Bounds left, right;
     bool children_known = false;
     const bool room = depth + ceil_log2(end - begin) < kMaxBvhDepth - 2;
+    if (room && end - begin == 2 && split_pair(begin, bounds.cbox())) {
+      const Prim &a = prims[begin], &b = prims[begin + 1];
+      nodes[node].index = free;
+      nodes[node].is_leaf = 0;
+      nodes[free] = {to_box(a.lo, a.hi), a.id(), 1};
+      nodes[free + 1] = {to_box(b.lo, b.hi), b.id(), 1};
+      return;
+    }
     if (room && sah_split(begin, end, bounds.cbox(), mid, left, right)) {
       children_known = true;
     } else {
@@ -149,6 +157,26 @@ struct SahBuilder {
       b = b < last ? b : last;
       for (int axis = 0; axis < 3; ++axis) bins.add(axis, b[axis], p);
     }
+  }
+
+  // Two items, the most common node: what sah_split decides, without bins. Each axis on which
+  // the centroids differ puts them in bins 0 and kBins-1 and offers one split, the same on every
+  // such axis (the same two boxes); the first axis and its highest plane win, so the item with
+  // the lower centroid on the first such axis goes left. False (nothing reordered) when sah_split
+  // would not split (equal centroids, or a cost that is not finite): the caller then runs the
+  // general path.
+  bool split_pair(uint32_t begin, const box3f& cb) {
+    int axis = 0;
+    while (axis < 3 && !(cb.upper[axis] - cb.lower[axis] > 0.f)) ++axis;
+    if (axis == 3) return false;
+    Prim &a = prims[begin], &b = prims[begin + 1];
+    const bool swap = b.c[axis] < a.c[axis];
+    const Prim& l = swap ? b : a;
+    const Prim& r = swap ? a : b;
+    const float cost = half_area4(l.lo, l.hi) * 1.f + half_area4(r.lo, r.hi) * 1.f;
+    if (!(cost < INFINITY)) return false;
+    if (swap) std::swap(a, b);
+    return true;
   }
 
   // Best of kBins-1 planes per axis by the surface area heuristic; false if none separates.

@@ -520,6 +520,121 @@ TEST(Bvh, ParallelRefitEqualsSerialSweep) {
   check(60000, kRefitSerialSubtree);
 }
 
+// The reference binned SAH build: the plain algorithm build_bvh_sah implements (an index array,
+// one pass per axis, bounds recomputed per node, serial). build_bvh_sah bins all axes in one
+// pass, in parallel near the root, and hands each child its bounds from the bins; the tree must
+// be the same, node for node.
+struct ReferenceSah {
+  static constexpr int kBins = 16;
+  const std::vector<box3f>& boxes;
+  std::vector<vec3f> centroids;
+  std::vector<uint32_t> items;
+  std::vector<BvhNode> nodes;
+  static float half_area(const box3f& b) {
+    if (b.empty()) return 0.f;
+    const vec3f s = b.size();
+    return s.x * s.y + s.y * s.z + s.z * s.x;
+  }
+  void build(uint32_t node, uint32_t begin, uint32_t end, uint32_t free, int depth) {
+    box3f bounds = box3f::make_empty(), cb = box3f::make_empty();
+    for (uint32_t i = begin; i < end; ++i) {
+      bounds.extend(boxes[items[i]]);
+      cb.extend(centroids[items[i]]);
+    }
+    nodes[node].box = bounds;
+    if (end - begin == 1) {
+      nodes[node] = {bounds, items[begin], 1};
+      return;
+    }
+    int log2 = 0;
+    while ((uint64_t(1) << log2) < end - begin) ++log2;
+    uint32_t mid = 0;
+    bool split = false;
+    if (depth + log2 < kMaxBvhDepth - 2) {
+      float best_cost = INFINITY;
+      int best_axis = -1, best_plane = 0;
+      for (int axis = 0; axis < 3; ++axis) {
+        const float extent = cb.upper[axis] - cb.lower[axis];
+        if (!(extent > 0.f)) continue;
+        const float scale = float(kBins) / extent;
+        box3f bin_box[kBins];
+        uint32_t bin_count[kBins] = {};
+        for (auto& b : bin_box) b = box3f::make_empty();
+        for (uint32_t i = begin; i < end; ++i) {
+          const int b = std::min(kBins - 1, int((centroids[items[i]][axis] - cb.lower[axis]) * scale));
+          ++bin_count[b];
+          bin_box[b].extend(boxes[items[i]]);
+        }
+        for (int p = kBins - 2; p >= 0; --p) {  // high planes first, as build_bvh_sah
+          box3f l = box3f::make_empty(), r = box3f::make_empty();
+          uint32_t nl = 0, nr = 0;
+          for (int q = 0; q < kBins; ++q) {
+            (q <= p ? l : r).extend(bin_box[q]);
+            (q <= p ? nl : nr) += bin_count[q];
+          }
+          if (nl == 0 || nr == 0) continue;
+          const float cost = half_area(l) * float(nl) + half_area(r) * float(nr);
+          if (cost < best_cost) {
+            best_cost = cost;
+            best_axis = axis;
+            best_plane = p;
+          }
+        }
+      }
+      if (best_axis >= 0) {
+        const float lower = cb.lower[best_axis], scale = float(kBins) / (cb.upper[best_axis] - lower);
+        const auto it = std::partition(items.begin() + begin, items.begin() + end, [&](uint32_t item) {
+          return std::min(kBins - 1, int((centroids[item][best_axis] - lower) * scale)) <= best_plane;
+        });
+        mid = uint32_t(it - items.begin());
+        split = mid > begin && mid < end;
+      }
+    }
+    if (!split) {
+      const vec3f e = cb.size();
+      const int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
+      mid = begin + (end - begin) / 2;
+      std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end, [&](uint32_t a, uint32_t b) {
+        return centroids[a][axis] < centroids[b][axis] || (centroids[a][axis] == centroids[b][axis] && a < b);
+      });
+    }
+    nodes[node].index = free;
+    nodes[node].is_leaf = 0;
+    build(free, begin, mid, free + 2, depth + 1);
+    build(free + 1, mid, end, free + 2 + 2 * (mid - begin) - 2, depth + 1);
+  }
+};
+
+TEST(Bvh, SahBuildEqualsReference) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  // Octree-like sizes (few large, many small boxes, as ABRs are), duplicates, flat sets.
+  for (size_t count : {1, 2, 5, 17, 300, 5000, 70000}) {
+    std::vector<box3f> boxes(count);
+    for (size_t i = 0; i < count; ++i) {
+      const float size = std::ldexp(1.f, -int(u(rng) * 8.f));
+      vec3f lo(u(rng), u(rng), u(rng));
+      if (count == 300) lo.z = 0.5f;                // centroids on one plane
+      if (count == 17 && i % 2) lo = vec3f(0.25f);  // identical boxes: median fallback
+      boxes[i] = {lo, lo + vec3f(size)};
+    }
+    ReferenceSah ref{boxes, {}, std::vector<uint32_t>(count), std::vector<BvhNode>(2 * count - 1)};
+    for (size_t i = 0; i < count; ++i) {
+      ref.centroids.push_back(boxes[i].center());
+      ref.items[i] = uint32_t(i);
+    }
+    ref.build(0, 0, uint32_t(count), 1, 0);
+    const Bvh bvh = build_bvh_sah(boxes);
+    ASSERT_EQ(bvh.nodes.size(), ref.nodes.size());
+    for (size_t i = 0; i < ref.nodes.size(); ++i) {
+      const BvhNode &a = bvh.nodes[i], &b = ref.nodes[i];
+      ASSERT_TRUE(a.index == b.index && a.is_leaf == b.is_leaf && a.box.lower == b.box.lower &&
+                  a.box.upper == b.box.upper)
+          << count << " boxes, node " << i;
+    }
+  }
+}
+
 // The layout check rejects trees whose subtrees are not runs (here: two sibling subtrees swapped).
 TEST(Bvh, LayoutCheckRejectsOtherOrders) {
   std::vector<box3f> boxes;

@@ -121,13 +121,20 @@ VS_HOST_DEVICE inline bool bvh_next_leaf(const BvhNode* nodes, uint32_t node_cou
 }
 
 // Every leaf the ray crosses, front to back, as visit(item, t0, t1) (return false to stop): K
-// leaves per traversal (bvh_next_leaves). The interval walk of every volume whose regions are
-// disjoint boxes under a refit BVH (ABRs, mesh macrocells).
+// leaves per traversal (bvh_next_leaves; K = 64 on the CPU, 16 on the GPU). The interval walk of every volume whose
+// regions are disjoint boxes under a refit BVH (ABRs, mesh macrocells).
 template <typename Visit>
 VS_HOST_DEVICE inline void bvh_for_each_leaf(const BvhNode* nodes, uint32_t node_count, const vec3f& org,
                                              const vec3f& dir, Visit&& visit) {
   const SlabRay slab(org, dir);
+  // Each batch is a traversal from the root; on the CPU a larger batch pays on scenes of many
+  // small regions (jet: 486k ABRs, render CPU time 16: 0.82 s, 32: 0.80 s, 64: 0.77 s, the same
+  // image). The GPU keeps 16 (its hits live in local memory; not measured here).
+#ifdef __CUDA_ARCH__
   constexpr int kBatch = 16;
+#else
+  constexpr int kBatch = 64;
+#endif
   LeafHit hits[kBatch];
   float t = 0.f;
   for (;;) {

@@ -125,10 +125,18 @@ bool is_native_dataset(const std::filesystem::path& path) {
   return std::filesystem::is_directory(path, ec) && std::filesystem::exists(path / vs::dataset_files::kManifest, ec);
 }
 
+// How a converted mesh is stored: paper 002's compact encoding (the default, as `volstream
+// convert`'s) or the reference one.
+vs::MeshEncoding stored_encoding(const std::string& name) {
+  if (name != "compact" && name != "reference")
+    throw vs::UsageError("encoding must be 'compact' or 'reference', not '" + name + "'");
+  return vs::parse_mesh_encoding(name);
+}
+
 DatasetPtr load(const py::object& path, const std::string& format, const std::optional<std::array<int, 3>>& dims,
                 const std::string& type, bool big_endian, const Vec3Tuple& origin, const Vec3Tuple& spacing,
                 bool series, const std::string& field, const std::map<std::string, std::string>& scalars,
-                const std::vector<std::string>& fields) {
+                const std::vector<std::string>& fields, const std::string& encoding) {
   vs::ImportRequest in;
   in.inputs = paths_of(path);
   // A native dataset is opened where it is; anything else is converted (a missing path too, so
@@ -151,19 +159,22 @@ DatasetPtr load(const py::object& path, const std::string& format, const std::op
   for (const auto& [name, file] : scalars) in.scalars.push_back({name, file});
   vs::ConvertOptions options = vs::ConvertOptions::silent();
   options.fields = fields;
+  options.mesh_encoding = stored_encoding(encoding);
   vs::import_format(in);  // what cannot be converted fails here, before a temporary directory exists
   return convert_to_temp("load", [&](const std::filesystem::path& dir) { vs::import_to_dataset(in, dir, options); });
 }
 
-DatasetPtr demo(const std::string& name, double cells, int steps, double elements) {
+DatasetPtr demo(const std::string& name, double cells, int steps, double elements, const std::string& encoding) {
   if (steps < 1 || steps > 1000) throw vs::UsageError("demo steps must be in [1, 1000]");
   if (vs::is_mesh_demo(name)) {
     if (!(elements >= 6 && elements <= 5e8)) throw vs::UsageError("demo elements must be in [6, 5e8]");
     const vs::MeshDemoOptions o{name, uint64_t(elements), steps};
     vs::check_mesh_demo(o);
+    vs::ConvertOptions options = vs::ConvertOptions::silent();
+    options.mesh_encoding = stored_encoding(encoding);
     return convert_to_temp(name, [&](const std::filesystem::path& dir) {
       auto series = vs::make_mesh_demo_series(o);
-      vs::convert_mesh_to_dataset(*series, dir, vs::ConvertOptions::silent());
+      vs::convert_mesh_to_dataset(*series, dir, options);
     });
   }
   if (!(cells >= 1e4 && cells <= 2e9)) throw vs::UsageError("demo cells must be in [1e4, 2e9]");
@@ -509,17 +520,22 @@ PYBIND11_MODULE(volstream, m) {
         py::arg("type") = "float32", py::arg("big_endian") = false, py::arg("origin") = Vec3Tuple{0, 0, 0},
         py::arg("spacing") = Vec3Tuple{1, 1, 1}, py::arg("series") = false, py::arg("field") = "scalar",
         py::arg("scalars") = std::map<std::string, std::string>{}, py::arg("fields") = std::vector<std::string>{},
+        py::arg("encoding") = "compact",
         "Open a native dataset directory (written by `volstream convert` or `volstream demo`), or convert\n"
         "what `volstream convert` takes into a private temporary dataset, removed when the Dataset is\n"
         "garbage-collected: an AMReX plotfile directory (a list of them: time steps), [cells, scalars...]\n"
         "of ExaBrick, raw grids (dims=(X, Y, Z), type=, big_endian=, origin=, spacing=; several files are\n"
         "fields, or steps with series=True, named by field=), meshes (.vtu, .vtk, .pvd, .ugrid; a list:\n"
         "time steps) with scalars={'name': 'file.f32'} for UGRID. format: auto | plotfile | exabrick | raw\n"
-        "| mesh; fields: keep only these. OSError('<file>: <what>') for a missing or damaged input.");
+        "| mesh; fields: keep only these; encoding: how a converted mesh is stored, 'compact' (paper 002's\n"
+        "encoding, as `volstream convert`) or 'reference'. OSError('<file>: <what>') for a missing or\n"
+        "damaged input.");
   m.def("demo", &demo, py::arg("name"), py::arg("cells") = 1e5, py::arg("steps") = 2, py::arg("elements") = 1e5,
+        py::arg("encoding") = "compact",
         "A built-in demo, AMR ('jet' or 'cosmo', about `cells` leaf cells) or a mesh ('tets', 'mixed' or\n"
-        "'holes', about `elements` elements), of `steps` time steps, written to a private temporary\n"
-        "directory that is removed when the Dataset is garbage-collected.");
+        "'holes', about `elements` elements, stored in `encoding`: 'compact' or 'reference'), of `steps`\n"
+        "time steps, written to a private temporary directory that is removed when the Dataset is\n"
+        "garbage-collected.");
 
   py::class_<CameraRef>(m, "Camera",
                         "The scene's camera. Unset position, focus and up come from the default view fitted to\n"

@@ -95,6 +95,18 @@ def test_mesh_demo():
         vs.demo("tets", elements=1)
 
 
+def test_mesh_encodings_probe_the_same():
+    compact = vs.demo("mixed", elements=3000, steps=1)
+    reference = vs.demo("mixed", elements=3000, steps=1, encoding="reference")
+    pts = random_points(compact)
+    got, want = compact.probe("density", pts), reference.probe("density", pts)
+    np.testing.assert_array_equal(np.isnan(got), np.isnan(want))
+    assert not np.isnan(got).all()
+    np.testing.assert_allclose(got, want, rtol=1e-5, atol=1e-6)  # paired tets round differently
+    with pytest.raises(ValueError):
+        vs.demo("tets", elements=2000, encoding="stored")
+
+
 # --- AMReX plotfiles ---------------------------------------------------------------------------
 
 

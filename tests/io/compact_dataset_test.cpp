@@ -14,6 +14,7 @@
 
 #include "test_util.h"
 #include "volstream/core/error.h"
+#include "volstream/cuda/backend.h"
 #include "volstream/frame/frame_renderer.h"
 #include "volstream/frame/look.h"
 #include "volstream/io/mesh_convert.h"
@@ -127,6 +128,35 @@ TEST(CompactDataset, ReferenceOnlyRequestsAreRefusedInOneLine) {
   r.mesh_encoding = MeshEncoding::reference;
   EXPECT_THROW(renderer.render(r), UsageError);
   EXPECT_THROW(renderer.probe(0, 0, {vec3d(0.5)}, MeshEncoding::reference), UsageError);
+}
+
+// The GPU renders and probes a stored compact mesh as the CPU does (the same kernel source).
+TEST(CompactDatasetCuda, EqualsTheCpu) {
+  if (!cuda::cuda_available()) GTEST_SKIP() << "no CUDA device";
+  FrameRenderer cpu(compact(), Device::cpu), gpu(compact(), Device::cuda);
+  FrameRequest dvr = request(compact(), 1), iso = request(compact(), 1);
+  iso.integrator.iso_count = 1;
+  iso.integrator.iso[0] = 0.4f;
+  iso.integrator.shade = 1;
+  for (const FrameRequest& r : {dvr, iso}) {
+    const Image a = cpu.render(r), b = gpu.render(r);
+    double sum = 0, alpha = 0;
+    for (size_t i = 0; i < a.rgba.size(); ++i) sum += std::fabs(a.rgba[i] - b.rgba[i]);
+    for (size_t i = 3; i < a.rgba.size(); i += 4) alpha += a.rgba[i];
+    EXPECT_GT(alpha, 1.0);
+    EXPECT_LT(sum / double(a.rgba.size()), 1e-3);
+  }
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-0.1, 1.1);
+  std::vector<vec3d> points(1000);
+  for (vec3d& p : points) p = {u(rng), u(rng), u(rng)};
+  const std::vector<float> a = cpu.probe(0, 1, points), b = gpu.probe(0, 1, points);
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(std::isnan(a[i]), std::isnan(b[i])) << i;
+    if (!std::isnan(a[i])) {
+      EXPECT_NEAR(a[i], b[i], kPairRounding * std::max(1.f, std::fabs(a[i])));
+    }
+  }
 }
 
 // A copy of the compact dataset with `file` changed by `damage`; the InputError it gives.

@@ -34,8 +34,9 @@ inline box3f to_box(f4 lo, f4 hi) { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1]
 struct Prim {
   f4 lo, hi, c;  // box and its centre (box3f::center, computed once)
   uint32_t id() const {
+    const float bits = lo[3];  // Clang takes no address of a vector lane: copy the lane out
     uint32_t v;
-    std::memcpy(&v, &lo[3], sizeof v);
+    std::memcpy(&v, &bits, sizeof v);
     return v;
   }
 };

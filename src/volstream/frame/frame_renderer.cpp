@@ -95,8 +95,9 @@ struct FrameRenderer::Impl {
   OpticsKind classified_optics = OpticsKind::tf;
   BlackbodyParams classified_bb;
 
-  std::unique_ptr<UMeshRenderer> umesh;           // a mesh dataset: its BVH and macrocells
-  std::unique_ptr<cuda::DeviceMesh> device_mesh;  // CUDA: the mesh, its BVH and macrocells
+  std::unique_ptr<UMeshRenderer> umesh;                     // a mesh dataset: its BVH and macrocells
+  std::unique_ptr<cuda::DeviceMesh> device_mesh;            // CUDA: the mesh, its BVH and macrocells
+  std::unique_ptr<cuda::DeviceCompactMesh> device_compact;  // CUDA: a stored compact mesh
 
   std::unique_ptr<BlockRenderer> blocks;
   uint64_t block_generation[kVolumeFields] = {};
@@ -130,6 +131,7 @@ struct FrameRenderer::Impl {
                   ? std::make_unique<UMeshRenderer>(dataset.compact_mesh(), transform)
                   : std::make_unique<UMeshRenderer>(dataset.mesh(), dataset.mesh_accel(), transform);
       device_mesh.reset();
+      device_compact.reset();
     }
     return *umesh;
   }
@@ -142,10 +144,12 @@ struct FrameRenderer::Impl {
       needs_reference_encoding("render or probe --encoding reference");
     return requested;
   }
-  void require_cpu_for_compact(const char* what) const {
-    if (device == Device::cpu) return;
-    if (dataset.is_compact_mesh()) needs_reference_encoding(std::string("meshes on CUDA (") + what + ")");
-    throw UsageError(std::string("the compact mesh encoding ") + what + " on the CPU only so far");
+  // On CUDA the compact encoding samples the values the dataset stores per local vertex (uploaded
+  // like any field); one built at load from a reference dataset is sampled on the CPU only.
+  void check_compact_device(const char* what) const {
+    if (device == Device::cpu || dataset.is_compact_mesh()) return;
+    throw UsageError(std::string("the compact mesh encoding built at load ") + what +
+                     " on the CPU only (convert with --encoding compact for CUDA)");
   }
   // The slots' values per local vertex of the compact encoding (gathered when they change, unless
   // the dataset stores them so).
@@ -166,21 +170,29 @@ struct FrameRenderer::Impl {
                                                        mesh.macrocells());
     return *device_mesh;
   }
-  // A mesh frame: on the CPU, or on the GPU through the same kernel source.
-  Image render_mesh(const FrameView<UMeshVolume>& host_view, FrameReport& report) {
+  cuda::DeviceCompactMesh& compact_on_device() {
+    UMeshRenderer& mesh = umesh_renderer();
+    if (!device_compact) device_compact = std::make_unique<cuda::DeviceCompactMesh>(mesh.compact(), mesh.macrocells());
+    return *device_compact;
+  }
+  auto& on_device(const UMeshVolume*) { return mesh_on_device(); }
+  auto& on_device(const CompactMeshVolume*) { return compact_on_device(); }
+  // A mesh frame of either encoding: on the CPU, or on the GPU through the same kernel source.
+  template <typename Volume>
+  Image render_mesh(const FrameView<Volume>& host_view, FrameReport& report) {
     if (device == Device::cpu) {
       FrameStats stats;
-      Image img = umesh->render(host_view, &stats);
+      Image img = render_view_cpu(host_view, &stats);
       report.seconds.render += stats.render_seconds;
       report.samples = stats.samples;
       return img;
     }
-    FrameView<UMeshVolume> view = host_view;
+    FrameView<Volume> view = host_view;
     Image img(view.width, view.height);
     std::vector<uint32_t> counts(size_t(view.width) * view.height);
     view.rgba = img.rgba.data();
     view.sample_counts = counts.data();
-    const cuda::RenderTimes t = mesh_on_device().render(view);
+    const cuda::RenderTimes t = on_device(static_cast<const Volume*>(nullptr)).render(view);
     report.seconds.upload += t.upload_seconds;
     report.seconds.render += t.kernel_seconds;
     report.samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
@@ -423,14 +435,13 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
     UMeshRenderer& mesh = m.umesh_renderer();
     const TfView* colors = color_iso ? &color_view : nullptr;
     if (m.sampled_encoding(r.mesh_encoding) == MeshEncoding::compact) {
-      m.require_cpu_for_compact("renders");
-      m.update_compact_fields();
-      FrameStats stats;
-      img = render_view_cpu(
-          mesh.view_compact({m.compact_values[0], m.compact_values[1]}, optics, colors, r.camera, frame_settings(r)),
-          &stats);
-      local.seconds.render += stats.render_seconds;
-      local.samples = stats.samples;
+      m.check_compact_device("renders");
+      FrameFields fields{m.kernel_values(0), m.kernel_values(1)};  // a stored compact mesh's, per local vertex
+      if (m.device == Device::cpu) {
+        m.update_compact_fields();
+        fields = {m.compact_values[0], m.compact_values[1]};
+      }
+      img = m.render_mesh(mesh.view_compact(fields, optics, colors, r.camera, frame_settings(r)), local);
     } else {
       img = m.render_mesh(
           mesh.view({m.kernel_values(0), m.kernel_values(1)}, optics, colors, r.camera, frame_settings(r)), local);
@@ -498,8 +509,9 @@ std::vector<float> FrameRenderer::probe(int field, int step, const std::vector<v
   m.load(0, field, step, ignored);
   const std::vector<vec3f> grid = grid_points(dataset_.manifest().transform, world);
   if (dataset_.is_mesh() && m.sampled_encoding(mesh_encoding) == MeshEncoding::compact) {
-    m.require_cpu_for_compact("probes");
-    return m.umesh_renderer().probe_compact(m.kernel_values(0), grid);
+    m.check_compact_device("probes");
+    return device_ == Device::cuda ? m.compact_on_device().probe(m.kernel_values(0), grid)
+                                   : m.umesh_renderer().probe_compact(m.kernel_values(0), grid);
   }
   if (dataset_.is_mesh())
     return device_ == Device::cuda ? m.mesh_on_device().probe(m.kernel_values(0), grid)

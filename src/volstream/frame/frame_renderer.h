@@ -110,7 +110,8 @@ class FrameRenderer {
   uint64_t visible_ = 0;
 };
 
-// resolve_device, except that "auto" is the CPU for a mesh stored compact (it renders only there).
+// resolve_device, except that "auto" is the CPU for a mesh stored compact: its CUDA path
+// (--device cuda) has not run on a GPU yet.
 Device resolve_device(const std::string& name, const Dataset& dataset);
 
 // The reference for probe(): the tent-basis sum over every cell, no bricks or ABRs (double

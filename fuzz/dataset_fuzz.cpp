@@ -1,5 +1,6 @@
 // The native dataset reader: a valid small dataset with one of its files patched.
 #include "fuzz_util.h"
+#include "volstream/amr/abrs.h"
 #include "volstream/amr/probe.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/raw_grid.h"
@@ -28,9 +29,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const auto base = make_base(dir);
   const auto work = dir / "work";
   fuzz::copy_tree(base, work);
-  const std::vector<std::filesystem::path> files = {work / "manifest.json", work / "bricks.bin",
-                                                    work / "abrs.bin",      work / "abr_bricks.bin",
-                                                    work / "cells.bin",     work / "fields/0_scalar/step_000000.f32"};
+  const std::vector<std::filesystem::path> files = {work / "manifest.json",
+                                                    work / "bricks.bin",
+                                                    work / "abrs.bin",
+                                                    work / "abr_bricks.bin",
+                                                    work / "cells.bin",
+                                                    work / "abr_bvh.bin",
+                                                    work / "fields/0_scalar/step_000000.f32"};
   if (!fuzz::apply_patch(files, data, size)) return 0;
   fuzz::expect_clean([&] {
     Dataset ds(work);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fuzz_util.h"
+#include "volstream/amr/abrs.h"
 #include "volstream/amr/probe.h"
 #include "volstream/amr/ranges.h"
 #include "volstream/io/dataset.h"

@@ -11,6 +11,21 @@ cp -r ds inverted && poke inverted/abrs.bin 12 '\x00\x00\x10\xc1'  # upper.x = -
 expect_bad_input "inverted ABR" play inverted --size 8x8 -q
 cp -r ds width && poke width/abrs.bin 32 '\x00\x00\x80\x3e'  # finest_width = 0.25
 expect_bad_input "ABR finer than its bricks" render width -o x.png --size 16x16
+# The ABR BVH stored at convert (8 bytes a node: child or item, is_leaf): damaged, it is refused
+# (a cycle would otherwise hang traversal or overflow its stack); missing, it is built at load.
+cp -r ds cycle && poke cycle/abr_bvh.bin 0 '\x00\x00\x00\x00'  # the root is its own child
+expect_bad_input "ABR BVH with a cycle" render cycle -o x.png --size 16x16
+cp -r ds flag && poke flag/abr_bvh.bin 4 '\x07\x00\x00\x00'  # root neither leaf nor inner
+expect_bad_input "ABR BVH node flag 7" probe flag --points <(echo 1,1,1)
+cp -r ds short && truncate -s -8 short/abr_bvh.bin
+expect_bad_input "ABR BVH cut short" render short -o x.png --size 16x16
+cp -r ds unstored && rm unstored/abr_bvh.bin && /usr/bin/python3 - unstored/manifest.json <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1])); del m["abr_bvh_node_count"]; json.dump(m, open(sys.argv[1], "w"))
+PY
+"$VS" render ds -o stored.pfm --size 32x32 >/dev/null && "$VS" render unstored -o unstored.pfm --size 32x32 >/dev/null
+cmp -s stored.pfm unstored.pfm || fail "a dataset without its stored BVH renders differently"
+echo "ok: damaged ABR BVHs refused, a missing one built at load"
 /usr/bin/python3 -c "import struct,sys; sys.stdout.buffer.write(struct.pack('<8f', *range(8)))" >g.raw
 expect_bad_input "cells of 1e-25" convert g.raw --dims 2,2,2 --spacing 1e-25,1e-25,1e-25 -o tiny
 # A manifest edited to the same effect is refused by the reader.

@@ -1,12 +1,14 @@
 // End to end on AMReX plotfiles with refinement ratios 2 and 4: convert to a dataset, then the
 // ABR probe equals the brute-force sum over all cells at 10^4 random points, the ABR ranges
-// bound every sample, and the values round-trip exactly at cell centres.
+// bound every sample, the stored ABR BVH equals a fresh build, and the values round-trip exactly
+// at cell centres.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "test_util.h"
+#include "volstream/amr/abrs.h"
 #include "volstream/amr/probe.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/plotfile.h"
@@ -52,6 +54,18 @@ TEST_P(PlotfileProbe, AbrProbeEqualsBruteForce) {
   ASSERT_EQ(m.fields.size(), 2u);
   const auto cells = ds.load_cells();
   const Bvh bvh = build_abr_bvh(ds.topology());
+  // The BVH stored at convert, refit at load, is the tree a build at load gives, node for node.
+  ASSERT_EQ(ds.topology().abr_bvh.size(), 2 * ds.topology().abrs.size() - 1);
+  AmrTopology unstored = ds.topology();
+  unstored.abr_bvh.clear();
+  const Bvh built = build_abr_bvh(unstored);
+  ASSERT_EQ(built.nodes.size(), bvh.nodes.size());
+  for (size_t i = 0; i < bvh.nodes.size(); ++i) {
+    const BvhNode &a = bvh.nodes[i], &b = built.nodes[i];
+    ASSERT_TRUE(a.index == b.index && a.is_leaf == b.is_leaf && a.box.lower == b.box.lower &&
+                a.box.upper == b.box.upper)
+        << "node " << i;
+  }
   std::mt19937 rng(GetParam());
   std::uniform_real_distribution<double> ux(-1.05, 1.05), uy(-0.05, 1.05), uz(1.95, 3.05);
   std::vector<vec3f> grid;

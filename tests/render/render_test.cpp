@@ -650,6 +650,46 @@ TEST(Bvh, LayoutCheckRejectsOtherOrders) {
   EXPECT_FALSE(subtrees_are_runs(cut));
 }
 
+// The check of stored trees accepts every built tree and refuses damaged ones: a leaf naming
+// another's item, an item out of range, a flag neither leaf nor inner, a wrong node count, an
+// inner node pointing back at itself, and a chain deeper than the traversal stacks allow.
+TEST(Bvh, TreeCheckRefusesDamagedTrees) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.f, 100.f);
+  for (size_t count : {1, 2, 3, 17, 1000}) {
+    std::vector<box3f> boxes;
+    for (size_t i = 0; i < count; ++i) {
+      const vec3f p(u(rng), u(rng), u(rng));
+      boxes.push_back({p, p + vec3f(1.f)});
+    }
+    const Bvh bvh = build_bvh_sah(boxes);
+    ASSERT_EQ(bvh_tree_problem(bvh.nodes, count), "") << count;
+    EXPECT_NE(bvh_tree_problem(bvh.nodes, count + 1), "");
+    for (size_t i = 0; i < bvh.nodes.size(); ++i) {
+      std::vector<BvhNode> bad = bvh.nodes;
+      if (bad[i].is_leaf) {
+        bad[i].index = bad[i].index == 0 ? uint32_t(count) : 0;  // out of range, or item 0 twice
+      } else {
+        bad[i].index = uint32_t(i);  // its own child
+      }
+      EXPECT_NE(bvh_tree_problem(bad, count), "") << count << " node " << i;
+      bad = bvh.nodes;
+      bad[i].is_leaf = 2;
+      EXPECT_NE(bvh_tree_problem(bad, count), "") << count << " node " << i;
+    }
+  }
+  // A chain: inner node 2k has children 2k+1 (leaf k) and 2k+2, so depth = item count - 1.
+  for (uint32_t items : {uint32_t(kMaxBvhDepth), uint32_t(kMaxBvhDepth + 1), uint32_t(kMaxBvhDepth + 5)}) {
+    std::vector<BvhNode> chain(2 * items - 1);
+    for (uint32_t k = 0; k + 1 < items; ++k) {
+      chain[2 * k] = {box3f::make_empty(), 2 * k + 1, 0};
+      chain[2 * k + 1] = {box3f::make_empty(), k, 1};
+    }
+    chain.back() = {box3f::make_empty(), items - 1, 1};
+    EXPECT_EQ(bvh_tree_problem(chain, items).empty(), items <= uint32_t(kMaxBvhDepth) + 1) << items;
+  }
+}
+
 // Brute force over all cells: the range of the cells whose open support (centre +- width) meets
 // the ABR's box (the cells that must be included), and the union of the ABR's whole bricks (what
 // per-brick ranges give).

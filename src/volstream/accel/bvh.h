@@ -9,6 +9,10 @@
 
 namespace vs {
 
+// Trees stay at most this deep (traversal stacks hold 64 entries); build_bvh_sah keeps to it and
+// stored trees are checked against it (refit.h, bvh_tree_problem).
+inline constexpr int kMaxBvhDepth = 60;
+
 struct BvhNode {
   box3f box;
   uint32_t index;  // inner node: first child; leaf: item index

@@ -11,10 +11,8 @@
 
 namespace vs {
 
-// Depth stays below kMaxBvhDepth (traversal stacks hold 64 entries): near that depth the build
-// falls back to median splits, which halve the item count.
-inline constexpr int kMaxBvhDepth = 60;
-
+// Depth stays below kMaxBvhDepth (bvh.h): near that depth the build falls back to median splits,
+// which halve the item count.
 Bvh build_bvh_sah(const std::vector<box3f>& boxes);
 
 }  // namespace vs

@@ -12,7 +12,7 @@ namespace {
 // subtrees_are_runs() requires (descendants from `first` on), else 0.
 size_t run_end(const std::vector<BvhNode>& nodes, uint32_t n, size_t first, int depth) {
   if (nodes[n].is_leaf) return first;
-  if (depth > 128 || nodes[n].index != first || first + 2 > nodes.size()) return 0;
+  if (depth >= kMaxBvhDepth || nodes[n].index != first || first + 2 > nodes.size()) return 0;
   const size_t left_end = run_end(nodes, uint32_t(first), first + 2, depth + 1);
   return left_end ? run_end(nodes, uint32_t(first + 1), left_end, depth + 1) : 0;
 }
@@ -53,6 +53,23 @@ void refit_subtree(std::vector<BvhNode>& nodes, uint32_t n, const ItemBox& item_
 
 bool subtrees_are_runs(const std::vector<BvhNode>& nodes) {
   return nodes.empty() || run_end(nodes, 0, 1, 0) == nodes.size();
+}
+
+std::string bvh_tree_problem(const std::vector<BvhNode>& nodes, size_t item_count) {
+  if (item_count == 0) return nodes.empty() ? "" : "nodes without items";
+  if (nodes.size() != 2 * item_count - 1)
+    return std::to_string(nodes.size()) + " nodes for " + std::to_string(item_count) + " items";
+  std::vector<uint8_t> seen(item_count, 0);
+  for (const BvhNode& n : nodes) {
+    if (n.is_leaf > 1) return "a node is neither leaf nor inner";
+    if (!n.is_leaf) continue;
+    if (n.index >= item_count || seen[n.index]) return "item " + std::to_string(n.index) + " out of range or twice";
+    seen[n.index] = 1;
+  }
+  // With 2n - 1 nodes and n distinct leaves, every inner node is a pair of children: the run
+  // layout (checked to the depth limit) then makes it one binary tree.
+  if (!subtrees_are_runs(nodes)) return "nodes out of order or deeper than " + std::to_string(kMaxBvhDepth);
+  return "";
 }
 
 void refit_bvh(std::vector<BvhNode>& nodes, const std::vector<box3f>& item_boxes, const std::vector<uint8_t>& keep,

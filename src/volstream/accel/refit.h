@@ -4,6 +4,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "volstream/accel/bvh.h"
@@ -37,6 +38,11 @@ void refit_bvh(std::vector<BvhNode>& nodes, const std::vector<box3f>& item_boxes
 // left child's subtree, then those of the right child's, so every subtree's descendants are one
 // run of nodes that starts at its first child.
 bool subtrees_are_runs(const std::vector<BvhNode>& nodes);
+
+// Empty when `nodes` (boxes ignored) is a tree over items 0..item_count-1 as build_bvh_sah makes
+// them: 2 * item_count - 1 nodes laid out as subtrees_are_runs requires, at most kMaxBvhDepth
+// deep, every item in exactly one leaf; else what is wrong. Trees read from files are checked so.
+std::string bvh_tree_problem(const std::vector<BvhNode>& nodes, size_t item_count);
 
 // The nodes grouped by depth, deepest first: the nodes of one group are independent and every
 // node's children lie in earlier groups, so a GPU refits one group per launch.

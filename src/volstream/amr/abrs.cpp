@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "volstream/accel/bvh_sah.h"
+#include "volstream/accel/refit.h"
 #include "volstream/backend/parallel.h"
 #include "volstream/core/error.h"
 
@@ -207,6 +209,16 @@ void build_abrs(AmrTopology& topology, const std::string& source_name) {
     topology.abr_bricks.insert(topology.abr_bricks.end(), out.abr_bricks.begin(), out.abr_bricks.end());
     out = {};
   }
+}
+
+Bvh build_abr_bvh(const AmrTopology& topology) {
+  std::vector<box3f> boxes;
+  boxes.reserve(topology.abrs.size());
+  for (const Abr& a : topology.abrs) boxes.push_back(a.box);
+  if (topology.abr_bvh.empty()) return build_bvh_sah(boxes);
+  Bvh stored{topology.abr_bvh};
+  refit_bvh(stored.nodes, boxes, {});
+  return stored;
 }
 
 }  // namespace vs

@@ -1,16 +1,8 @@
 #include "volstream/amr/probe.h"
 
-#include "volstream/accel/bvh_sah.h"
 #include "volstream/backend/parallel.h"
 
 namespace vs {
-
-Bvh build_abr_bvh(const AmrTopology& topology) {
-  std::vector<box3f> boxes;
-  boxes.reserve(topology.abrs.size());
-  for (const Abr& a : topology.abrs) boxes.push_back(a.box);
-  return build_bvh_sah(boxes);
-}
 
 std::vector<float> probe_points(const AmrTopology& topology, const Bvh& bvh, const float* values,
                                 const std::vector<vec3f>& grid_points) {

@@ -16,8 +16,6 @@ VS_HOST_DEVICE inline float sample_point(const AmrView& v, const BvhNode* nodes,
   return abr < 0 ? NAN : sample_abr(v, uint32_t(abr), p);
 }
 
-Bvh build_abr_bvh(const AmrTopology& topology);
-
 // Samples many points (grid units) in parallel on the CPU.
 std::vector<float> probe_points(const AmrTopology& topology, const Bvh& bvh, const float* values,
                                 const std::vector<vec3f>& grid_points);

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "volstream/accel/refit.h"
 #include "volstream/amr/abrs.h"
 #include "volstream/amr/bricks.h"
 #include "volstream/amr/ranges.h"
@@ -95,6 +96,7 @@ json manifest_to_json(const DatasetManifest& m) {
     j["brick_count"] = m.brick_count;
     j["abr_count"] = m.abr_count;
     j["abr_brick_count"] = m.abr_brick_count;
+    if (m.abr_bvh_node_count) j["abr_bvh_node_count"] = m.abr_bvh_node_count;
     j["file_order"] = m.file_order;
     for (const auto& l : m.levels) j["levels"].push_back({{"level", l.level}, {"cells", l.cell_count}});
   }
@@ -147,6 +149,7 @@ DatasetManifest manifest_from_json(const json& j) {
     m.brick_count = j.at("brick_count").get<uint64_t>();
     m.abr_count = j.at("abr_count").get<uint64_t>();
     m.abr_brick_count = j.at("abr_brick_count").get<uint64_t>();
+    m.abr_bvh_node_count = j.value("abr_bvh_node_count", uint64_t(0));
     m.file_order = j.value("file_order", false);  // absent in datasets written before it existed
     for (const auto& l : j.at("levels"))
       m.levels.push_back({l.at("level").get<int32_t>(), l.at("cells").get<uint64_t>()});
@@ -232,6 +235,8 @@ void validate_manifest(const DatasetManifest& m) {
   if (m.cell_count == 0 || m.brick_count == 0 || m.abr_count == 0) fail("no cells, bricks or ABRs");
   if (m.cell_count >= UINT32_MAX || m.brick_count > m.cell_count || m.abr_brick_count >= UINT32_MAX)
     fail("counts out of range");
+  if (m.abr_bvh_node_count != 0 && m.abr_bvh_node_count != 2 * m.abr_count - 1)
+    fail("abr_bvh_node_count does not match abr_count");
 }
 
 // An ABR lies inside the supports of the bricks it lists (it is a region where exactly those
@@ -325,6 +330,18 @@ void DatasetWriter::write_topology(const AmrTopology& t, const std::vector<Cell>
   write_file(dir_ / dataset_files::kBricks, t.bricks.data(), t.bricks.size() * sizeof(Brick));
   write_file(dir_ / dataset_files::kAbrs, t.abrs.data(), t.abrs.size() * sizeof(Abr));
   write_file(dir_ / dataset_files::kAbrBricks, t.abr_bricks.data(), t.abr_bricks.size() * sizeof(uint32_t));
+  write_abr_bvh(t);
+}
+
+// The BVH's topology only (8 bytes a node): the boxes are the ABRs' own and refit at load, which
+// is cheap, while the SAH build is a quarter of a whole render of the jet demo (bench/RESULTS.md).
+void DatasetWriter::write_abr_bvh(const AmrTopology& t) {
+  const Bvh bvh = build_abr_bvh(t);
+  std::vector<uint32_t> links;
+  links.reserve(2 * bvh.nodes.size());
+  for (const BvhNode& n : bvh.nodes) links.insert(links.end(), {n.index, n.is_leaf});
+  manifest_.abr_bvh_node_count = bvh.nodes.size();
+  write_file(dir_ / dataset_files::kAbrBvh, links.data(), links.size() * sizeof(uint32_t));
 }
 
 void DatasetWriter::write_mesh(const UMesh& mesh) {
@@ -410,6 +427,7 @@ Dataset::Dataset(const fs::path& dir) : dir_(dir) {
   topology_.abrs = read_records<Abr>(dir / dataset_files::kAbrs, manifest_.abr_count);
   topology_.abr_bricks = read_records<uint32_t>(dir / dataset_files::kAbrBricks, manifest_.abr_brick_count);
   validate_topology(topology_, (dir / dataset_files::kBricks).string());
+  if (manifest_.abr_bvh_node_count) read_abr_bvh();
   count_topology_bytes();
   if (manifest_.file_order) {  // the index itself is read (and checked) by whoever needs it
     const fs::path index = dir / dataset_files::kFileIndex;
@@ -504,6 +522,16 @@ std::vector<uint32_t> Dataset::load_file_index() const {
 
 std::vector<float> Dataset::load_file_order_values(int field, int step) const {
   return read_records<float>(file_order_values_path(field, step), manifest_.value_count(), kFileAlignment);
+}
+
+void Dataset::read_abr_bvh() {
+  const fs::path path = dir_ / dataset_files::kAbrBvh;
+  const std::vector<uint32_t> links = read_records<uint32_t>(path, 2 * manifest_.abr_bvh_node_count);
+  std::vector<BvhNode>& nodes = topology_.abr_bvh;
+  nodes.resize(manifest_.abr_bvh_node_count);
+  for (size_t i = 0; i < nodes.size(); ++i) nodes[i] = {box3f::make_empty(), links[2 * i], links[2 * i + 1]};
+  if (const std::string problem = bvh_tree_problem(nodes, topology_.abrs.size()); !problem.empty())
+    input_error(path.string(), "bad ABR BVH: " + problem);
 }
 
 void Dataset::count_topology_bytes() {

@@ -72,6 +72,9 @@ struct DatasetManifest {
   std::vector<FieldInfo> fields;
   std::vector<double> step_times;
   uint64_t brick_count = 0, abr_count = 0, abr_brick_count = 0;
+  // Nodes of the stored ABR BVH (abr_bvh.bin; manifest key "abr_bvh_node_count", absent in
+  // older datasets: 0, the BVH is built at load).
+  uint64_t abr_bvh_node_count = 0;
   // The dataset also holds every step in file order and file_index.bin (manifest key
   // "file_order"; absent in older datasets, which means false).
   bool file_order = false;
@@ -96,6 +99,7 @@ inline constexpr const char* kCells = "cells.bin";
 inline constexpr const char* kBricks = "bricks.bin";
 inline constexpr const char* kAbrs = "abrs.bin";
 inline constexpr const char* kAbrBricks = "abr_bricks.bin";
+inline constexpr const char* kAbrBvh = "abr_bvh.bin";                // per node: uint32 child or item, uint32 is_leaf
 inline constexpr const char* kFileIndex = "file_index.bin";          // only with file-order copies
 inline constexpr const char* kMeshVertices = "mesh_vertices.bin";    // umesh: float x, y, z per vertex
 inline constexpr const char* kMeshElements = "mesh_elements.bin";    // umesh: UElement per element
@@ -134,6 +138,7 @@ class DatasetWriter {
   std::filesystem::path dir_;
   DatasetManifest manifest_;
   const AmrTopology* topology_ = nullptr;
+  void write_abr_bvh(const AmrTopology& topology);
 };
 
 // One data-parallel rank's share of an AMR dataset (mpi/partition.h): global indices, ascending.
@@ -196,6 +201,7 @@ class Dataset {
   bool restricted_ = false;
   std::vector<ByteRun> part_runs_;  // the part's values in a (field, step) file
   mutable std::atomic<uint64_t> value_bytes_read_{0};
+  void read_abr_bvh();  // and checks it (InputError)
   void count_topology_bytes();
 };
 

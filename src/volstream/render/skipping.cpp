@@ -20,9 +20,12 @@ std::vector<uint8_t> classify_regions(const std::vector<Range>& ranges, const Tr
   return visible;
 }
 
-RegionBvh::RegionBvh(std::vector<box3f> region_boxes)
-    : boxes_(std::move(region_boxes)), template_(build_bvh_sah(boxes_)), nodes_(template_.nodes) {
-  if (!subtrees_are_runs(template_.nodes)) throw std::logic_error("BVH node order does not allow a bottom-up refit");
+RegionBvh::RegionBvh(std::vector<box3f> region_boxes) : RegionBvh(region_boxes, build_bvh_sah(region_boxes)) {}
+
+RegionBvh::RegionBvh(std::vector<box3f> region_boxes, Bvh template_bvh)
+    : boxes_(std::move(region_boxes)), template_(std::move(template_bvh)), nodes_(template_.nodes) {
+  if (const std::string problem = bvh_tree_problem(template_.nodes, boxes_.size()); !problem.empty())
+    throw std::logic_error("region BVH: " + problem);
   bytes_ =
       CountedBytes("BVH", MemorySpace::host,
                    int64_t((template_.nodes.size() + nodes_.size()) * sizeof(BvhNode) + boxes_.size() * sizeof(box3f)));

@@ -28,6 +28,8 @@ std::vector<uint8_t> classify_regions(const std::vector<Range>& ranges, const Tr
 class RegionBvh {
  public:
   explicit RegionBvh(std::vector<box3f> region_boxes);  // builds the template
+  // Takes a template built (or stored) over region_boxes already: a tree as build_bvh_sah makes.
+  RegionBvh(std::vector<box3f> region_boxes, Bvh template_bvh);
   // Classifies the regions and refits; skip = false keeps every region. Returns visible ones.
   uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso, bool skip,
                     SkipStats* stats = nullptr);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "volstream/amr/abrs.h"
 #include "volstream/backend/parallel.h"
 #include "volstream/core/error.h"
 #include "volstream/core/stopwatch.h"
@@ -57,7 +58,7 @@ AmrRenderer::AmrRenderer(const AmrTopology& topology, const WorldTransform& tran
     : topology_(topology),
       transform_(transform),
       world_bounds_(world_bounds),
-      skipping_(abr_boxes(topology)),
+      skipping_(abr_boxes(topology), build_abr_bvh(topology)),
       sample_bricks_(make_sample_bricks(topology)),
       sample_bricks_bytes_("ABR sample bricks", MemorySpace::host,
                            int64_t(sample_bricks_.size() * sizeof(SampleBrick))) {}

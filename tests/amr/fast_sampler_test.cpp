@@ -36,7 +36,7 @@ TEST_P(FastSampler, EqualsTheReferencePerSample) {
   const auto [seed, levels, refine] = GetParam();
   const AmrTopology t = build_topology(test::random_octree_cells(seed, vec3i(3, 2, 2), levels, refine));
   const std::vector<SampleBrick> records = make_sample_bricks(t);
-  ASSERT_EQ(records.size(), t.abr_bricks.size());
+  ASSERT_EQ(records.size(), t.bricks.size());
 
   std::mt19937 rng(seed * 31u + 1u);
   // Values of both signs over several decades, and a few NaN ("no data") cells.
@@ -67,7 +67,7 @@ TEST_P(FastSampler, EqualsTheReferencePerSample) {
         if (k >= 16 && p[axis] > a.box.upper[axis]) p[axis] = a.box.upper[axis];
       }
       const float ref = sample_abr(view, abr, p);
-      const float fast = sample_abr_fast(t.abrs.data(), records.data(), values.data(), abr, p);
+      const float fast = sample_abr_fast(t.abrs.data(), t.abr_bricks.data(), records.data(), values.data(), abr, p);
       ASSERT_EQ(std::isnan(ref), std::isnan(fast)) << "ABR " << abr << " bricks " << a.brick_count;
       if (a.brick_count > 1) {
         ++several;
@@ -85,7 +85,8 @@ TEST_P(FastSampler, EqualsTheReferencePerSample) {
       const Brick& b = t.bricks[t.abr_bricks[a.first_brick]];
       const vec3f far = vec3f(b.lower) - vec3f(float(b.width()) * 1.5f);
       EXPECT_TRUE(std::isnan(sample_abr(view, abr, far)));
-      EXPECT_TRUE(std::isnan(sample_abr_fast(t.abrs.data(), records.data(), values.data(), abr, far)));
+      EXPECT_TRUE(
+          std::isnan(sample_abr_fast(t.abrs.data(), t.abr_bricks.data(), records.data(), values.data(), abr, far)));
     }
   }
   EXPECT_GT(one_brick, 0u);
@@ -117,9 +118,9 @@ TEST_P(FastSampler, BatchesEqualPointByPointOnEveryBuild) {
       for (uint32_t i = 0; i < n; ++i)
         for (int axis = 0; axis < 3; ++axis)  // the box grown a little: some points beyond the support
           p[i][axis] = a.box.lower[axis] + (1.2f * unit(rng) - 0.1f) * (a.box.upper[axis] - a.box.lower[axis]);
-      sample_one_brick_batch(records[a.first_brick], values.data(), p, n, out);
+      sample_one_brick_batch(records[t.abr_bricks[a.first_brick]], values.data(), p, n, out);
       for (uint32_t i = 0; i < n; ++i) {
-        const float one = sample_abr_fast(t.abrs.data(), records.data(), values.data(), abr, p[i]);
+        const float one = sample_abr_fast(t.abrs.data(), t.abr_bricks.data(), records.data(), values.data(), abr, p[i]);
         const float ref = sample_abr(view, abr, p[i]);
         ASSERT_EQ(std::isnan(out[i]), std::isnan(ref)) << simd::isa();
         ASSERT_TRUE(same_bits(out[i], one)) << simd::isa() << ": " << out[i] << " vs " << one;

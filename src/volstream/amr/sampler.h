@@ -68,10 +68,12 @@ double sample_brute_force(const Cell* cells, const float* values, uint64_t n, co
 // ---------------------------------------------------------------------------------------------
 // The CPU's fast sampler: the same tent basis, laid out and computed for the per-sample loop.
 //
-// Records per entry of the ABRs' brick lists (ABR a's bricks are sample_bricks[a.first_brick ..
-// + a.brick_count)), so a sample reads the ABR and then its bricks' records in a row instead of
-// chasing abr_bricks -> bricks. Per brick the 2x2x2 cells around p are summed without branches:
-// indices clamped into the brick, weights of cells outside it set to 0.
+// One record per brick with what a sample needs (float corner, reciprocal width), reached
+// through the ABR's brick list. (Records per list entry, read in a row without the index, were
+// tried first: on jet 1e6 that is 1.9 M records, 71 MiB made at load and read from memory, where
+// 10k per-brick records, 0.4 MiB, stay in cache; per brick is faster there and no slower on
+// few-brick datasets, bench/RESULTS.md.) Per brick the 2x2x2 cells around p are summed without
+// branches: indices clamped into the brick, weights of cells outside it set to 0.
 //
 // - sample_abr_fast on an ABR of several bricks gives exactly sample_abr's float (the same
 //   weights summed in the same order; cells of weight 0 add exactly 0, also where their value is
@@ -96,7 +98,7 @@ struct SampleBrick {
 };
 static_assert(sizeof(SampleBrick) == 40);
 
-// sample_bricks for a topology: one record per entry of abr_bricks.
+// The records of a topology's bricks, in brick order.
 std::vector<SampleBrick> make_sample_bricks(const AmrTopology& topology);
 
 namespace detail {
@@ -197,13 +199,14 @@ VS_HOST_DEVICE VS_FORCE_INLINE float sample_one_brick(const SampleBrick& b, cons
 }  // namespace detail
 
 // The fast sampler: field `values` at p (grid units) inside ABR `abr`.
-VS_HOST_DEVICE VS_FORCE_INLINE float sample_abr_fast(const Abr* abrs, const SampleBrick* sample_bricks,
-                                                     const float* values, uint32_t abr, const vec3f& p) {
+VS_HOST_DEVICE VS_FORCE_INLINE float sample_abr_fast(const Abr* abrs, const uint32_t* abr_bricks,
+                                                     const SampleBrick* sample_bricks, const float* values,
+                                                     uint32_t abr, const vec3f& p) {
   const Abr& a = abrs[abr];
-  const SampleBrick* b = sample_bricks + a.first_brick;
-  if (a.brick_count == 1) return detail::sample_one_brick(*b, values, p);
+  const uint32_t* ids = abr_bricks + a.first_brick;
+  if (a.brick_count == 1) return detail::sample_one_brick(sample_bricks[ids[0]], values, p);
   TentSum sum;
-  for (uint32_t i = 0; i < a.brick_count; ++i) detail::accumulate_brick_fast(b[i], values, p, sum);
+  for (uint32_t i = 0; i < a.brick_count; ++i) detail::accumulate_brick_fast(sample_bricks[ids[i]], values, p, sum);
   return sum.value();
 }
 

@@ -24,8 +24,9 @@ RegionBvh::RegionBvh(std::vector<box3f> region_boxes) : RegionBvh(region_boxes, 
 
 RegionBvh::RegionBvh(std::vector<box3f> region_boxes, Bvh template_bvh)
     : boxes_(std::move(region_boxes)), template_(std::move(template_bvh)), nodes_(template_.nodes) {
-  if (const std::string problem = bvh_tree_problem(template_.nodes, boxes_.size()); !problem.empty())
-    throw std::logic_error("region BVH: " + problem);
+  // Built by build_bvh_sah or read and checked (bvh_tree_problem) by the dataset reader.
+  if (template_.nodes.size() != (boxes_.empty() ? 0 : 2 * boxes_.size() - 1))
+    throw std::logic_error("region BVH: not a tree over the regions");
   bytes_ =
       CountedBytes("BVH", MemorySpace::host,
                    int64_t((template_.nodes.size() + nodes_.size()) * sizeof(BvhNode) + boxes_.size() * sizeof(box3f)));

@@ -19,12 +19,12 @@ struct AmrVolume {
   uint32_t node_count = 0;
   const BvhNode* all_nodes = nullptr;  // template BVH over all ABRs: point location
   uint32_t all_node_count = 0;
-  // The CPU's fast sampler's records (amr/sampler.h, one per abr_bricks entry); null: the
-  // reference sampler (the GPU, and tests that compare the two).
+  // The CPU's fast sampler's records (amr/sampler.h, one per brick); null: the reference
+  // sampler (the GPU, and tests that compare the two).
   const SampleBrick* sample_bricks = nullptr;
 
   VS_HOST_DEVICE float sample(int field, uint32_t abr, const vec3f& p) const {
-    if (sample_bricks) return sample_abr_fast(amr.abrs, sample_bricks, fields[field], abr, p);
+    if (sample_bricks) return sample_abr_fast(amr.abrs, amr.abr_bricks, sample_bricks, fields[field], abr, p);
     AmrView v = amr;
     v.values = fields[field];
     return sample_abr(v, abr, p);
@@ -34,7 +34,7 @@ struct AmrVolume {
   // point, in SIMD lanes on one-brick ABRs (amr/sampler.h).
   void sample_batch(int field, uint32_t abr, const vec3f* p, uint32_t n, float* out) const {
     if (sample_bricks && amr.abrs[abr].brick_count == 1) {
-      sample_one_brick_batch(sample_bricks[amr.abrs[abr].first_brick], fields[field], p, n, out);
+      sample_one_brick_batch(sample_bricks[amr.abr_bricks[amr.abrs[abr].first_brick]], fields[field], p, n, out);
       return;
     }
     for (uint32_t i = 0; i < n; ++i) out[i] = sample(field, abr, p[i]);

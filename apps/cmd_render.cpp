@@ -124,7 +124,7 @@ mpi::CompositeScheme composite_scheme(const std::string& name) {
 
 // Rank 0's table: per rank what it holds and read, and its stages (the `composite` stage
 // included), from the values every rank sent.
-constexpr size_t kRankColumns = 11;
+constexpr size_t kRankColumns = 12;
 std::vector<double> rank_row(const mpi::ShareStats& share, uint64_t bytes_read, const FrameTimes& t,
                              const mpi::CompositeStats& c) {
   return {double(share.owned),
@@ -137,7 +137,8 @@ std::vector<double> rank_row(const mpi::ShareStats& share, uint64_t bytes_read, 
           c.seconds,
           double(c.bytes_sent),
           double(share.mesh ? share.vertices : share.bricks),
-          double(share.mesh ? share.items : share.abrs)};
+          double(share.mesh ? share.items : share.abrs),
+          double(share.topology_bytes)};
 }
 
 // `total`: the dataset's cells or elements; `values`: its values per (field, step).
@@ -153,9 +154,9 @@ void print_ranks(const std::vector<double>& rows, const mpi::ShareStats& share, 
     char held_parts[64];
     std::snprintf(held_parts, sizeof(held_parts), parts, v[10]);
     std::printf(
-        "rank %zu: %s %.0f owned, %.0f held (%.0f %s), values read %.0f B; read %.4fs ranges "
+        "rank %zu: %s %.0f owned, %.0f held (%.0f %s), topology %.0f B, values read %.0f B; read %.4fs ranges "
         "%.4fs refit %.4fs render %.4fs composite %.4fs (sent %.0f B)\n",
-        r, unit, v[0], v[1], v[9], held_parts, v[2], v[3], v[4], v[5], v[6], v[7], v[8]);
+        r, unit, v[0], v[1], v[9], held_parts, v[11], v[2], v[3], v[4], v[5], v[6], v[7], v[8]);
     read += v[2];
     held += v[1];
     sent += v[8];

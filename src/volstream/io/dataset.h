@@ -176,6 +176,10 @@ class Dataset {
   void restrict_to(DatasetPart part);
   const DatasetPart* part() const { return restricted_ ? &part_ : nullptr; }
   uint64_t value_bytes_read() const { return value_bytes_read_; }  // by load_values, so far
+  // Host bytes of the topology held (the mesh in its encoding, or bricks, ABRs and their lists).
+  uint64_t topology_bytes() const {
+    return uint64_t(mesh_bytes_.bytes() + brick_bytes_.bytes() + abr_bytes_.bytes() + abr_list_bytes_.bytes());
+  }
   std::vector<Range> load_abr_ranges(int field, int step) const;
   // Path of a field file (for the streaming reader).
   std::filesystem::path values_path(int field, int step) const;

@@ -27,6 +27,7 @@ ParallelRenderer::ParallelRenderer(Dataset& dataset, Device device, const FrameR
   const bool empty = part.abrs.empty() && part.mesh_items.empty();
   dataset.restrict_to(std::move(part));
   if (dataset.is_mesh()) share_.vertices = dataset.mesh_vertices().size();
+  share_.topology_bytes = dataset.topology_bytes();
   if (!empty) renderer_ = std::make_unique<FrameRenderer>(dataset, device);
 }
 

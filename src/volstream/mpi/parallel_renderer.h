@@ -22,6 +22,7 @@ struct ShareStats {
   uint64_t held = 0;                 // cells of the bricks it holds, or elements it holds (owned + ghosts)
   uint64_t bricks = 0, abrs = 0;     // AMR
   uint64_t vertices = 0, items = 0;  // meshes: vertices (compact: local ones) and elements or leaves
+  uint64_t topology_bytes = 0;       // host bytes of the share's topology (Dataset::topology_bytes)
   double ghost_margin = 0;           // grid units
 };
 

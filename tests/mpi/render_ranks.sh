@@ -2,10 +2,10 @@
 # mpirun -np N volstream render (issue 17): the images of 1, 2, 3, 4 and 8 ranks agree within
 # 1e-5 (float PFM) for random cameras inside and outside the domain, on a demo and a plotfile,
 # with isosurfaces and shading, and those of 1 to 4 ranks on a small mesh demo in both
-# encodings, with and without an isosurface; the ranks' regions hold every cell (element) once
-# and each rank reads exactly its held bricks' (vertices') values; a bad input ends every rank with one line and status 2;
-# mpirun play writes the frames of one rank with any count, and a trace with every rank's
-# stages, composite included.
+# encodings, with and without an isosurface; the ranks' regions hold every cell (mesh element)
+# once and each rank reads exactly its held bricks' (vertices') values; a bad input ends every
+# rank with one line and status 2; mpirun play writes the frames of one rank with any count (AMR
+# and a mesh), and a trace with every rank's stages, composite included.
 # Usage: render_ranks.sh VOLSTREAM MPIEXEC WORKDIR (oversubscribed: CI has 2 cores).
 set -euo pipefail
 VS="$1"
@@ -118,6 +118,17 @@ for pid in (1, 2, 3):
     assert sum(e["name"] == "composite" for e in events if e["pid"] == pid) == 3, pid
 assert {e["name"] for e in events if e["name"] == "output"} and all(e["pid"] == 1 for e in events if e["name"] == "output")
 PY
+# A mesh series: every frame of 3 ranks is 1 rank's (each rank reads its vertices' values per step).
+"$VS" demo tets --elements 2000 --steps 2 -o mesh_series -q
+for n in 1 3; do
+  mkdir -p mesh_play$n
+  ranks "$n" play mesh_series --field density --size 48x40 -o "mesh_play$n/f_%04d.png" -q >/dev/null ||
+    fail "mesh play on $n ranks failed"
+done
+for f in 0000 0001; do
+  max=$(python3 "$HERE/../../bench/png_compare.py" "mesh_play1/f_$f.png" "mesh_play3/f_$f.png" | sed -nE 's/.* max ([0-9]+) .*/\1/p')
+  [ "${max:-99}" -le 1 ] || fail "mesh play frame $f: 3 ranks differ from 1 by $max codes"
+done
 cp -r series broken_series
 truncate -s 100 broken_series/fields/0_pressure/step_000001.f32
 expect_bad_ranks "play: truncated values of step 1" play broken_series --field pressure -o "bad_%04d.png" -q

@@ -124,11 +124,11 @@ mpi::CompositeScheme composite_scheme(const std::string& name) {
 
 // Rank 0's table: per rank what it holds and read, and its stages (the `composite` stage
 // included), from the values every rank sent.
-constexpr size_t kRankColumns = 11;
+constexpr size_t kRankColumns = 12;
 std::vector<double> rank_row(const mpi::ShareStats& share, uint64_t bytes_read, const FrameTimes& t,
                              const mpi::CompositeStats& c) {
-  return {double(share.owned_cells),
-          double(share.held_cells),
+  return {double(share.owned),
+          double(share.held),
           double(bytes_read),
           t.read,
           t.ranges,
@@ -136,27 +136,35 @@ std::vector<double> rank_row(const mpi::ShareStats& share, uint64_t bytes_read, 
           t.render,
           c.seconds,
           double(c.bytes_sent),
-          double(share.bricks),
-          double(share.abrs)};
+          double(share.mesh ? share.vertices : share.bricks),
+          double(share.mesh ? share.items : share.abrs),
+          double(share.topology_bytes)};
 }
 
-void print_ranks(const std::vector<double>& rows, uint64_t dataset_cells, const mpi::CompositeStats& c) {
+// `total`: the dataset's cells or elements; `values`: its values per (field, step).
+void print_ranks(const std::vector<double>& rows, const mpi::ShareStats& share, uint64_t total, uint64_t values,
+                 const mpi::CompositeStats& c, bool compact) {
   const size_t n = rows.size() / kRankColumns;
   double read = 0, held = 0, sent = 0;
+  const char* unit = share.mesh ? "elements" : "cells";
+  const char* parts =
+      share.mesh ? (compact ? "vertices, %.0f leaves" : "vertices, %.0f elements") : "bricks, %.0f ABRs";
   for (size_t r = 0; r < n; ++r) {
     const double* v = rows.data() + r * kRankColumns;
+    char held_parts[64];
+    std::snprintf(held_parts, sizeof(held_parts), parts, v[10]);
     std::printf(
-        "rank %zu: cells %.0f owned, %.0f held (%.0f bricks, %.0f ABRs), values read %.0f B; read %.4fs ranges "
+        "rank %zu: %s %.0f owned, %.0f held (%.0f %s), topology %.0f B, values read %.0f B; read %.4fs ranges "
         "%.4fs refit %.4fs render %.4fs composite %.4fs (sent %.0f B)\n",
-        r, v[0], v[1], v[9], v[10], v[2], v[3], v[4], v[5], v[6], v[7], v[8]);
+        r, unit, v[0], v[1], v[9], held_parts, v[11], v[2], v[3], v[4], v[5], v[6], v[7], v[8]);
     read += v[2];
     held += v[1];
     sent += v[8];
   }
-  const double bytes = double(dataset_cells) * sizeof(float);
+  const double bytes = double(values) * sizeof(float);
   std::printf("ranks %zu, composite %s: values read %.0f B for a %.0f B step (ghost overhead %+.1f%%), %.0f B sent\n",
               n, c.scheme == mpi::CompositeScheme::binary_swap ? "binary-swap" : "direct-send", read, bytes,
-              100.0 * (held / double(dataset_cells) - 1.0), sent);
+              100.0 * (held / double(total) - 1.0), sent);
 }
 
 // Under mpirun: every rank renders its region, the images are composited onto rank 0. Failures
@@ -166,10 +174,12 @@ void run_render_ranks(const RenderArgs& a) {
   std::unique_ptr<mpi::ParallelRenderer> renderer;
   Image partial;
   FrameReport report;
-  uint64_t dataset_cells = 0;
+  uint64_t total = 0, values = 0;
   mpi::agreed([&] {
     o = open_render(a);
-    dataset_cells = o.dataset->manifest().cell_count;
+    const DatasetManifest& m = o.dataset->manifest();
+    total = o.dataset->is_mesh() ? m.mesh.elements : m.cell_count;
+    values = m.value_count();
     renderer =
         std::make_unique<mpi::ParallelRenderer>(*o.dataset, o.plan.device, o.plan.request, mpi::rank(), mpi::size());
     partial = renderer->render_local(o.plan.request, &report);
@@ -180,7 +190,7 @@ void run_render_ranks(const RenderArgs& a) {
       mpi::gather(rank_row(renderer->share(), o.dataset->value_bytes_read(), report.seconds, composite));
   if (mpi::rank() != 0) return;
   write_render(img, a, o.plan);
-  print_ranks(rows, dataset_cells, composite);
+  print_ranks(rows, renderer->share(), total, values, composite, o.dataset->is_compact_mesh());
   std::printf("render %ux%u on %d ranks -> %s\n", o.plan.request.width, o.plan.request.height, mpi::size(),
               a.output.c_str());
 }

@@ -3,9 +3,9 @@
   cameras INFO_JSON N SEED   N random cameras (half inside the domain, half outside) as
                              "--camera-pos x,y,z --camera-at x,y,z" lines
   compare A.pfm B.pfm TOL    max |a - b| over the PFM floats; exit 1 above TOL
-  ranks LOG FIELDS CELLS     checks a mpirun render's per-rank lines: the regions' cells sum to
-                             CELLS and each rank read FIELDS * 4 bytes per held cell; prints the
-                             ghost overhead"""
+  ranks LOG FIELDS CELLS     checks a mpirun render's per-rank lines: the regions' cells (a
+                             mesh's elements) sum to CELLS and each rank read FIELDS * 4 bytes per
+                             held cell (a mesh's held vertex); prints the ghost overhead"""
 import json
 import random
 import re
@@ -52,12 +52,13 @@ def compare(a, b, tol):
 def ranks(log, fields, cells):
     owned = held = 0
     for line in open(log):
-        m = re.match(r"rank \d+: cells (\d+) owned, (\d+) held .*values read (\d+) B", line)
+        m = re.match(r"rank \d+: (cells|elements) (\d+) owned, (\d+) held \((\d+) .*values read (\d+) B", line)
         if not m:
             continue
-        o, h, r = map(int, m.groups())
-        if r != fields * 4 * h:
-            print("rank read %d B for %d held cells" % (r, h))
+        o, h, parts, r = map(int, m.groups()[1:])
+        values = parts if m.group(1) == "elements" else h  # a mesh's values are per held vertex
+        if r != fields * 4 * values:
+            print("rank read %d B for %d held values" % (r, values))
             sys.exit(1)
         owned += o
         held += h

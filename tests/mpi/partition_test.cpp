@@ -1,14 +1,21 @@
-// The data-parallel partition (mpi/partition.h): every cell in exactly one region, ranks'
-// shares hold what the integrator reads near their region, a visibility order per view.
+// The data-parallel partition (mpi/partition.h, mpi/mesh_share.h): every cell or mesh element in
+// exactly one region, ranks' shares hold what the integrator reads near their region (a mesh
+// part's sub-mesh samples as the whole mesh there), a visibility order per view.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <random>
 
 #include "test_util.h"
 #include "volstream/mpi/compositing.h"
+#include "volstream/mpi/mesh_share.h"
 #include "volstream/mpi/partition.h"
+#include "volstream/umesh/demo.h"
+#include "volstream/umesh/from_mesh_data.h"
+#include "volstream/umesh/mesh_accel.h"
+#include "volstream/umesh/subset.h"
 
 namespace vs {
 namespace {
@@ -87,6 +94,128 @@ TEST(Partition, VisibilityOrderFollowsTheEye) {
   EXPECT_EQ(p.visibility_order({20, 1, 1}, {-1, 0, 0}, false), (std::vector<int>{3, 2, 1, 0}));
   EXPECT_EQ(p.visibility_order({5, 1, 1}, {1, 0, 0}, false).front(), 2);
   EXPECT_EQ(p.visibility_order({20, 1, 1}, {1, 0, 0}, true), (std::vector<int>{0, 1, 2, 3}));
+}
+
+UMesh demo_mesh(const std::string& name, uint64_t elements) {
+  const MeshData data = make_mesh_demo({name, elements, 1}, 0);
+  return make_umesh(data, mesh_transform(data), name);
+}
+
+// Each element's centroid lies in exactly one region, and that rank holds the element (in the
+// compact encoding: its leaf); the ghosts (held elements beyond the owned ones) are reported.
+TEST(MeshPartition, EveryElementHeldByItsOwner) {
+  const UMesh mesh = demo_mesh("holes", 3000);
+  const CompactMesh compact = build_compact_mesh(mesh);
+  const std::vector<vec3d> centroids = element_centroids(mesh), compact_centroids = element_centroids(compact);
+  const MacroCells cells = build_macrocells(mesh), compact_cells = build_macrocells(compact);
+  std::vector<uint32_t> leaf_of;  // compact element -> leaf
+  for (uint32_t l = 0; l < compact.leaves.size(); ++l)
+    leaf_of.insert(leaf_of.end(), compact.leaves[l].element_count(), l);
+  for (int ranks : {1, 2, 3, 4, 7}) {
+    const Partition p = partition_points(centroids, ranks), pc = partition_points(compact_centroids, ranks);
+    uint64_t held = 0, held_compact = 0, owned = 0;
+    for (int r = 0; r < ranks; ++r) {
+      const MeshShare share = mesh_share(mesh, cells, centroids, p.regions[size_t(r)], IntegratorSettings{});
+      const MeshShare cshare = mesh_share(compact, compact_cells, compact_centroids, pc.regions[size_t(r)], {});
+      for (uint32_t e = 0; e < centroids.size(); ++e) {
+        if (!in_region(p.regions[size_t(r)], centroids[e])) continue;
+        EXPECT_TRUE(std::binary_search(share.items.begin(), share.items.end(), e)) << "owned element not held";
+      }
+      for (uint32_t e = 0; e < compact_centroids.size(); ++e) {
+        if (!in_region(pc.regions[size_t(r)], compact_centroids[e])) continue;
+        EXPECT_TRUE(std::binary_search(cshare.items.begin(), cshare.items.end(), leaf_of[e])) << "owned leaf not held";
+      }
+      owned += share.owned_elements;
+      held += share.held_elements;
+      held_compact += cshare.held_elements;
+      EXPECT_EQ(share.owned_elements, cshare.owned_elements);  // the same centroids, in another order
+    }
+    for (const vec3d& c : centroids) {
+      int owners = 0;
+      for (const Box3<double>& r : p.regions) owners += in_region(r, c);
+      EXPECT_EQ(owners, 1);
+    }
+    EXPECT_EQ(owned, mesh.elements.size());
+    EXPECT_GE(held, owned);
+    std::printf("%d ranks: ghost overhead %+.1f%% (reference), %+.1f%% (compact)\n", ranks,
+                100.0 * (double(held) / double(owned) - 1.0), 100.0 * (double(held_compact) / double(owned) - 1.0));
+  }
+}
+
+TEST(MeshPartition, ElementCountsBalanced) {
+  const UMesh mesh = demo_mesh("tets", 6000);
+  const std::vector<vec3d> centroids = element_centroids(mesh);
+  for (int ranks : {2, 3, 4}) {
+    const Partition p = partition_points(centroids, ranks);
+    for (const Box3<double>& r : p.regions) {
+      uint64_t n = 0;
+      for (const vec3d& c : centroids) n += in_region(r, c);
+      EXPECT_NEAR(double(n), double(centroids.size()) / ranks, 0.02 * double(centroids.size()));
+    }
+  }
+}
+
+// A part's macrocells on the whole mesh's grid equal the whole mesh's within the share's margin
+// (boxes, step widths, value ranges), and its sub-mesh samples as the whole mesh there.
+TEST(MeshPartition, PartSamplesAsTheWhole) {
+  const UMesh mesh = demo_mesh("mixed", 4000);
+  const MacroCells cells = build_macrocells(mesh);
+  const std::vector<vec3d> centroids = element_centroids(mesh);
+  const Partition p = partition_points(centroids, 3);
+  const Box3<double>& region = p.regions[1];
+  const MeshShare share = mesh_share(mesh, cells, centroids, region, IntegratorSettings{});
+  std::vector<uint32_t> source;
+  const UMesh part = mesh_subset(mesh, share.items, source);
+  const MacroCells part_cells = build_macrocells(part, &cells.grid);
+  std::vector<float> values(mesh.vertices.size()), part_values(source.size());
+  for (size_t v = 0; v < values.size(); ++v) values[v] = mesh.vertices[v].x + 2 * mesh.vertices[v].y;
+  for (size_t v = 0; v < source.size(); ++v) part_values[v] = values[source[v]];
+  const std::vector<Range> ranges = macrocell_ranges(mesh, cells, values.data());
+  const std::vector<Range> part_ranges = macrocell_ranges(part, part_cells, part_values.data());
+  const Box3<double> near{region.lower - vec3d(share.margin), region.upper + vec3d(share.margin)};
+  size_t compared = 0;
+  for (size_t c = 0; c < cells.region_of_cell.size(); ++c) {
+    const int32_t r = cells.region_of_cell[c], q = part_cells.region_of_cell[c];
+    if (r < 0) continue;
+    const box3f& b = cells.boxes[size_t(r)];
+    bool reaches = true;
+    for (int a = 0; a < 3; ++a) reaches &= double(b.lower[a]) <= near.upper[a] && double(b.upper[a]) >= near.lower[a];
+    if (!reaches) continue;
+    ASSERT_GE(q, 0);
+    EXPECT_EQ(part_cells.step_width[size_t(q)], cells.step_width[size_t(r)]);
+    EXPECT_EQ(part_ranges[size_t(q)].lo, ranges[size_t(r)].lo);
+    EXPECT_EQ(part_ranges[size_t(q)].hi, ranges[size_t(r)].hi);
+    ++compared;
+  }
+  EXPECT_GT(compared, 0u);
+  const MeshAccel accel = build_mesh_accel(mesh), part_accel = build_mesh_accel(part);
+  const UMeshView whole_view{mesh.vertices.data(),
+                             mesh.elements.data(),
+                             accel.bvh.nodes.data(),
+                             accel.bvh.items.data(),
+                             uint32_t(accel.bvh.nodes.size()),
+                             accel.neighbors.data()};
+  const UMeshView part_view{part.vertices.data(),
+                            part.elements.data(),
+                            part_accel.bvh.nodes.data(),
+                            part_accel.bvh.items.data(),
+                            uint32_t(part_accel.bvh.nodes.size()),
+                            part_accel.neighbors.data()};
+  box3f bounds = box3f::make_empty();
+  for (const vec3f& v : mesh.vertices) bounds.extend(v);
+  std::mt19937 rng(5);
+  for (int i = 0; i < 2000; ++i) {
+    vec3f q;
+    for (int a = 0; a < 3; ++a)
+      q[a] = float(std::uniform_real_distribution<double>(std::max(near.lower[a], double(bounds.lower[a])),
+                                                          std::min(near.upper[a], double(bounds.upper[a])))(rng));
+    const float f = whole_view.sample(values.data(), q), g = part_view.sample(part_values.data(), q);
+    if (std::isnan(f)) {
+      EXPECT_TRUE(std::isnan(g));
+    } else {
+      EXPECT_NEAR(f, g, 1e-4f * (1.f + std::fabs(f))) << q.x << "," << q.y << "," << q.z;
+    }
+  }
 }
 
 TEST(Compositing, OverIsAssociative) {

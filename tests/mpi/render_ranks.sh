@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # mpirun -np N volstream render (issue 17): the images of 1, 2, 3, 4 and 8 ranks agree within
 # 1e-5 (float PFM) for random cameras inside and outside the domain, on a demo and a plotfile,
-# with isosurfaces and shading; the ranks' regions hold every cell once and each rank reads
-# exactly its held bricks' values; a bad input ends every rank with one line and status 2;
-# mpirun play writes the frames of one rank with any count, and a trace with every rank's
-# stages, composite included.
+# with isosurfaces and shading, and those of 1 to 4 ranks on a small mesh demo in both encodings
+# (a shaded isosurface in both, volume light in the compact one); the ranks' regions hold every
+# cell (mesh element) once and each rank reads exactly its held bricks' (vertices') values; a
+# bad input ends every rank with one line and status 2; mpirun play writes the frames of one
+# rank with any count (AMR and a mesh), and a trace with every rank's stages, composite included.
 # Usage: render_ranks.sh VOLSTREAM MPIEXEC WORKDIR (oversubscribed: CI has 2 cores).
 set -euo pipefail
 VS="$1"
@@ -20,13 +21,17 @@ ranks() { local n="$1"; shift; timeout 120 "$MPIRUN" --oversubscribe -np "$n" "$
 "$VS" demo jet --cells 20000 --steps 1 -o jet -q
 python3 "$HERE/../golden/make_plotfile.py" plt >/dev/null
 "$VS" convert plt -o pltds -q
+# The mesh with a cavity and two parts (rays leave and re-enter it), in both encodings.
+"$VS" demo holes --elements 3000 --steps 1 -o holes_c -q
+"$VS" demo holes --elements 3000 --steps 1 --encoding reference -o holes_r -q
 
-# dataset, camera count, seed, render options
+# dataset, camera count, seed, render options; the rank counts besides 1 are $COUNTS.
+COUNTS="2 3 4 8"
 check_dataset() {
   local ds="$1" count="$2" seed="$3"; shift 3
   "$VS" info "$ds" --json >"$ds.json"
-  local cells
-  cells=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['cells'])" "$ds.json")
+  local cells  # or a mesh's elements
+  cells=$(python3 -c "import json,sys; j = json.load(open(sys.argv[1])); print(j['elements'] if j.get('kind') == 'umesh' else j['cells'])" "$ds.json")
   python3 "$TOOL" cameras "$ds.json" "$count" "$seed" >"$ds.cameras"
   local c=0
   while read -r -a camera; do
@@ -36,7 +41,7 @@ check_dataset() {
     "$VS" render "$ds" "${camera[@]}" "$@" --size 40x32 -o "$ds.$c.plain.pfm" >/dev/null
     echo "$ds camera $c: plain vs 1 rank $(python3 "$TOOL" compare "$ds.$c.plain.pfm" "$ds.$c.1.pfm" 0.02)" ||
       fail "$ds camera $c: one process and one rank differ"
-    for n in 2 3 4 8; do
+    for n in $COUNTS; do
       ranks "$n" render "$ds" "${camera[@]}" "$@" --size 40x32 -o "$ds.$c.$n.pfm" >"$ds.$c.$n.log" ||
         fail "$ds camera $c: $n ranks failed"
       diff=$(python3 "$TOOL" compare "$ds.$c.1.pfm" "$ds.$c.$n.pfm" 1e-5) ||
@@ -48,6 +53,13 @@ check_dataset() {
 }
 check_dataset jet 3 7 --field pressure --iso -500 --shade
 check_dataset pltds 2 3 --field density --iso 0.6 --range 0,1.4
+# Meshes: volume light in the compact encoding, a shaded isosurface (look-back and gradients
+# across the boxes) in both; each with a camera inside and one outside.
+COUNTS="2 3 4"
+check_dataset holes_c 2 5 --field density
+check_dataset holes_c 2 11 --field density --iso 0.3 --shade
+check_dataset holes_r 2 11 --field density --iso 0.3 --shade
+COUNTS="2 3 4 8"
 # Direct send for a power-of-two count gives the binary swap's image.
 ranks 4 render jet --composite direct-send --size 40x32 -o direct.pfm >/dev/null
 ranks 4 render jet --composite binary-swap --size 40x32 -o swap.pfm >/dev/null
@@ -79,7 +91,9 @@ python3 "$TOOL" compare ortho.1.pfm ortho.3.pfm 1e-5 >/dev/null || fail "ortho +
 python3 "$TOOL" ranks ortho.3.log 2 "$(python3 -c "import json; print(json.load(open('jet.json'))['cells'])")" \
   >/dev/null || fail "ortho + colour field: bytes read"
 python3 "$TOOL" compare plain.1.pfm plain.3.pfm 1e-5 >/dev/null || fail "no skipping, stored ranges: 3 ranks differ"
-"$VS" demo tets --elements 2000 -o mesh -q 2>/dev/null && expect_bad_ranks "mesh" render mesh -o x.png
+cp -r holes_r broken_mesh
+truncate -s 100 broken_mesh/fields/0_density/step_000000.f32
+expect_bad_ranks "mesh: truncated values" render broken_mesh --field density -o x.png --size 16x16
 
 # play: every frame of 2 and 3 ranks as 1 rank's (PNG: within one 8-bit code, the rounding of
 # float differences up to 1e-5); the trace has every rank's stages with the composite.
@@ -105,6 +119,17 @@ for pid in (1, 2, 3):
     assert sum(e["name"] == "composite" for e in events if e["pid"] == pid) == 3, pid
 assert {e["name"] for e in events if e["name"] == "output"} and all(e["pid"] == 1 for e in events if e["name"] == "output")
 PY
+# A mesh series: every frame of 3 ranks is 1 rank's (each rank reads its vertices' values per step).
+"$VS" demo tets --elements 2000 --steps 2 -o mesh_series -q
+for n in 1 3; do
+  mkdir -p mesh_play$n
+  ranks "$n" play mesh_series --field density --size 48x40 -o "mesh_play$n/f_%04d.png" -q >/dev/null ||
+    fail "mesh play on $n ranks failed"
+done
+for f in 0000 0001; do
+  max=$(python3 "$HERE/../../bench/png_compare.py" "mesh_play1/f_$f.png" "mesh_play3/f_$f.png" | sed -nE 's/.* max ([0-9]+) .*/\1/p')
+  [ "${max:-99}" -le 1 ] || fail "mesh play frame $f: 3 ranks differ from 1 by $max codes"
+done
 cp -r series broken_series
 truncate -s 100 broken_series/fields/0_pressure/step_000001.f32
 expect_bad_ranks "play: truncated values of step 1" play broken_series --field pressure -o "bad_%04d.png" -q

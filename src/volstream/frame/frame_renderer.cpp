@@ -127,9 +127,13 @@ struct FrameRenderer::Impl {
   UMeshRenderer& umesh_renderer() {
     if (!umesh) {
       const WorldTransform& transform = dataset.manifest().transform;
+      const DatasetPart* part = dataset.part();
+      MeshWhole whole;
+      if (part) whole = {part->mesh_grid, part->world_bounds};
+      const MeshWhole* share = part ? &whole : nullptr;
       umesh = dataset.is_compact_mesh()
-                  ? std::make_unique<UMeshRenderer>(dataset.compact_mesh(), transform)
-                  : std::make_unique<UMeshRenderer>(dataset.mesh(), dataset.mesh_accel(), transform);
+                  ? std::make_unique<UMeshRenderer>(dataset.compact_mesh(), transform, share)
+                  : std::make_unique<UMeshRenderer>(dataset.mesh(), dataset.mesh_accel(), transform, share);
       device_mesh.reset();
       device_compact.reset();
     }
@@ -412,8 +416,10 @@ FrameSettings frame_settings(const FrameRequest& r) {
 
 // A rank of a data-parallel frame (mpi/) composites only the light from its own region, and
 // all of it: early termination would cut a ray where one process would not.
-void own_part(FrameView<AmrVolume>& view, const DatasetPart& part) {
-  view.owned = {vec3f(part.owned.lower), vec3f(part.owned.upper)};
+template <typename Volume>
+void own_part(FrameView<Volume>& view, const DatasetPart* part) {
+  if (!part) return;
+  view.owned = {vec3f(part->owned.lower), vec3f(part->owned.upper)};
   view.settings.early_termination = 0;
 }
 
@@ -441,10 +447,14 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
         m.update_compact_fields();
         fields = {m.compact_values[0], m.compact_values[1]};
       }
-      img = m.render_mesh(mesh.view_compact(fields, optics, colors, r.camera, frame_settings(r)), local);
+      FrameView<CompactMeshVolume> view = mesh.view_compact(fields, optics, colors, r.camera, frame_settings(r));
+      own_part(view, dataset_.part());
+      img = m.render_mesh(view, local);
     } else {
-      img = m.render_mesh(
-          mesh.view({m.kernel_values(0), m.kernel_values(1)}, optics, colors, r.camera, frame_settings(r)), local);
+      FrameView<UMeshVolume> view =
+          mesh.view({m.kernel_values(0), m.kernel_values(1)}, optics, colors, r.camera, frame_settings(r));
+      own_part(view, dataset_.part());
+      img = m.render_mesh(view, local);
     }
     local.visible_regions = visible_;
     local.region_count = mesh.region_count();
@@ -469,7 +479,7 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
     AmrRenderer& abr = m.abr_renderer();
     FrameView<AmrVolume> view = abr.view({m.kernel_values(0), m.kernel_values(1)}, optics,
                                          color_iso ? &color_view : nullptr, r.camera, frame_settings(r));
-    if (const DatasetPart* part = dataset_.part()) own_part(view, *part);
+    own_part(view, dataset_.part());
     if (m.device == Device::cuda) {
       img = m.render_on_device(view, local);
     } else {

@@ -23,6 +23,7 @@
 #include "volstream/io/atomic_file.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/umesh/compact_store.h"
+#include "volstream/umesh/subset.h"
 
 namespace vs {
 namespace fs = std::filesystem;
@@ -448,6 +449,15 @@ void Dataset::load_mesh() {
   mesh_accel_.neighbors =
       read_records<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
   check_mesh_accel(mesh_, mesh_accel_, (dir_ / dataset_files::kMeshBvhNodes).string());
+  count_mesh_bytes();
+}
+
+void Dataset::count_mesh_bytes() {
+  if (is_compact_mesh()) {
+    const CompactBytes b = compact_.bytes_by_part();
+    mesh_bytes_ = CountedBytes("compact mesh", MemorySpace::host, int64_t(b.total() - b.field));
+    return;
+  }
   mesh_bytes_ = CountedBytes("mesh", MemorySpace::host,
                              int64_t(mesh_.vertices.size() * sizeof(vec3f) + mesh_.elements.size() * sizeof(UElement) +
                                      mesh_accel_.bvh.nodes.size() * sizeof(ElementBvhNode) +
@@ -473,8 +483,7 @@ void Dataset::load_compact_mesh() {
   compact_.replicated =
       compact_.vertices.size() - std::min<uint64_t>(compact_.vertices.size(), manifest_.mesh.vertices);
   check_compact_mesh(compact_, manifest_.mesh.by_type, dir_);
-  const CompactBytes b = compact_.bytes_by_part();
-  mesh_bytes_ = CountedBytes("compact mesh", MemorySpace::host, int64_t(b.total() - b.field));
+  count_mesh_bytes();
 }
 
 const UMesh& Dataset::mesh() const {
@@ -569,22 +578,36 @@ std::vector<Range> Dataset::load_abr_ranges(int field, int step) const {
   return mine;
 }
 
+namespace {
+// Appends a run of bytes, joining it to the last when they are contiguous.
+void append_run(std::vector<ByteRun>& runs, const ByteRun& run) {
+  if (!runs.empty() && runs.back().offset + runs.back().bytes == run.offset)
+    runs.back().bytes += run.bytes;
+  else
+    runs.push_back(run);
+}
+}  // namespace
+
 void Dataset::restrict_to(DatasetPart part) {
-  if (is_mesh()) throw UsageError("a mesh dataset cannot be split among ranks yet");
   if (this->part()) throw UsageError("the dataset is already restricted to a part");
+  part_runs_.clear();
+  if (is_mesh())
+    restrict_mesh(part.mesh_items);
+  else
+    restrict_bricks(part);
+  part_ = std::move(part);
+  restricted_ = true;
+}
+
+void Dataset::restrict_bricks(const DatasetPart& part) {
   AmrTopology local;
   std::vector<uint32_t> local_index(topology_.bricks.size(), UINT32_MAX);
-  part_runs_.clear();
   uint64_t offset = 0;
   for (uint32_t g : part.bricks) {
     Brick b = topology_.bricks.at(g);
     const uint64_t count = uint64_t(b.cell_count());
     // Bricks are contiguous in the file (device order): neighbours join one run.
-    const ByteRun run{b.value_offset * sizeof(float), count * sizeof(float)};
-    if (!part_runs_.empty() && part_runs_.back().offset + part_runs_.back().bytes == run.offset)
-      part_runs_.back().bytes += run.bytes;
-    else
-      part_runs_.push_back(run);
+    append_run(part_runs_, {b.value_offset * sizeof(float), count * sizeof(float)});
     b.value_offset = offset;
     offset += count;
     local_index[g] = uint32_t(local.bricks.size());
@@ -603,9 +626,20 @@ void Dataset::restrict_to(DatasetPart part) {
   }
   local.cell_count = offset;
   topology_ = std::move(local);
-  part_ = std::move(part);
-  restricted_ = true;
   count_topology_bytes();
+}
+
+// The part's vertices are in ascending order of the file's: their values are runs of it.
+void Dataset::restrict_mesh(const std::vector<uint32_t>& items) {
+  std::vector<uint32_t> source;
+  if (is_compact_mesh()) {
+    compact_ = compact_subset(compact_, items, source);
+  } else {
+    mesh_ = mesh_subset(mesh_, items, source);
+    mesh_accel_ = mesh_.elements.empty() ? MeshAccel{} : build_mesh_accel(mesh_);
+  }
+  count_mesh_bytes();
+  for (uint32_t v : source) append_run(part_runs_, {uint64_t(v) * sizeof(float), sizeof(float)});
 }
 
 // ---------------------------------------------------------------------------------------------

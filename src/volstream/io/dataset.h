@@ -16,6 +16,7 @@
 #include "volstream/backend/memory.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/umesh/compact.h"
+#include "volstream/umesh/macrocells.h"
 #include "volstream/umesh/mesh_accel.h"
 #include "volstream/umesh/umesh.h"
 
@@ -141,9 +142,13 @@ class DatasetWriter {
   void write_abr_bvh(const AmrTopology& topology);
 };
 
-// One data-parallel rank's share of an AMR dataset (mpi/partition.h): global indices, ascending.
+// One data-parallel rank's share of a dataset (mpi/partition.h): global indices, ascending.
 struct DatasetPart {
-  std::vector<uint32_t> bricks, abrs;
+  std::vector<uint32_t> bricks, abrs;  // AMR
+  // Meshes (mpi/mesh_share.h): the elements held (reference encoding) or leaves (compact), and
+  // the whole mesh's macrocell grid, which the part is rendered on.
+  std::vector<uint32_t> mesh_items;
+  MacroGrid mesh_grid;
   Box3<double> owned;         // the rank's region (grid units, half-open)
   Box3<double> world_bounds;  // of the whole dataset: defaults (camera, reference step) stay global
   uint64_t owned_cells = 0;   // cells in `owned` (the rest of the bricks' cells are ghosts)
@@ -168,12 +173,18 @@ class Dataset {
   std::vector<Cell> load_cells() const;  // device order; for brute-force reference only
   // All values in device order, or with a part only those of its bricks (in its device order).
   std::vector<float> load_values(int field, int step) const;
-  // Keeps only `part` of the topology (AMR): bricks renumbered in its order, their values packed
-  // (value_offset into the part's arrays), ABRs and their brick lists renumbered alike. From
-  // now on load_values and load_abr_ranges read only the part's bytes.
+  // Keeps only `part` of the topology. AMR: bricks renumbered in its order, their values packed
+  // (value_offset into the part's arrays), ABRs and their brick lists renumbered alike. Meshes:
+  // the part's elements or leaves with only their vertices (umesh/subset.h; the reference
+  // encoding's BVH and adjacency rebuilt over them). From now on load_values and
+  // load_abr_ranges read only the part's bytes. The topology files are read whole at open.
   void restrict_to(DatasetPart part);
   const DatasetPart* part() const { return restricted_ ? &part_ : nullptr; }
   uint64_t value_bytes_read() const { return value_bytes_read_; }  // by load_values, so far
+  // Host bytes of the topology held (the mesh in its encoding, or bricks, ABRs and their lists).
+  uint64_t topology_bytes() const {
+    return uint64_t(mesh_bytes_.bytes() + brick_bytes_.bytes() + abr_bytes_.bytes() + abr_list_bytes_.bytes());
+  }
   std::vector<Range> load_abr_ranges(int field, int step) const;
   // Path of a field file (for the streaming reader).
   std::filesystem::path values_path(int field, int step) const;
@@ -189,6 +200,8 @@ class Dataset {
  private:
   void load_mesh();
   void load_compact_mesh();
+  void restrict_bricks(const DatasetPart& part);
+  void restrict_mesh(const std::vector<uint32_t>& items);
   std::filesystem::path dir_;
   DatasetManifest manifest_;
   AmrTopology topology_;
@@ -203,6 +216,7 @@ class Dataset {
   mutable std::atomic<uint64_t> value_bytes_read_{0};
   void read_abr_bvh();  // and checks it (InputError)
   void count_topology_bytes();
+  void count_mesh_bytes();
 };
 
 // Converts any source into a dataset directory, reading one (field, step) at a time.

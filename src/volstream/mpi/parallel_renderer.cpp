@@ -1,12 +1,11 @@
 #include "volstream/mpi/parallel_renderer.h"
 
 #include "volstream/frame/look.h"
+#include "volstream/mpi/mesh_share.h"
 
 namespace vs::mpi {
 
-void check_parallel_request(const Dataset& dataset, const FrameRequest& request) {
-  if (dataset.is_mesh())
-    throw UsageError("unstructured meshes cannot be split among MPI ranks yet (run without mpirun)");
+void check_parallel_request(const FrameRequest& request) {
   if (request.kind != IntegratorKind::abr)
     throw UsageError("under mpirun only the abr integrator splits the data (use --integrator abr)");
   // Blackbody light is absorbed per channel; the composited images carry one opacity.
@@ -18,30 +17,66 @@ void check_parallel_request(const Dataset& dataset, const FrameRequest& request)
 
 ParallelRenderer::ParallelRenderer(Dataset& dataset, Device device, const FrameRequest& request, int rank, int ranks)
     : dataset_(dataset) {
-  check_parallel_request(dataset, request);
-  const AmrTopology& topology = dataset.topology();
-  partition_ = partition_bricks(topology.bricks, ranks);
+  check_parallel_request(request);
   DatasetPart part;
-  part.owned = partition_.regions[size_t(rank)];
   part.world_bounds = world_bounds(dataset);
-  RankShare mine = rank_share(topology, part.owned, request.integrator);
+  if (dataset.is_mesh())
+    share_mesh(part, request.integrator, rank, ranks);
+  else
+    share_bricks(part, request.integrator, rank, ranks);
+  const bool empty = part.abrs.empty() && part.mesh_items.empty();
+  dataset.restrict_to(std::move(part));
+  if (dataset.is_mesh()) share_.vertices = dataset.mesh_vertices().size();
+  share_.topology_bytes = dataset.topology_bytes();
+  if (!empty) renderer_ = std::make_unique<FrameRenderer>(dataset, device);
+}
+
+void ParallelRenderer::share_bricks(DatasetPart& part, const IntegratorSettings& settings, int rank, int ranks) {
+  const AmrTopology& topology = dataset_.topology();
+  partition_ = partition_bricks(topology.bricks, ranks);
+  part.owned = partition_.regions[size_t(rank)];
+  RankShare mine = rank_share(topology, part.owned, settings);
   share_.ghost_margin = mine.margin;
   for (const Brick& b : topology.bricks) part.owned_cells += cells_in(b, part.owned);
-  for (uint32_t b : mine.bricks) share_.held_cells += uint64_t(topology.bricks[b].cell_count());
-  share_.owned_cells = part.owned_cells;
+  for (uint32_t b : mine.bricks) share_.held += uint64_t(topology.bricks[b].cell_count());
+  share_.owned = part.owned_cells;
   share_.bricks = mine.bricks.size();
   share_.abrs = mine.abrs.size();
   part.bricks = std::move(mine.bricks);
   part.abrs = std::move(mine.abrs);
-  const bool empty = part.abrs.empty();
-  dataset.restrict_to(std::move(part));
-  if (!empty) renderer_ = std::make_unique<FrameRenderer>(dataset, device);
+}
+
+namespace {
+// The mesh's partition by element centroids and this rank's share, on the whole mesh's
+// macrocells (kept for the part: its regions are theirs).
+template <typename Mesh>
+MeshShare split_mesh(const Mesh& mesh, const IntegratorSettings& settings, int rank, int ranks, Partition& partition,
+                     MacroGrid& grid) {
+  const std::vector<vec3d> centroids = element_centroids(mesh);
+  partition = partition_points(centroids, ranks);
+  const MacroCells cells = build_macrocells(mesh);
+  grid = cells.grid;
+  return mesh_share(mesh, cells, centroids, partition.regions[size_t(rank)], settings);
+}
+}  // namespace
+
+void ParallelRenderer::share_mesh(DatasetPart& part, const IntegratorSettings& settings, int rank, int ranks) {
+  MeshShare mine = dataset_.is_compact_mesh()
+                       ? split_mesh(dataset_.compact_mesh(), settings, rank, ranks, partition_, part.mesh_grid)
+                       : split_mesh(dataset_.mesh(), settings, rank, ranks, partition_, part.mesh_grid);
+  part.owned = partition_.regions[size_t(rank)];
+  share_.mesh = true;
+  share_.ghost_margin = mine.margin;
+  share_.owned = mine.owned_elements;
+  share_.held = mine.held_elements;
+  share_.items = mine.items.size();
+  part.mesh_items = std::move(mine.items);
 }
 
 ParallelRenderer::~ParallelRenderer() = default;
 
 Image ParallelRenderer::render_local(const FrameRequest& request, FrameReport* report) {
-  check_parallel_request(dataset_, request);
+  check_parallel_request(request);
   if (!renderer_) {  // nothing here: transparent
     if (report) *report = {};
     return Image(request.width, request.height);

@@ -17,43 +17,33 @@ uint64_t indices_in(int32_t lower, int32_t w, int32_t n, double lo, double hi) {
   return end > first ? uint64_t(end - first) : 0;
 }
 
+// The kd recursion over any cost model: each node cuts the longest side of the data inside its
+// region at the candidate plane that gives the left side its ranks' share of the cost.
 struct Builder {
-  const std::vector<Brick>& bricks;
-  int32_t max_level = 0;
-  Box3<double> data;  // grid bounds of all cells
+  const SplitCost& model;
+  Box3<double> data;  // bounds of the data (model.data_bounds())
   Partition out;
 
-  double cost(const Box3<double>& region) const {
-    double c = 0;
-    for (const Brick& b : bricks) c += double(cells_in(b, region)) * cell_cost(b.level, max_level);
-    return c;
-  }
-
-  // The coarse-cell face along `axis` that best gives the left side `share` of the cost.
   double split_plane(const Box3<double>& region, int axis, double share) const {
-    const double w = double(level_width(max_level));
-    const double lo = std::max(region.lower[axis], data.lower[axis]);
-    const double hi = std::min(region.upper[axis], data.upper[axis]);
-    int64_t a = int64_t(std::ceil(lo / w)), b = int64_t(std::floor(hi / w));  // candidate planes a*w .. b*w
-    if (a > b) return lo;
-    const double total = cost(region);
-    auto left_cost = [&](int64_t k) {
+    const std::vector<double> planes = model.planes(region, axis);
+    if (planes.empty()) return std::max(region.lower[axis], data.lower[axis]);
+    const double total = model.cost(region);
+    auto left_cost = [&](size_t k) {
       Box3<double> left = region;
-      left.upper[axis] = double(k) * w;
-      return cost(left);
+      left.upper[axis] = planes[k];
+      return model.cost(left);
     };
+    size_t a = 0, b = planes.size() - 1;
     while (a < b) {  // the first plane with at least `share` on its left
-      const int64_t m = a + (b - a) / 2;
+      const size_t m = a + (b - a) / 2;
       if (left_cost(m) < share * total)
         a = m + 1;
       else
         b = m;
     }
     // The one before may be closer to the share.
-    if (a > int64_t(std::ceil(lo / w)) &&
-        std::fabs(left_cost(a - 1) - share * total) < std::fabs(left_cost(a) - share * total))
-      --a;
-    return double(a) * w;
+    if (a > 0 && std::fabs(left_cost(a - 1) - share * total) < std::fabs(left_cost(a) - share * total)) --a;
+    return planes[a];
   }
 
   int build(const Box3<double>& region, int first_rank, int count) {
@@ -81,6 +71,67 @@ struct Builder {
     node.right = r;
     return index;
   }
+};
+
+// AMR: cells weighted by render cost, cut on the coarsest cells' faces.
+class BrickCost : public SplitCost {
+ public:
+  explicit BrickCost(const std::vector<Brick>& bricks) : bricks_(bricks) {
+    for (const Brick& br : bricks) {
+      max_level_ = std::max(max_level_, br.level);
+      const box3i c = br.cell_box();
+      data_.extend(Box3<double>{vec3d(c.lower), vec3d(c.upper)});
+    }
+  }
+  Box3<double> data_bounds() const override { return data_; }
+  double cost(const Box3<double>& region) const override {
+    double c = 0;
+    for (const Brick& b : bricks_) c += double(cells_in(b, region)) * cell_cost(b.level, max_level_);
+    return c;
+  }
+  std::vector<double> planes(const Box3<double>& region, int axis) const override {
+    const double w = double(level_width(max_level_));
+    const double lo = std::max(region.lower[axis], data_.lower[axis]);
+    const double hi = std::min(region.upper[axis], data_.upper[axis]);
+    std::vector<double> out;
+    for (int64_t k = int64_t(std::ceil(lo / w)), last = int64_t(std::floor(hi / w)); k <= last; ++k)
+      out.push_back(double(k) * w);
+    return out;
+  }
+
+ private:
+  const std::vector<Brick>& bricks_;
+  int32_t max_level_ = 0;
+  Box3<double> data_ = Box3<double>::make_empty();
+};
+
+// Meshes: one unit per element, at its centroid; cut halfway between neighbouring centroids, so
+// that no centroid lies on a plane.
+class PointCost : public SplitCost {
+ public:
+  explicit PointCost(const std::vector<vec3d>& points) : points_(points) {
+    for (const vec3d& p : points) data_.extend(p);
+  }
+  Box3<double> data_bounds() const override { return data_; }
+  double cost(const Box3<double>& region) const override {
+    uint64_t n = 0;
+    for (const vec3d& p : points_) n += in_region(region, p);
+    return double(n);
+  }
+  std::vector<double> planes(const Box3<double>& region, int axis) const override {
+    std::vector<double> at;
+    for (const vec3d& p : points_)
+      if (in_region(region, p)) at.push_back(p[axis]);
+    std::sort(at.begin(), at.end());
+    at.erase(std::unique(at.begin(), at.end()), at.end());
+    std::vector<double> out;
+    for (size_t i = 1; i < at.size(); ++i) out.push_back(0.5 * (at[i - 1] + at[i]));
+    return out;
+  }
+
+ private:
+  const std::vector<vec3d>& points_;
+  Box3<double> data_ = Box3<double>::make_empty();
 };
 
 void visit_front_to_back(const Partition& p, int node, const vec3d& eye, const vec3d& dir, bool ortho,
@@ -115,17 +166,20 @@ uint64_t cells_in(const Brick& b, const Box3<double>& region) {
          indices_in(b.lower.z, w, b.dims.z, region.lower.z, region.upper.z);
 }
 
-Partition partition_bricks(const std::vector<Brick>& bricks, int ranks) {
+Partition partition_by_cost(const SplitCost& model, int ranks) {
   if (ranks < 1) throw UsageError("a partition needs at least one rank");
-  Builder b{bricks, 0, Box3<double>::make_empty(), {}};
-  for (const Brick& br : bricks) {
-    b.max_level = std::max(b.max_level, br.level);
-    const box3i c = br.cell_box();
-    b.data.extend(Box3<double>{vec3d(c.lower), vec3d(c.upper)});
-  }
+  Builder b{model, model.data_bounds(), {}};
   b.out.regions.resize(size_t(ranks));
   b.build({vec3d(-kInf), vec3d(kInf)}, 0, ranks);
   return std::move(b.out);
+}
+
+Partition partition_bricks(const std::vector<Brick>& bricks, int ranks) {
+  return partition_by_cost(BrickCost(bricks), ranks);
+}
+
+Partition partition_points(const std::vector<vec3d>& points, int ranks) {
+  return partition_by_cost(PointCost(points), ranks);
 }
 
 std::vector<int> Partition::visibility_order(const vec3d& eye, const vec3d& dir, bool ortho) const {
@@ -136,27 +190,45 @@ std::vector<int> Partition::visibility_order(const vec3d& eye, const vec3d& dir,
 }
 
 namespace {
-// The longest step the integrator takes in an ABR (grid units) and how far its gradient
-// stencil reaches.
-double step_length(const Abr& a, const IntegratorSettings& settings) {
-  return (settings.adaptive ? double(a.finest_width) : 1.0) / double(settings.rate);
+// The longest step the integrator takes in a region of finest width w (grid units), and how far
+// its gradient stencil reaches.
+double step_length(float width, const IntegratorSettings& settings) {
+  return (settings.adaptive ? double(width) : 1.0) / double(settings.rate);
 }
-double reach(const Abr& a, const IntegratorSettings& settings) {
-  return step_length(a, settings) + 0.5 * double(a.finest_width);
+double reach(float width, const IntegratorSettings& settings) {
+  return step_length(width, settings) + 0.5 * double(width);
 }
 Box3<double> grown(const Box3<double>& b, double margin) { return {b.lower - vec3d(margin), b.upper + vec3d(margin)}; }
 }  // namespace
 
+bool in_region(const Box3<double>& r, const vec3d& p) {
+  return p.x >= r.lower.x && p.x < r.upper.x && p.y >= r.lower.y && p.y < r.upper.y && p.z >= r.lower.z &&
+         p.z < r.upper.z;
+}
+
+HeldRegions held_regions(const std::vector<RegionExtent>& regions, const Box3<double>& region,
+                         const IntegratorSettings& settings) {
+  HeldRegions held;
+  for (const RegionExtent& r : regions)
+    if (reaches(r.box, region)) held.margin = std::max(held.margin, reach(r.width, settings));
+  for (uint32_t i = 0; i < regions.size(); ++i) {
+    const double margin = 1.05 * std::max(held.margin, step_length(regions[i].width, settings)) + 1e-3;
+    if (reaches(regions[i].box, grown(region, margin))) held.indices.push_back(i);
+  }
+  return held;
+}
+
 RankShare rank_share(const AmrTopology& topology, const Box3<double>& region, const IntegratorSettings& settings) {
+  std::vector<RegionExtent> extents;
+  extents.reserve(topology.abrs.size());
+  for (const Abr& a : topology.abrs) extents.push_back({a.box, float(a.finest_width)});
+  HeldRegions held = held_regions(extents, region, settings);
   RankShare share;
-  for (const Abr& a : topology.abrs)
-    if (reaches(a.box, region)) share.margin = std::max(share.margin, reach(a, settings));
+  share.margin = held.margin;
+  share.abrs = std::move(held.indices);
   std::vector<uint8_t> used(topology.bricks.size(), 0);
-  for (uint32_t i = 0; i < topology.abrs.size(); ++i) {
+  for (uint32_t i : share.abrs) {
     const Abr& a = topology.abrs[i];
-    const double margin = 1.05 * std::max(share.margin, step_length(a, settings)) + 1e-3;
-    if (!reaches(a.box, grown(region, margin))) continue;
-    share.abrs.push_back(i);
     for (uint32_t k = 0; k < a.brick_count; ++k) used[topology.abr_bricks[a.first_brick + k]] = 1;
   }
   for (uint32_t i = 0; i < used.size(); ++i)

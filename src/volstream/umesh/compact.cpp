@@ -87,36 +87,6 @@ CompactNode make_node(const box3f* children, int count, uint32_t first, bool lea
   return node;
 }
 
-// The 8-wide tree bottom-up over consecutive groups; the root ends at index 0.
-std::vector<CompactNode> build_nodes(const std::vector<box3f>& leaf_boxes) {
-  std::vector<std::vector<CompactNode>> levels;
-  std::vector<box3f> boxes = leaf_boxes;
-  bool leaf_children = true;
-  do {
-    std::vector<CompactNode> level;
-    std::vector<box3f> parents;
-    for (size_t i = 0; i < boxes.size(); i += kCompactWidth) {
-      const int count = int(std::min<size_t>(kCompactWidth, boxes.size() - i));
-      box3f b;
-      level.push_back(make_node(boxes.data() + i, count, uint32_t(i), leaf_children, b));
-      parents.push_back(b);
-    }
-    levels.push_back(std::move(level));
-    boxes = std::move(parents);
-    leaf_children = false;
-  } while (boxes.size() > 1);
-  // Root first, then each level below: children indices shift by the nodes placed before them.
-  std::vector<CompactNode> nodes;
-  for (size_t l = levels.size(); l-- > 0;) {
-    const uint32_t below = uint32_t(nodes.size() + levels[l].size());
-    for (CompactNode node : levels[l]) {
-      if (!node.leaf_children) node.first += below;
-      nodes.push_back(node);
-    }
-  }
-  return nodes;
-}
-
 // Two tets of a leaf that share a face, and the corner of each off that face.
 struct TetPair {
   uint32_t a, b;
@@ -245,6 +215,44 @@ uint32_t new_vertices(const UMesh& mesh, const std::vector<uint32_t>& order, siz
 
 }  // namespace
 
+namespace {
+// The 8-wide tree bottom-up over consecutive groups; the root ends at index 0.
+std::vector<CompactNode> build_nodes(const std::vector<box3f>& leaf_boxes) {
+  std::vector<std::vector<CompactNode>> levels;
+  std::vector<box3f> boxes = leaf_boxes;
+  bool leaf_children = true;
+  do {
+    std::vector<CompactNode> level;
+    std::vector<box3f> parents;
+    for (size_t i = 0; i < boxes.size(); i += kCompactWidth) {
+      const int count = int(std::min<size_t>(kCompactWidth, boxes.size() - i));
+      box3f b;
+      level.push_back(make_node(boxes.data() + i, count, uint32_t(i), leaf_children, b));
+      parents.push_back(b);
+    }
+    levels.push_back(std::move(level));
+    boxes = std::move(parents);
+    leaf_children = false;
+  } while (boxes.size() > 1);
+  // Root first, then each level below: children indices shift by the nodes placed before them.
+  std::vector<CompactNode> nodes;
+  for (size_t l = levels.size(); l-- > 0;) {
+    const uint32_t below = uint32_t(nodes.size() + levels[l].size());
+    for (CompactNode node : levels[l]) {
+      if (!node.leaf_children) node.first += below;
+      nodes.push_back(node);
+    }
+  }
+  return nodes;
+}
+
+}  // namespace
+
+void build_compact_tree(CompactMesh& c, const std::vector<box3f>& leaf_boxes) {
+  c.nodes = build_nodes(leaf_boxes);
+  c.leaf_parents = uint32_t(c.nodes.size() - (leaf_boxes.size() + kCompactWidth - 1) / kCompactWidth);
+}
+
 CompactMesh build_compact_mesh(const UMesh& mesh) {
   CompactMesh c;
   c.elements = mesh.elements.size();
@@ -265,8 +273,7 @@ CompactMesh build_compact_mesh(const UMesh& mesh) {
     for (size_t k = begin; k < end; ++k) b.extend(element_box(mesh.vertices.data(), mesh.elements[order[k]]));
     leaf_boxes.push_back(b);
   }
-  c.nodes = build_nodes(leaf_boxes);
-  c.leaf_parents = uint32_t(c.nodes.size() - (leaf_boxes.size() + kCompactWidth - 1) / kCompactWidth);
+  build_compact_tree(c, leaf_boxes);
   c.replicated = c.vertices.size() - std::min<uint64_t>(c.vertices.size(), mesh.vertices.size());
   return c;
 }

@@ -122,6 +122,8 @@ struct CompactMesh {
 };
 
 CompactMesh build_compact_mesh(const UMesh& mesh);
+// The 8-wide tree over the leaves in their order (nodes and leaf_parents), from their boxes.
+void build_compact_tree(CompactMesh& c, const std::vector<box3f>& leaf_boxes);
 
 // Everything sampling reads (host or device pointers).
 struct CompactMeshView {

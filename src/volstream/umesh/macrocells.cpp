@@ -72,7 +72,7 @@ namespace {
 // item of work (an element, a leaf: elements_of below), items in parallel; no array of all boxes
 // is made, so the load's peak memory is the encoding's.
 template <typename ElementsOf>
-MacroCells build_over(int64_t items, ElementsOf&& visit_elements) {
+MacroCells build_over(int64_t items, const MacroGrid* grid, ElementsOf&& visit_elements) {
   box3f bounds = box3f::make_empty();
   uint64_t elements = 0;
   std::mutex merge;
@@ -89,7 +89,7 @@ MacroCells build_over(int64_t items, ElementsOf&& visit_elements) {
       },
       1024);
   MacroCells m;
-  m.grid = make_grid(bounds, elements);
+  m.grid = grid ? *grid : make_grid(bounds, elements);
   const uint64_t n = m.grid.cell_count();
   std::vector<uint32_t> finest(n, ordered(INFINITY));
   parallel_for("macrocell sizes", items, [&](int64_t item) {
@@ -160,9 +160,55 @@ auto elements_of(const CompactMesh& mesh) {
 
 }  // namespace
 
-MacroCells build_macrocells(const UMesh& mesh) { return build_over(int64_t(mesh.elements.size()), elements_of(mesh)); }
-MacroCells build_macrocells(const CompactMesh& mesh) {
-  return build_over(int64_t(mesh.leaves.size()), elements_of(mesh));
+MacroCells build_macrocells(const UMesh& mesh, const MacroGrid* grid) {
+  return build_over(int64_t(mesh.elements.size()), grid, elements_of(mesh));
+}
+MacroCells build_macrocells(const CompactMesh& mesh, const MacroGrid* grid) {
+  return build_over(int64_t(mesh.leaves.size()), grid, elements_of(mesh));
+}
+
+namespace {
+template <typename Mesh>
+std::vector<vec3d> centroids_of(const Mesh& mesh, const std::vector<vec3f>& vertices, int64_t items) {
+  std::vector<vec3d> out;
+  const auto visit = elements_of(mesh);
+  for (int64_t item = 0; item < items; ++item)
+    visit(item, [&](const box3f&, const uint32_t* vertex, int n) {
+      vec3d sum(0.0);
+      for (int k = 0; k < n; ++k) sum = sum + vec3d(vertices[vertex[k]]);
+      out.push_back(sum / double(n));
+    });
+  return out;
+}
+
+template <typename Mesh>
+std::vector<uint8_t> touching(const Mesh& mesh, int64_t items, const MacroGrid& grid,
+                              const std::vector<uint8_t>& cells) {
+  std::vector<uint8_t> out(size_t(items), 0);
+  const auto visit = elements_of(mesh);
+  parallel_for("items touching cells", items, [&](int64_t item) {
+    uint8_t hit = 0;
+    visit(item, [&](const box3f& box, const uint32_t*, int) {
+      for_each_cell(grid, box, [&](uint64_t c) { hit |= cells[c]; });
+    });
+    out[size_t(item)] = hit;
+  });
+  return out;
+}
+}  // namespace
+
+std::vector<vec3d> element_centroids(const UMesh& mesh) {
+  return centroids_of(mesh, mesh.vertices, int64_t(mesh.elements.size()));
+}
+std::vector<vec3d> element_centroids(const CompactMesh& mesh) {
+  return centroids_of(mesh, mesh.vertices, int64_t(mesh.leaves.size()));
+}
+
+std::vector<uint8_t> items_touching(const UMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells) {
+  return touching(mesh, int64_t(mesh.elements.size()), grid, cells);
+}
+std::vector<uint8_t> items_touching(const CompactMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells) {
+  return touching(mesh, int64_t(mesh.leaves.size()), grid, cells);
 }
 
 std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& m, const float* values) {

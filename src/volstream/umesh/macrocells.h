@@ -52,9 +52,22 @@ struct MacroCells {
 // largest extent (a flat, axis-aligned element has a box of no volume).
 float element_size(const box3f& element_box);
 
-// From either encoding's elements (the same cells: they depend on the element boxes only).
-MacroCells build_macrocells(const UMesh& mesh);
-MacroCells build_macrocells(const CompactMesh& mesh);
+// From either encoding's elements (the same cells: they depend on the element boxes only). With
+// `grid`, on that grid instead of one over the mesh's own bounds: a data-parallel rank's share of
+// a mesh keeps the whole mesh's grid, so that its macrocells are the whole mesh's where it holds
+// every element overlapping them (mpi/mesh_share.h).
+MacroCells build_macrocells(const UMesh& mesh, const MacroGrid* grid = nullptr);
+MacroCells build_macrocells(const CompactMesh& mesh, const MacroGrid* grid = nullptr);
+
+// Every element's centroid (the mean of its vertices): in element order, or for a compact mesh
+// leaf after leaf in slot order.
+std::vector<vec3d> element_centroids(const UMesh& mesh);
+std::vector<vec3d> element_centroids(const CompactMesh& mesh);
+
+// Per item (an element; a compact mesh's leaf): 1 where an element of it overlaps a grid cell
+// marked in `cells` (one byte per cell of `grid`), by the same overlap test as the macrocells.
+std::vector<uint8_t> items_touching(const UMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells);
+std::vector<uint8_t> items_touching(const CompactMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells);
 
 // Per region: the range of the finite values at the vertices of the elements overlapping it
 // (shape functions are convex combinations, so no value inside an element leaves its vertices'

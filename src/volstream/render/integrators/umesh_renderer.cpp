@@ -11,26 +11,28 @@ void needs_reference_encoding(const std::string& feature) {
   throw UsageError("this dataset stores the compact mesh encoding; convert with --encoding reference for " + feature);
 }
 
-UMeshRenderer::UMeshRenderer(const UMesh& mesh, const MeshAccel& accel, const WorldTransform& transform)
-    : UMeshRenderer(&mesh, nullptr, &accel, nullptr, transform) {}
+UMeshRenderer::UMeshRenderer(const UMesh& mesh, const MeshAccel& accel, const WorldTransform& transform,
+                             const MeshWhole* whole)
+    : UMeshRenderer(&mesh, nullptr, &accel, nullptr, transform, whole) {}
 
 UMeshRenderer::UMeshRenderer(const UMesh& mesh, const WorldTransform& transform)
-    : UMeshRenderer(&mesh, std::make_unique<MeshAccel>(build_mesh_accel(mesh)), nullptr, nullptr, transform) {}
+    : UMeshRenderer(&mesh, std::make_unique<MeshAccel>(build_mesh_accel(mesh)), nullptr, nullptr, transform, nullptr) {}
 
-UMeshRenderer::UMeshRenderer(const CompactMesh& stored, const WorldTransform& transform)
-    : UMeshRenderer(nullptr, nullptr, nullptr, &stored, transform) {}
+UMeshRenderer::UMeshRenderer(const CompactMesh& stored, const WorldTransform& transform, const MeshWhole* whole)
+    : UMeshRenderer(nullptr, nullptr, nullptr, &stored, transform, whole) {}
 
 UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned, const MeshAccel* borrowed,
-                             const CompactMesh* stored, const WorldTransform& transform)
+                             const CompactMesh* stored, const WorldTransform& transform, const MeshWhole* whole)
     : mesh_(mesh),
       owned_(std::move(owned)),
       accel_(borrowed ? borrowed : owned_.get()),
       stored_(stored),
       transform_(transform),
-      bounds_(world_bounds(mesh ? mesh->vertices : stored->vertices, transform)),
+      bounds_(whole ? whole->world_bounds : world_bounds(mesh ? mesh->vertices : stored->vertices, transform)),
       skipping_([&] {
         Stopwatch watch;
-        cells_ = mesh ? build_macrocells(*mesh) : build_macrocells(*stored);
+        const MacroGrid* grid = whole ? &whole->grid : nullptr;
+        cells_ = mesh ? build_macrocells(*mesh, grid) : build_macrocells(*stored, grid);
         build_seconds_ = watch.seconds();
         return cells_.boxes;
       }()) {

@@ -33,15 +33,24 @@ struct UMeshBytes {
   }
 };
 
+// A data-parallel rank's share of a mesh (mpi/mesh_share.h) is rendered with the whole mesh's
+// macrocell grid and world bounds (the default reference step), so that where the rank holds
+// every element of a macrocell, that region and its steps are the one process's.
+struct MeshWhole {
+  MacroGrid grid;
+  Box3<double> world_bounds;
+};
+
 class UMeshRenderer {
  public:
   // Keeps references to `mesh` and `accel` (the dataset's stored BVH and adjacency).
-  UMeshRenderer(const UMesh& mesh, const MeshAccel& accel, const WorldTransform& transform);
+  UMeshRenderer(const UMesh& mesh, const MeshAccel& accel, const WorldTransform& transform,
+                const MeshWhole* whole = nullptr);
   // Builds its own BVH and adjacency (tests, meshes not read from a dataset).
   UMeshRenderer(const UMesh& mesh, const WorldTransform& transform);
   // A mesh stored in the compact encoding (keeps a reference): no reference encoding exists, so
   // only the compact views and probes work, and values are per local vertex.
-  UMeshRenderer(const CompactMesh& stored, const WorldTransform& transform);
+  UMeshRenderer(const CompactMesh& stored, const WorldTransform& transform, const MeshWhole* whole = nullptr);
   bool has_reference() const { return mesh_ != nullptr; }
 
   // Values as the dataset stores them: per vertex (reference) or per local vertex (compact).
@@ -84,7 +93,7 @@ class UMeshRenderer {
 
  private:
   UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned, const MeshAccel* borrowed,
-                const CompactMesh* stored, const WorldTransform& transform);
+                const CompactMesh* stored, const WorldTransform& transform, const MeshWhole* whole);
   const MeshAccel& reference_accel() const;  // UsageError for a stored compact mesh
   template <typename Locator>
   FrameView<MeshVolume<Locator>> make_view(const Locator& locator, const FrameFields& fields, const OpticsView& optics,

@@ -229,6 +229,8 @@ RenderTimes DeviceScene::render(const FrameView<AmrVolume>& h, const float* devi
   d.volume.fields[0] = device_values;
   d.volume.fields[1] = device_second;
   d.volume.nodes = m.refit_nodes.data();
+  d.volume.wide_nodes = nullptr;  // the CPU's walk; the GPU walks the binary tree
+  d.volume.wide_node_count = 0;
   d.volume.node_count = uint32_t(m.refit_nodes.size());
   d.volume.all_nodes = m.template_nodes.data();
   d.volume.all_node_count = uint32_t(m.template_nodes.size());

@@ -36,6 +36,8 @@ struct MeshFrameBuffers {
     FrameView<MeshVolume<Locator>> d = h;
     d.volume.mesh = device_mesh;
     d.volume.nodes = region_nodes.data();
+    d.volume.wide_nodes = nullptr;  // the CPU's walk; the GPU walks the binary tree
+    d.volume.wide_node_count = 0;
     d.volume.step_widths = step_widths.data();
     d.volume.region_of_cell = region_of_cell.data();
     d.rgba = rgba.data();

@@ -22,14 +22,16 @@ std::vector<uint8_t> classify_regions(const std::vector<Range>& ranges, const Tr
 
 RegionBvh::RegionBvh(std::vector<box3f> region_boxes) : RegionBvh(region_boxes, build_bvh_sah(region_boxes)) {}
 
-RegionBvh::RegionBvh(std::vector<box3f> region_boxes, Bvh template_bvh)
+RegionBvh::RegionBvh(std::vector<box3f> region_boxes, Bvh template_bvh, bool wide_walk)
     : boxes_(std::move(region_boxes)), template_(std::move(template_bvh)), nodes_(template_.nodes) {
   // Built by build_bvh_sah or read and checked (bvh_tree_problem) by the dataset reader.
   if (template_.nodes.size() != (boxes_.empty() ? 0 : 2 * boxes_.size() - 1))
     throw std::logic_error("region BVH: not a tree over the regions");
+  if (wide_walk) wide_ = collapse_to_bvh4(nodes_);
   bytes_ =
       CountedBytes("BVH", MemorySpace::host,
-                   int64_t((template_.nodes.size() + nodes_.size()) * sizeof(BvhNode) + boxes_.size() * sizeof(box3f)));
+                   int64_t((template_.nodes.size() + nodes_.size()) * sizeof(BvhNode) + boxes_.size() * sizeof(box3f) +
+                           wide_.nodes.size() * sizeof(Bvh4Node) + wide_.source.size() * sizeof(uint32_t)));
 }
 
 uint64_t RegionBvh::classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso,
@@ -46,6 +48,7 @@ uint64_t RegionBvh::classify(const std::vector<Range>& ranges, const TransferTab
 uint64_t RegionBvh::refit(const std::vector<uint8_t>& keep, SkipStats* stats) {
   Stopwatch watch;
   refit_bvh(nodes_, boxes_, keep);
+  refit_bvh4(wide_, nodes_);
   const uint64_t visible = keep.empty() ? boxes_.size() : uint64_t(std::count(keep.begin(), keep.end(), uint8_t(1)));
   if (stats) {
     stats->refit_seconds = watch.seconds();

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "volstream/accel/bvh.h"
+#include "volstream/accel/bvh_wide.h"
 #include "volstream/amr/model.h"
 #include "volstream/backend/memory.h"
 #include "volstream/render/integrators/settings.h"
@@ -29,7 +30,9 @@ class RegionBvh {
  public:
   explicit RegionBvh(std::vector<box3f> region_boxes);  // builds the template
   // Takes a template built (or stored) over region_boxes already: a tree as build_bvh_sah makes.
-  RegionBvh(std::vector<box3f> region_boxes, Bvh template_bvh);
+  // wide_walk: also keep the refit tree's 4-wide form for the CPU walk (bvh_wide.h; the ABRs,
+  // where traversal is a quarter of a render; mesh macrocells are few per ray and do without).
+  RegionBvh(std::vector<box3f> region_boxes, Bvh template_bvh, bool wide_walk = false);
   // Classifies the regions and refits; skip = false keeps every region. Returns visible ones.
   uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso, bool skip,
                     SkipStats* stats = nullptr);
@@ -37,12 +40,14 @@ class RegionBvh {
   uint64_t refit(const std::vector<uint8_t>& keep, SkipStats* stats = nullptr);
   const Bvh& template_bvh() const { return template_; }
   const std::vector<BvhNode>& refit_nodes() const { return nodes_; }
+  const Bvh4& wide_nodes() const { return wide_; }  // the refit tree's 4-wide form, or empty
   size_t region_count() const { return boxes_.size(); }
 
  private:
   std::vector<box3f> boxes_;
   Bvh template_;                // every region, never changes
   std::vector<BvhNode> nodes_;  // same topology, boxes refit to the visible regions
+  Bvh4 wide_;                   // nodes_ collapsed to 4-wide nodes (wide_walk), refit with them
   CountedBytes bytes_;          // template, refit copy and boxes (host)
 };
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "volstream/accel/bvh_traverse.h"
+#include "volstream/accel/bvh_wide.h"
 #include "volstream/amr/model.h"
 #include "volstream/amr/sampler.h"
 #include "volstream/volume/volume.h"
@@ -17,6 +18,8 @@ struct AmrVolume {
   const float* fields[kVolumeFields] = {};  // device order; fields[1] may be null
   const BvhNode* nodes = nullptr;           // refit BVH: visible ABRs only
   uint32_t node_count = 0;
+  const Bvh4Node* wide_nodes = nullptr;  // CPU: its 4-wide form (bvh_wide.h); null on the GPU
+  uint32_t wide_node_count = 0;
   const BvhNode* all_nodes = nullptr;  // template BVH over all ABRs: point location
   uint32_t all_node_count = 0;
   // The CPU's fast sampler's records (amr/sampler.h, one per brick); null: the reference
@@ -54,9 +57,10 @@ struct AmrVolume {
   // ABR segments come K at a time from one traversal (bvh_next_leaves), front to back.
   template <typename Visit>
   VS_HOST_DEVICE void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
-    bvh_for_each_leaf(nodes, node_count, org, dir, [&](uint32_t abr, float t0, float t1) {
-      return visit(RayInterval{abr, t0, t1});
-    });
+    for_each_region_leaf(nodes, node_count, wide_nodes, wide_node_count, org, dir,
+                         [&](uint32_t abr, float t0, float t1) {
+                           return visit(RayInterval{abr, t0, t1});
+                         });
   }
 };
 static_assert(Volume<AmrVolume>);

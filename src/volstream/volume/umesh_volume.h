@@ -9,6 +9,7 @@
 
 #include "volstream/accel/bvh.h"
 #include "volstream/accel/bvh_traverse.h"
+#include "volstream/accel/bvh_wide.h"
 #include "volstream/umesh/compact.h"
 #include "volstream/umesh/element_bvh.h"
 #include "volstream/umesh/macrocells.h"
@@ -24,6 +25,8 @@ struct MeshVolume {
   const float* fields[kVolumeFields] = {};  // per vertex; fields[1] may be null
   const BvhNode* nodes = nullptr;           // refit BVH over the macrocells: visible ones only
   uint32_t node_count = 0;
+  const Bvh4Node* wide_nodes = nullptr;  // its 4-wide form (bvh_wide.h); null: the binary walk
+  uint32_t wide_node_count = 0;
   const float* step_widths = nullptr;  // per macrocell
   MacroGrid grid;
   const int32_t* region_of_cell = nullptr;
@@ -44,9 +47,10 @@ struct MeshVolume {
   }
   template <typename Visit>
   VS_HOST_DEVICE void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
-    bvh_for_each_leaf(nodes, node_count, org, dir, [&](uint32_t region, float t0, float t1) {
-      return visit(RayInterval{region, t0, t1});
-    });
+    for_each_region_leaf(nodes, node_count, wide_nodes, wide_node_count, org, dir,
+                         [&](uint32_t region, float t0, float t1) {
+                           return visit(RayInterval{region, t0, t1});
+                         });
   }
 };
 using UMeshVolume = MeshVolume<UMeshView>;

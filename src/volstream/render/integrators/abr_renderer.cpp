@@ -58,7 +58,7 @@ AmrRenderer::AmrRenderer(const AmrTopology& topology, const WorldTransform& tran
     : topology_(topology),
       transform_(transform),
       world_bounds_(world_bounds),
-      skipping_(abr_boxes(topology), build_abr_bvh(topology)),
+      skipping_(abr_boxes(topology), build_abr_bvh(topology), /*wide_walk=*/true),
       sample_bricks_(make_sample_bricks(topology)),
       sample_bricks_bytes_("ABR sample bricks", MemorySpace::host,
                            int64_t(sample_bricks_.size() * sizeof(SampleBrick))) {}
@@ -86,6 +86,8 @@ FrameView<AmrVolume> AmrRenderer::view(const FrameFields& fields, const OpticsVi
   v.volume.fields[1] = fields.second;
   v.volume.nodes = skipping_.refit_nodes().data();
   v.volume.node_count = uint32_t(skipping_.refit_nodes().size());
+  v.volume.wide_nodes = skipping_.wide_nodes().nodes.data();  // the CPU's walk (null views on the GPU)
+  v.volume.wide_node_count = uint32_t(skipping_.wide_nodes().nodes.size());
   v.volume.all_nodes = skipping_.template_bvh().nodes.data();
   v.volume.all_node_count = uint32_t(skipping_.template_bvh().nodes.size());
   v.volume.sample_bricks = sample_bricks_.data();  // the CPU's; the GPU's view drops it

@@ -46,33 +46,42 @@ struct CompactNode {
 };
 static_assert(sizeof(CompactNode) == 80);
 
-// The children of `node` whose boxes may hold q, one bit each. q is compared in the node's
-// quantized coordinates (integer compares, no box decoded), widened by more than float rounding
-// can move it, so a child whose box holds q is never dropped (one more is a wasted test, not a
-// wrong answer).
-VS_HOST_DEVICE inline uint32_t children_holding(const CompactNode& node, const vec3f& q) {
-  int lo[3], hi[3];
+// The children of `node` whose boxes may hold the box [lo, hi] (a point: lo = hi), one bit each.
+// The box is compared in the node's quantized coordinates (integer compares, no child box
+// decoded), widened by more than float rounding can move it, so a child whose box holds it is
+// never dropped (one more is a wasted test, not a wrong answer).
+VS_HOST_DEVICE inline uint32_t children_holding(const CompactNode& node, const vec3f& lo, const vec3f& hi) {
+  int qlo[3], qhi[3];
   for (int a = 0; a < 3; ++a) {
-    const float s = node.scale[a], d = q[a] - node.origin[a];
+    const float s = node.scale[a], dl = lo[a] - node.origin[a], dh = hi[a] - node.origin[a];
     if (!(s > 0.f)) {  // a flat node: every child box is the plane at the origin
-      lo[a] = d == 0.f ? 0 : -1, hi[a] = 0;
+      if (!(dl == 0.f && dh == 0.f)) return 0u;
+      qlo[a] = qhi[a] = 0;
       continue;
     }
-    const float u = d / s;
-    const float slack = 1e-3f + (fabsf(q[a]) + fabsf(node.origin[a])) * (4.f * FLT_EPSILON) / s;
+    // One division per axis (the hot path of every neighbour search): a product by the
+    // reciprocal is within a few units of 1e-5 of the quotient, far inside the slack.
+    const float inv = 1.f / s;
+    const float magnitude = fabsf(lo[a]) > fabsf(hi[a]) ? fabsf(lo[a]) : fabsf(hi[a]);
+    const float slack = 1e-3f + (magnitude + fabsf(node.origin[a])) * (4.f * FLT_EPSILON) * inv;
     // floor and ceil by truncating positive numbers (floorf/ceilf and fminf are calls on
-    // baseline x86-64; a NaN q falls to -1, outside every child).
-    const float up = u + slack, down = u - slack;
-    lo[a] = int((up > -1.f ? (up < 256.f ? up : 256.f) : -1.f) + 1.f) - 1;
-    hi[a] = 257 - int(257.f - (down > -1.f ? (down < 256.f ? down : 256.f) : -1.f));
+    // baseline x86-64; a NaN falls to -1, outside every child).
+    const float up = dl * inv + slack, down = dh * inv - slack;
+    qlo[a] = int((up > -1.f ? (up < 256.f ? up : 256.f) : -1.f) + 1.f) - 1;
+    qhi[a] = 257 - int(257.f - (down > -1.f ? (down < 256.f ? down : 256.f) : -1.f));
+    if (qlo[a] < 0 || qhi[a] > 255) return 0u;  // beyond the node's box: no child holds it
   }
+  // Every slot compared without branches (unused slots masked off by count after).
   uint32_t mask = 0;
-  for (int i = 0; i < node.count; ++i) {
-    const bool holds = node.lower[i][0] <= lo[0] && node.lower[i][1] <= lo[1] && node.lower[i][2] <= lo[2] &&
-                       hi[0] <= node.upper[i][0] && hi[1] <= node.upper[i][1] && hi[2] <= node.upper[i][2];
+  for (int i = 0; i < kCompactWidth; ++i) {
+    const bool holds = (node.lower[i][0] <= qlo[0]) & (node.lower[i][1] <= qlo[1]) & (node.lower[i][2] <= qlo[2]) &
+                       (qhi[0] <= node.upper[i][0]) & (qhi[1] <= node.upper[i][1]) & (qhi[2] <= node.upper[i][2]);
     mask |= uint32_t(holds) << i;
   }
-  return mask;
+  return node.count >= kCompactWidth ? mask : mask & ((1u << node.count) - 1u);
+}
+VS_HOST_DEVICE inline uint32_t children_holding(const CompactNode& node, const vec3f& q) {
+  return children_holding(node, q, q);
 }
 
 // A multi-leaf's bytes (CompactMesh::bytes from its sub-mesh's first_byte + first_byte): table_size little-endian
@@ -224,10 +233,11 @@ struct CompactMeshView {
     return false;
   }
 
-  // Calls visit(leaf) for every leaf whose box holds q below node `top` but not below its child
-  // `skip` (-1: none), until visit returns true (then true).
+  // Calls visit(leaf) for every leaf whose box holds the box [lo, hi] below node `top` but not
+  // below its child `skip` (-1: none), until visit returns true (then true).
   template <typename Visit>
-  VS_HOST_DEVICE bool for_each_leaf_holding_below(uint32_t top, int skip, const vec3f& q, Visit&& visit) const {
+  VS_HOST_DEVICE bool for_each_leaf_holding_below(uint32_t top, int skip, const vec3f& lo, const vec3f& hi,
+                                                  Visit&& visit) const {
     uint32_t stack[64];
     int depth = 0;
     if (!nodes) return false;
@@ -235,7 +245,7 @@ struct CompactMeshView {
     while (depth > 0) {
       const uint32_t at = stack[--depth];
       const CompactNode& node = nodes[at];
-      uint32_t holding = children_holding(node, q);
+      uint32_t holding = children_holding(node, lo, hi);
       if (at == top && skip >= 0) holding &= ~(1u << skip);
       for (int i = node.count - 1; i >= 0; --i) {
         if (!(holding >> i & 1u)) continue;
@@ -250,7 +260,7 @@ struct CompactMeshView {
   }
   template <typename Visit>
   VS_HOST_DEVICE bool for_each_leaf_holding(const vec3f& q, Visit&& visit) const {
-    return for_each_leaf_holding_below(0, -1, q, visit);
+    return for_each_leaf_holding_below(0, -1, q, q, visit);
   }
 
   // The same leaves but those near leaf l first, and without l: up the tree from l, each
@@ -258,11 +268,15 @@ struct CompactMeshView {
   // for_each_leaf_holding's; a neighbour of l is mostly found in its parent's or grandparent's).
   template <typename Visit>
   VS_HOST_DEVICE bool for_each_leaf_holding_near(uint32_t l, const vec3f& q, Visit&& visit) const {
+    return for_each_leaf_holding_near(l, q, q, visit);
+  }
+  template <typename Visit>
+  VS_HOST_DEVICE bool for_each_leaf_holding_near(uint32_t l, const vec3f& lo, const vec3f& hi, Visit&& visit) const {
     if (levels <= 0) return false;
     uint32_t node = leaf_parents + l / kCompactWidth;
     int skip = int(l % kCompactWidth);
     for (int level = levels - 1;; --level) {
-      if (for_each_leaf_holding_below(node, skip, q, visit)) return true;
+      if (for_each_leaf_holding_below(node, skip, lo, hi, visit)) return true;
       if (level == 0) return false;
       const uint32_t position = node - level_first[level];
       skip = int(position % kCompactWidth);
@@ -315,14 +329,20 @@ struct CompactMeshView {
   // not in it (then no element of the leaf holds the face).
   VS_HOST_DEVICE bool face_in_table(uint32_t l, const uint16_t* face, int face_size, uint8_t* face_bytes) const {
     const CompactLeaf& leaf = leaves[l];
-    int found = 0;
+    // One pass without exits (the compiler vectorizes it): each face vertex's position in the
+    // table plus one, 0 where absent (most leaves asked hold the face's box but not the face).
+    const uint8_t* table = leaf_bytes(leaf);
+    const uint32_t f0 = face[0], f1 = face[1], f2 = face[2], f3 = face[face_size == 4 ? 3 : 0];
+    uint32_t at0 = 0, at1 = 0, at2 = 0, at3 = 0;
     for (uint32_t t = 0; t < leaf.table_size(); ++t) {
-      const uint16_t v = table_entry(leaf, t);
-      for (int i = 0; i < face_size; ++i)
-        if (v == face[i]) face_bytes[i] = uint8_t(t), ++found;
+      const uint32_t v = uint32_t(table[2u * t]) | uint32_t(table[2u * t + 1u]) << 8;
+      at0 = v == f0 ? t + 1u : at0, at1 = v == f1 ? t + 1u : at1;
+      at2 = v == f2 ? t + 1u : at2, at3 = v == f3 ? t + 1u : at3;
     }
-    face_bytes[3] = face_size == 3 ? face_bytes[0] : face_bytes[3];
-    return found == face_size;
+    if (!(at0 && at1 && at2 && at3)) return false;
+    face_bytes[0] = uint8_t(at0 - 1u), face_bytes[1] = uint8_t(at1 - 1u);
+    face_bytes[2] = uint8_t(at2 - 1u), face_bytes[3] = uint8_t(at3 - 1u);
+    return true;
   }
 
   // The element of another leaf `other` (of the same sub-mesh) holding the face, or -1.
@@ -338,6 +358,8 @@ struct CompactMeshView {
   // neighbour in another sub-mesh.
   VS_HOST_DEVICE bool face_neighbour(uint32_t& l, uint32_t& k, const uint8_t* corner, const uint16_t* v, int n,
                                      int face) const {
+    // A paired tet's face off its apex (corner 3: local face 3) is the face it shares with its pair.
+    if (n == 4 && face == 3 && k < 2u * leaves[l].tet_pairs) return k ^= 1u, true;
     const shape::LocalFace f = shape::local_face(n, face);
     uint8_t face_bytes[4];
     uint16_t face_vertices[4];
@@ -347,13 +369,12 @@ struct CompactMeshView {
     }
     int32_t next = face_neighbour_in_leaf(l, k, face_bytes, f.count);
     if (next >= 0) return k = uint32_t(next), true;
-    // Another leaf: the neighbour's leaf box holds the face, so only leaves holding its centre
-    // are compared, nearest in the tree first.
+    // Another leaf: the neighbour's leaf box holds the face, so only leaves holding the face's
+    // box are compared (fewer than those holding a point of it), nearest in the tree first.
     const uint32_t submesh = leaves[l].submesh;
-    vec3f centre(0.f);
-    for (int i = 0; i < f.count; ++i) centre = centre + vertices[submeshes[submesh].first_vertex + face_vertices[i]];
-    centre = centre * (1.f / float(f.count));
-    return for_each_leaf_holding_near(l, centre, [&](uint32_t other) {
+    box3f face_box = box3f::make_empty();
+    for (int i = 0; i < f.count; ++i) face_box.extend(vertices[submeshes[submesh].first_vertex + face_vertices[i]]);
+    return for_each_leaf_holding_near(l, face_box.lower, face_box.upper, [&](uint32_t other) {
       if (leaves[other].submesh != submesh) return false;
       next = face_neighbour_in_other_leaf(other, face_vertices, f.count);
       if (next >= 0) l = other, k = uint32_t(next);

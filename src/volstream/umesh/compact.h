@@ -84,6 +84,15 @@ VS_HOST_DEVICE inline uint32_t children_holding(const CompactNode& node, const v
   return children_holding(node, q, q);
 }
 
+// The index of the highest set bit of x (x > 0).
+VS_HOST_DEVICE inline int highest_bit(uint32_t x) {
+#ifdef __CUDA_ARCH__
+  return 31 - __clz(int(x));
+#else
+  return 31 - __builtin_clz(x);
+#endif
+}
+
 // A multi-leaf's bytes (CompactMesh::bytes from its sub-mesh's first_byte + first_byte): table_size little-endian
 // uint16 sub-mesh-local vertex indices, then the corners as bytes into that table: pairs of tets (5 each: the shared
 // face's three, then each tet's fourth), single tets (4 each), pyramids (5), wedges (6) and hexes (8). Element k of the
@@ -132,6 +141,31 @@ struct CompactMesh {
 
 CompactMesh build_compact_mesh(const UMesh& mesh);
 
+// The face neighbours a CPU thread found last, direct-mapped by (leaf, element, face): rays of
+// one tile (launch_cpu.h) cross the same faces, and finding a neighbour in another leaf (a search
+// up the tree) costs more than the rest of a walk's step. Entries are of the mesh `mesh` (its
+// bytes); a thread's cache is emptied when it walks another. Trivially constructible, so a
+// thread_local one is zeroed without an initialization guard on every access.
+struct NeighbourCache {
+  static constexpr uint32_t kEntries = 8192;
+  static constexpr uint64_t kNone = ~uint64_t(0);  // no neighbour in the sub-mesh (a boundary)
+  const uint8_t* mesh;
+  uint64_t from[kEntries];  // 1 + (leaf * kMultiLeafSize + element) * 8 + face; 0: empty
+  uint64_t to[kEntries];    // leaf * kMultiLeafSize + element, or kNone
+
+  static uint32_t entry(uint64_t key) { return uint32_t((key * 0x9E3779B97F4A7C15ull) >> 51); }
+  // The thread's cache, emptied if it held another mesh's neighbours.
+  static NeighbourCache& of_thread(const uint8_t* mesh_bytes) {
+    static thread_local NeighbourCache cache;
+    if (cache.mesh != mesh_bytes) {
+      memset(cache.from, 0, sizeof(cache.from));
+      cache.mesh = mesh_bytes;
+    }
+    return cache;
+  }
+};
+static_assert(NeighbourCache::kEntries == 1u << 13);  // entry() keeps the hash's top 13 bits
+
 // Everything sampling reads (host or device pointers).
 struct CompactMeshView {
   const CompactNode* nodes = nullptr;
@@ -146,6 +180,7 @@ struct CompactMeshView {
   static constexpr int kMaxLevels = 16;
   uint32_t level_first[kMaxLevels] = {};
   int levels = 0;
+  bool neighbour_cache = true;  // on the CPU, the thread's NeighbourCache (false: every search made; tests)
 
   struct Hit {
     int64_t leaf = -1;
@@ -247,12 +282,13 @@ struct CompactMeshView {
       const CompactNode& node = nodes[at];
       uint32_t holding = children_holding(node, lo, hi);
       if (at == top && skip >= 0) holding &= ~(1u << skip);
-      for (int i = node.count - 1; i >= 0; --i) {
-        if (!(holding >> i & 1u)) continue;
+      // Over the set bits only, highest first (a loop over all eight mispredicts its branches).
+      for (; holding != 0; holding &= ~(1u << highest_bit(holding))) {
+        const uint32_t child = node.first + uint32_t(highest_bit(holding));
         if (node.leaf_children) {
-          if (visit(node.first + uint32_t(i))) return true;
+          if (visit(child)) return true;
         } else if (depth < 64) {
-          stack[depth++] = node.first + uint32_t(i);
+          stack[depth++] = child;
         }
       }
     }
@@ -325,41 +361,67 @@ struct CompactMeshView {
     return -1;
   }
 
-  // The face's vertices (sub-mesh-local indices) as bytes of leaf l's table; false when one is
-  // not in it (then no element of the leaf holds the face).
-  VS_HOST_DEVICE bool face_in_table(uint32_t l, const uint16_t* face, int face_size, uint8_t* face_bytes) const {
+  // The bytes of leaf l's table whose vertices are the face's four (a triangle repeats its first
+  // as the fourth), by equal(table entry, i) for face vertex i; false when one is not in it (then
+  // no element of the leaf holds the face). One pass without exits (the compiler vectorizes the
+  // index compares): each face vertex's position in the table plus one, 0 where absent (most
+  // leaves asked hold the face's box but not the face).
+  template <typename Equal>
+  VS_HOST_DEVICE bool face_in_table_where(uint32_t l, uint8_t* face_bytes, Equal&& equal) const {
     const CompactLeaf& leaf = leaves[l];
-    // One pass without exits (the compiler vectorizes it): each face vertex's position in the
-    // table plus one, 0 where absent (most leaves asked hold the face's box but not the face).
     const uint8_t* table = leaf_bytes(leaf);
-    const uint32_t f0 = face[0], f1 = face[1], f2 = face[2], f3 = face[face_size == 4 ? 3 : 0];
     uint32_t at0 = 0, at1 = 0, at2 = 0, at3 = 0;
     for (uint32_t t = 0; t < leaf.table_size(); ++t) {
       const uint32_t v = uint32_t(table[2u * t]) | uint32_t(table[2u * t + 1u]) << 8;
-      at0 = v == f0 ? t + 1u : at0, at1 = v == f1 ? t + 1u : at1;
-      at2 = v == f2 ? t + 1u : at2, at3 = v == f3 ? t + 1u : at3;
+      at0 = equal(v, 0) ? t + 1u : at0, at1 = equal(v, 1) ? t + 1u : at1;
+      at2 = equal(v, 2) ? t + 1u : at2, at3 = equal(v, 3) ? t + 1u : at3;
     }
     if (!(at0 && at1 && at2 && at3)) return false;
     face_bytes[0] = uint8_t(at0 - 1u), face_bytes[1] = uint8_t(at1 - 1u);
     face_bytes[2] = uint8_t(at2 - 1u), face_bytes[3] = uint8_t(at3 - 1u);
     return true;
   }
-
-  // The element of another leaf `other` (of the same sub-mesh) holding the face, or -1.
-  VS_HOST_DEVICE int32_t face_neighbour_in_other_leaf(uint32_t other, const uint16_t* face, int face_size) const {
-    uint8_t face_bytes[4];
-    if (!face_in_table(other, face, face_size, face_bytes)) return -1;
-    return face_neighbour_in_leaf(other, kNoSkip, face_bytes, face_size);
+  // By sub-mesh-local indices (face[3] repeats face[0] for a triangle): leaves of the face's sub-mesh.
+  VS_HOST_DEVICE bool face_in_table(uint32_t l, const uint16_t* face, uint8_t* face_bytes) const {
+    return face_in_table_where(l, face_bytes, [&](uint32_t v, int i) { return v == face[i]; });
+  }
+  // By position (points[3] repeats points[0] for a triangle): leaves of another sub-mesh, where
+  // the face's vertices are replicated with the same coordinates.
+  VS_HOST_DEVICE bool face_in_table_at(uint32_t l, const vec3f* points, uint8_t* face_bytes) const {
+    const vec3f* local = vertices + submeshes[leaves[l].submesh].first_vertex;
+    return face_in_table_where(l, face_bytes, [&](uint32_t v, int i) { return local[v] == points[i]; });
   }
 
   // The element across face `face` of element k of leaf l (its corners and vertices given): in
-  // the same leaf, or in another leaf of the same sub-mesh (local indices are comparable only
-  // there) whose box holds the face. False where it is none of those: the mesh's boundary, or a
-  // neighbour in another sub-mesh.
+  // the same leaf, or in another leaf whose box holds the face. False at the mesh's boundary.
   VS_HOST_DEVICE bool face_neighbour(uint32_t& l, uint32_t& k, const uint8_t* corner, const uint16_t* v, int n,
                                      int face) const {
     // A paired tet's face off its apex (corner 3: local face 3) is the face it shares with its pair.
     if (n == 4 && face == 3 && k < 2u * leaves[l].tet_pairs) return k ^= 1u, true;
+#ifndef __CUDA_ARCH__
+    if (neighbour_cache) {
+      NeighbourCache& cache = NeighbourCache::of_thread(bytes);
+      const uint64_t key = 1u + (uint64_t(l) * kMultiLeafSize + k) * 8u + uint64_t(face);
+      const uint32_t at = NeighbourCache::entry(key);
+      if (cache.from[at] == key) {
+        const uint64_t to = cache.to[at];
+        if (to == NeighbourCache::kNone) return false;
+        const uint64_t to_leaf = to / kMultiLeafSize;
+        // Entries are of this mesh, but a freed one's bytes may have been reused: never outside it.
+        if (to_leaf < leaf_count && to % kMultiLeafSize < leaves[to_leaf].element_count())
+          return l = uint32_t(to_leaf), k = uint32_t(to % kMultiLeafSize), true;
+      }
+      const bool found = search_face_neighbour(l, k, corner, v, n, face);
+      cache.from[at] = key;
+      cache.to[at] = found ? uint64_t(l) * kMultiLeafSize + k : NeighbourCache::kNone;
+      return found;
+    }
+#endif
+    return search_face_neighbour(l, k, corner, v, n, face);
+  }
+  // face_neighbour without the cache.
+  VS_HOST_DEVICE bool search_face_neighbour(uint32_t& l, uint32_t& k, const uint8_t* corner, const uint16_t* v, int n,
+                                            int face) const {
     const shape::LocalFace f = shape::local_face(n, face);
     uint8_t face_bytes[4];
     uint16_t face_vertices[4];
@@ -370,18 +432,46 @@ struct CompactMeshView {
     int32_t next = face_neighbour_in_leaf(l, k, face_bytes, f.count);
     if (next >= 0) return k = uint32_t(next), true;
     // Another leaf: the neighbour's leaf box holds the face, so only leaves holding the face's
-    // box are compared (fewer than those holding a point of it), nearest in the tree first.
+    // box are compared (fewer than those holding a point of it), nearest in the tree first; in
+    // another sub-mesh (where a walk would otherwise end) by the face's vertex positions.
     const uint32_t submesh = leaves[l].submesh;
+    vec3f points[4];
     box3f face_box = box3f::make_empty();
-    for (int i = 0; i < f.count; ++i) face_box.extend(vertices[submeshes[submesh].first_vertex + face_vertices[i]]);
+    for (int i = 0; i < 4; ++i) {
+      points[i] = vertices[submeshes[submesh].first_vertex + face_vertices[i]];
+      face_box.extend(points[i]);
+    }
     return for_each_leaf_holding_near(l, face_box.lower, face_box.upper, [&](uint32_t other) {
-      if (leaves[other].submesh != submesh) return false;
-      next = face_neighbour_in_other_leaf(other, face_vertices, f.count);
+      uint8_t other_bytes[4];
+      const bool holds = leaves[other].submesh == submesh ? face_in_table(other, face_vertices, other_bytes)
+                                                          : face_in_table_at(other, points, other_bytes);
+      next = holds ? face_neighbour_in_leaf(other, kNoSkip, other_bytes, f.count) : -1;
       if (next >= 0) l = other, k = uint32_t(next);
       return next >= 0;
     });
   }
   static constexpr uint32_t kNoSkip = 0xffffffffu;
+
+  // The face of the element with corners x whose centre lies most in p's direction from the
+  // element's centre: the way on where Newton gave none (it diverged or did not converge, far from
+  // a curved element), so that the walk goes on instead of ending in a search of leaves.
+  VS_HOST_DEVICE static int face_towards(int n, const vec3f* x, const vec3f& p) {
+    vec3f centre(0.f);
+    for (int i = 0; i < n; ++i) centre = centre + x[i];
+    centre = centre * (1.f / float(n));
+    int best = -1;
+    float best_reach = -INFINITY;
+    for (int face = 0; face < shape::face_count(n); ++face) {
+      const shape::LocalFace f = shape::local_face(n, face);
+      vec3f c(0.f);
+      for (int i = 0; i < f.count; ++i) c = c + x[f.v[i]];
+      const vec3f out = c * (1.f / float(f.count)) - centre;
+      // p's distance along the face's direction, in units of the face's distance.
+      const float reach = dot(p - centre, out) / dot(out, out);
+      if (reach > best_reach) best = face, best_reach = reach;
+    }
+    return best_reach > 0.f ? best : -1;
+  }
 
   // Walks from element k of leaf l towards p across the faces p lies beyond (as
   // UMeshView::walk, with neighbours found by face_neighbour): true with the hit when an element
@@ -402,6 +492,7 @@ struct CompactMeshView {
         for (int i = 0; i < n; ++i) hit.v[i] = v[i];
         return true;
       }
+      if (face < 0) face = face_towards(n, x, p);
       if (face < 0 || !face_neighbour(l, k, corner, v, n, face)) return false;
     }
     return false;

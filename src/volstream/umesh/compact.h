@@ -14,8 +14,10 @@
 //     no item list);
 //   - field values per local vertex (replicated like the vertices).
 // Sampling decodes a leaf on the fly and walks from the ray's previous element across faces,
-// finding the neighbour by comparing vertex indices (no adjacency stored): in its leaf, the
-// leaves beside it, then the leaves whose boxes hold the face; else a BVH search decides.
+// finding the neighbour by comparing vertex indices (no adjacency stored): in its leaf, then the
+// leaves whose boxes hold the face, near ones in the tree first (by position in another
+// sub-mesh); else a BVH search decides. On the CPU each thread keeps the neighbours it found
+// last (NeighbourCache): the rays of a tile cross the same faces.
 #pragma once
 #include <cfloat>
 #include <cstdint>

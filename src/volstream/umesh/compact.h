@@ -22,6 +22,7 @@
 #include <cfloat>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "volstream/core/math.h"
@@ -146,24 +147,26 @@ CompactMesh build_compact_mesh(const UMesh& mesh);
 // The face neighbours a CPU thread found last, direct-mapped by (leaf, element, face): rays of
 // one tile (launch_cpu.h) cross the same faces, and finding a neighbour in another leaf (a search
 // up the tree) costs more than the rest of a walk's step. Entries are of the mesh `mesh` (its
-// bytes); a thread's cache is emptied when it walks another. Trivially constructible, so a
-// thread_local one is zeroed without an initialization guard on every access.
+// bytes); a thread's cache is emptied when it walks another.
 struct NeighbourCache {
   static constexpr uint32_t kEntries = 8192;
-  static constexpr uint64_t kNone = ~uint64_t(0);  // no neighbour in the sub-mesh (a boundary)
+  static constexpr uint64_t kNone = ~uint64_t(0);  // no neighbour (the mesh's boundary)
   const uint8_t* mesh;
   uint64_t from[kEntries];  // 1 + (leaf * kMultiLeafSize + element) * 8 + face; 0: empty
   uint64_t to[kEntries];    // leaf * kMultiLeafSize + element, or kNone
 
   static uint32_t entry(uint64_t key) { return uint32_t((key * 0x9E3779B97F4A7C15ull) >> 51); }
-  // The thread's cache, emptied if it held another mesh's neighbours.
+  // The thread's cache, emptied if it held another mesh's neighbours. On the heap: a thread's
+  // static TLS comes out of its stack, which threads started with small stacks (the view
+  // server's) cannot spare 128 KiB of.
   static NeighbourCache& of_thread(const uint8_t* mesh_bytes) {
-    static thread_local NeighbourCache cache;
-    if (cache.mesh != mesh_bytes) {
-      memset(cache.from, 0, sizeof(cache.from));
-      cache.mesh = mesh_bytes;
+    static thread_local std::unique_ptr<NeighbourCache> cache;
+    if (!cache) cache = std::make_unique<NeighbourCache>();  // zeroed: every entry empty
+    if (cache->mesh != mesh_bytes) {
+      memset(cache->from, 0, sizeof(cache->from));
+      cache->mesh = mesh_bytes;
     }
-    return cache;
+    return *cache;
   }
 };
 static_assert(NeighbourCache::kEntries == 1u << 13);  // entry() keeps the hash's top 13 bits

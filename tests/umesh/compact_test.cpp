@@ -1,7 +1,8 @@
 // The compact encoding (issue 13, first slice) against the reference: the same values at random
 // points (bit-identical: the same shape functions on the same corners), on every element type
 // and the non-convex mesh; quantized child boxes hold their children; decoding every leaf gives
-// every element once; the bytes per element, measured.
+// every element once; the walk's face neighbours (cached, across sub-meshes) are the search's; the
+// bytes per element, measured.
 #include "volstream/umesh/compact.h"
 
 #include <gtest/gtest.h>
@@ -10,7 +11,9 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <iterator>
 #include <random>
+#include <vector>
 
 #include "volstream/render/integrators/umesh_renderer.h"
 #include "volstream/umesh/demo.h"
@@ -142,6 +145,84 @@ TEST_P(CompactTest, WalkFromTheHintEqualsSearchAlongLines) {
     }
   }
   EXPECT_GT(walked, 1000);
+}
+
+// Every face of every element of `view`: face_neighbour (through the thread's NeighbourCache,
+// asked twice: the second answer is the cache's) gives what search_face_neighbour gives; calls
+// check(leaf before, leaf after) for each neighbour found.
+template <typename Check>
+void expect_cached_neighbours_equal_search(const CompactMeshView& view, Check&& check) {
+  for (uint32_t l = 0; l < view.leaf_count; ++l)
+    for (uint32_t k = 0; k < view.leaves[l].element_count(); ++k) {
+      uint8_t corner[8];
+      uint16_t v[8];
+      const int n = view.element(view.leaves[l], k, corner, v);
+      for (int face = 0; face < shape::face_count(n); ++face) {
+        uint32_t want_l = l, want_k = k;
+        const bool want = view.search_face_neighbour(want_l, want_k, corner, v, n, face);
+        for (int ask = 0; ask < 2; ++ask) {
+          uint32_t got_l = l, got_k = k;
+          ASSERT_EQ(view.face_neighbour(got_l, got_k, corner, v, n, face), want)
+              << "leaf " << l << " element " << k << " face " << face << " ask " << ask;
+          if (!want) continue;
+          ASSERT_EQ(got_l, want_l) << "leaf " << l << " element " << k << " face " << face;
+          ASSERT_EQ(got_k, want_k) << "leaf " << l << " element " << k << " face " << face;
+        }
+        if (want) check(l, want_l);
+      }
+    }
+}
+
+// The neighbour cache answers what the search answers, when filled and when hit, and a thread
+// that walks another mesh in between does not read that mesh's entries as this one's (the same
+// leaf, element and face keys have other neighbours there).
+TEST_P(CompactTest, CachedFaceNeighboursEqualTheSearch) {
+  const Encoded e = encode(GetParam(), 20000), other = encode(GetParam() == "tets" ? "mixed" : "tets", 20000);
+  const CompactMeshView view = view_of(e.compact), other_view = view_of(other.compact);
+  ASSERT_TRUE(view.neighbour_cache);
+  int across = 0;
+  for (const CompactMeshView* v : {&view, &other_view, &view})
+    expect_cached_neighbours_equal_search(*v, [&](uint32_t from, uint32_t to) { across += from != to ? 1 : 0; });
+  EXPECT_GT(across, 1000);  // faces between leaves, the searches the cache saves
+}
+
+// A mesh of several sub-meshes: the neighbour across a face between two is found by the face's
+// vertex positions (the shared vertices are replicated with their coordinates), and it is the
+// element of the reference mesh across that face.
+TEST(Compact, FaceNeighboursAcrossSubMeshesAreFoundByPosition) {
+  const Encoded e = encode("tets", 500000);
+  const CompactMesh& c = e.compact;
+  ASSERT_GE(c.submeshes.size(), 2u);
+  CompactMeshView view = view_of(c);
+  view.neighbour_cache = false;
+  const auto reference_corners = [&](uint32_t l, uint32_t k) {
+    uint8_t corner[8];
+    uint16_t v[8];
+    const int n = view.element(c.leaves[l], k, corner, v);
+    std::vector<uint32_t> out;
+    for (int i = 0; i < n; ++i) out.push_back(c.source_vertex[c.submeshes[c.leaves[l].submesh].first_vertex + v[i]]);
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  int across = 0;
+  for (uint32_t l = 0; l < view.leaf_count; ++l)
+    for (uint32_t k = 0; k < c.leaves[l].element_count(); ++k) {
+      uint8_t corner[8];
+      uint16_t v[8];
+      const int n = view.element(c.leaves[l], k, corner, v);
+      for (int face = 0; face < shape::face_count(n); ++face) {
+        uint32_t to_l = l, to_k = k;
+        if (!view.face_neighbour(to_l, to_k, corner, v, n, face) || c.leaves[to_l].submesh == c.leaves[l].submesh)
+          continue;
+        ++across;
+        // The two tets share exactly the face's three reference vertices.
+        const std::vector<uint32_t> a = reference_corners(l, k), b = reference_corners(to_l, to_k);
+        std::vector<uint32_t> shared;
+        std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(shared));
+        ASSERT_EQ(shared.size(), 3u) << "leaf " << l << " element " << k << " face " << face;
+      }
+    }
+  EXPECT_GT(across, 100);
 }
 
 // The quantized containment test keeps every child whose decoded box holds the point, at

@@ -14,12 +14,15 @@
 //     no item list);
 //   - field values per local vertex (replicated like the vertices).
 // Sampling decodes a leaf on the fly and walks from the ray's previous element across faces,
-// finding the neighbour by comparing vertex indices (no adjacency stored): in its leaf, the
-// leaves beside it, then the leaves whose boxes hold the face; else a BVH search decides.
+// finding the neighbour by comparing vertex indices (no adjacency stored): in its leaf, then the
+// leaves whose boxes hold the face, near ones in the tree first (by position in another
+// sub-mesh); else a BVH search decides. On the CPU each thread keeps the neighbours it found
+// last (NeighbourCache): the rays of a tile cross the same faces.
 #pragma once
 #include <cfloat>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "volstream/core/math.h"
@@ -46,33 +49,51 @@ struct CompactNode {
 };
 static_assert(sizeof(CompactNode) == 80);
 
-// The children of `node` whose boxes may hold q, one bit each. q is compared in the node's
-// quantized coordinates (integer compares, no box decoded), widened by more than float rounding
-// can move it, so a child whose box holds q is never dropped (one more is a wasted test, not a
-// wrong answer).
-VS_HOST_DEVICE inline uint32_t children_holding(const CompactNode& node, const vec3f& q) {
-  int lo[3], hi[3];
+// The children of `node` whose boxes may hold the box [lo, hi] (a point: lo = hi), one bit each.
+// The box is compared in the node's quantized coordinates (integer compares, no child box
+// decoded), widened by more than float rounding can move it, so a child whose box holds it is
+// never dropped (one more is a wasted test, not a wrong answer).
+VS_HOST_DEVICE inline uint32_t children_holding(const CompactNode& node, const vec3f& lo, const vec3f& hi) {
+  int qlo[3], qhi[3];
   for (int a = 0; a < 3; ++a) {
-    const float s = node.scale[a], d = q[a] - node.origin[a];
+    const float s = node.scale[a], dl = lo[a] - node.origin[a], dh = hi[a] - node.origin[a];
     if (!(s > 0.f)) {  // a flat node: every child box is the plane at the origin
-      lo[a] = d == 0.f ? 0 : -1, hi[a] = 0;
+      if (!(dl == 0.f && dh == 0.f)) return 0u;
+      qlo[a] = qhi[a] = 0;
       continue;
     }
-    const float u = d / s;
-    const float slack = 1e-3f + (fabsf(q[a]) + fabsf(node.origin[a])) * (4.f * FLT_EPSILON) / s;
+    // One division per axis (the hot path of every neighbour search): a product by the
+    // reciprocal is within a few units of 1e-5 of the quotient, far inside the slack.
+    const float inv = 1.f / s;
+    const float magnitude = fabsf(lo[a]) > fabsf(hi[a]) ? fabsf(lo[a]) : fabsf(hi[a]);
+    const float slack = 1e-3f + (magnitude + fabsf(node.origin[a])) * (4.f * FLT_EPSILON) * inv;
     // floor and ceil by truncating positive numbers (floorf/ceilf and fminf are calls on
-    // baseline x86-64; a NaN q falls to -1, outside every child).
-    const float up = u + slack, down = u - slack;
-    lo[a] = int((up > -1.f ? (up < 256.f ? up : 256.f) : -1.f) + 1.f) - 1;
-    hi[a] = 257 - int(257.f - (down > -1.f ? (down < 256.f ? down : 256.f) : -1.f));
+    // baseline x86-64; a NaN falls to -1, outside every child).
+    const float up = dl * inv + slack, down = dh * inv - slack;
+    qlo[a] = int((up > -1.f ? (up < 256.f ? up : 256.f) : -1.f) + 1.f) - 1;
+    qhi[a] = 257 - int(257.f - (down > -1.f ? (down < 256.f ? down : 256.f) : -1.f));
+    if (qlo[a] < 0 || qhi[a] > 255) return 0u;  // beyond the node's box: no child holds it
   }
+  // Every slot compared without branches (unused slots masked off by count after).
   uint32_t mask = 0;
-  for (int i = 0; i < node.count; ++i) {
-    const bool holds = node.lower[i][0] <= lo[0] && node.lower[i][1] <= lo[1] && node.lower[i][2] <= lo[2] &&
-                       hi[0] <= node.upper[i][0] && hi[1] <= node.upper[i][1] && hi[2] <= node.upper[i][2];
+  for (int i = 0; i < kCompactWidth; ++i) {
+    const bool holds = (node.lower[i][0] <= qlo[0]) & (node.lower[i][1] <= qlo[1]) & (node.lower[i][2] <= qlo[2]) &
+                       (qhi[0] <= node.upper[i][0]) & (qhi[1] <= node.upper[i][1]) & (qhi[2] <= node.upper[i][2]);
     mask |= uint32_t(holds) << i;
   }
-  return mask;
+  return node.count >= kCompactWidth ? mask : mask & ((1u << node.count) - 1u);
+}
+VS_HOST_DEVICE inline uint32_t children_holding(const CompactNode& node, const vec3f& q) {
+  return children_holding(node, q, q);
+}
+
+// The index of the highest set bit of x (x > 0).
+VS_HOST_DEVICE inline int highest_bit(uint32_t x) {
+#ifdef __CUDA_ARCH__
+  return 31 - __clz(int(x));
+#else
+  return 31 - __builtin_clz(x);
+#endif
 }
 
 // A multi-leaf's bytes (CompactMesh::bytes from its sub-mesh's first_byte + first_byte): table_size little-endian
@@ -125,6 +146,33 @@ CompactMesh build_compact_mesh(const UMesh& mesh);
 // The 8-wide tree over the leaves in their order (nodes and leaf_parents), from their boxes.
 void build_compact_tree(CompactMesh& c, const std::vector<box3f>& leaf_boxes);
 
+// The face neighbours a CPU thread found last, direct-mapped by (leaf, element, face): rays of
+// one tile (launch_cpu.h) cross the same faces, and finding a neighbour in another leaf (a search
+// up the tree) costs more than the rest of a walk's step. Entries are of the mesh `mesh` (its
+// bytes); a thread's cache is emptied when it walks another.
+struct NeighbourCache {
+  static constexpr uint32_t kEntries = 8192;
+  static constexpr uint64_t kNone = ~uint64_t(0);  // no neighbour (the mesh's boundary)
+  const uint8_t* mesh;
+  uint64_t from[kEntries];  // 1 + (leaf * kMultiLeafSize + element) * 8 + face; 0: empty
+  uint64_t to[kEntries];    // leaf * kMultiLeafSize + element, or kNone
+
+  static uint32_t entry(uint64_t key) { return uint32_t((key * 0x9E3779B97F4A7C15ull) >> 51); }
+  // The thread's cache, emptied if it held another mesh's neighbours. On the heap: a thread's
+  // static TLS comes out of its stack, which threads started with small stacks (the view
+  // server's) cannot spare 128 KiB of.
+  static NeighbourCache& of_thread(const uint8_t* mesh_bytes) {
+    static thread_local std::unique_ptr<NeighbourCache> cache;
+    if (!cache) cache = std::make_unique<NeighbourCache>();  // zeroed: every entry empty
+    if (cache->mesh != mesh_bytes) {
+      memset(cache->from, 0, sizeof(cache->from));
+      cache->mesh = mesh_bytes;
+    }
+    return *cache;
+  }
+};
+static_assert(NeighbourCache::kEntries == 1u << 13);  // entry() keeps the hash's top 13 bits
+
 // Everything sampling reads (host or device pointers).
 struct CompactMeshView {
   const CompactNode* nodes = nullptr;
@@ -139,6 +187,7 @@ struct CompactMeshView {
   static constexpr int kMaxLevels = 16;
   uint32_t level_first[kMaxLevels] = {};
   int levels = 0;
+  bool neighbour_cache = true;  // on the CPU, the thread's NeighbourCache (false: every search made; tests)
 
   struct Hit {
     int64_t leaf = -1;
@@ -226,10 +275,11 @@ struct CompactMeshView {
     return false;
   }
 
-  // Calls visit(leaf) for every leaf whose box holds q below node `top` but not below its child
-  // `skip` (-1: none), until visit returns true (then true).
+  // Calls visit(leaf) for every leaf whose box holds the box [lo, hi] below node `top` but not
+  // below its child `skip` (-1: none), until visit returns true (then true).
   template <typename Visit>
-  VS_HOST_DEVICE bool for_each_leaf_holding_below(uint32_t top, int skip, const vec3f& q, Visit&& visit) const {
+  VS_HOST_DEVICE bool for_each_leaf_holding_below(uint32_t top, int skip, const vec3f& lo, const vec3f& hi,
+                                                  Visit&& visit) const {
     uint32_t stack[64];
     int depth = 0;
     if (!nodes) return false;
@@ -237,14 +287,15 @@ struct CompactMeshView {
     while (depth > 0) {
       const uint32_t at = stack[--depth];
       const CompactNode& node = nodes[at];
-      uint32_t holding = children_holding(node, q);
+      uint32_t holding = children_holding(node, lo, hi);
       if (at == top && skip >= 0) holding &= ~(1u << skip);
-      for (int i = node.count - 1; i >= 0; --i) {
-        if (!(holding >> i & 1u)) continue;
+      // Over the set bits only, highest first (a loop over all eight mispredicts its branches).
+      for (; holding != 0; holding &= ~(1u << highest_bit(holding))) {
+        const uint32_t child = node.first + uint32_t(highest_bit(holding));
         if (node.leaf_children) {
-          if (visit(node.first + uint32_t(i))) return true;
+          if (visit(child)) return true;
         } else if (depth < 64) {
-          stack[depth++] = node.first + uint32_t(i);
+          stack[depth++] = child;
         }
       }
     }
@@ -252,7 +303,7 @@ struct CompactMeshView {
   }
   template <typename Visit>
   VS_HOST_DEVICE bool for_each_leaf_holding(const vec3f& q, Visit&& visit) const {
-    return for_each_leaf_holding_below(0, -1, q, visit);
+    return for_each_leaf_holding_below(0, -1, q, q, visit);
   }
 
   // The same leaves but those near leaf l first, and without l: up the tree from l, each
@@ -260,11 +311,15 @@ struct CompactMeshView {
   // for_each_leaf_holding's; a neighbour of l is mostly found in its parent's or grandparent's).
   template <typename Visit>
   VS_HOST_DEVICE bool for_each_leaf_holding_near(uint32_t l, const vec3f& q, Visit&& visit) const {
+    return for_each_leaf_holding_near(l, q, q, visit);
+  }
+  template <typename Visit>
+  VS_HOST_DEVICE bool for_each_leaf_holding_near(uint32_t l, const vec3f& lo, const vec3f& hi, Visit&& visit) const {
     if (levels <= 0) return false;
     uint32_t node = leaf_parents + l / kCompactWidth;
     int skip = int(l % kCompactWidth);
     for (int level = levels - 1;; --level) {
-      if (for_each_leaf_holding_below(node, skip, q, visit)) return true;
+      if (for_each_leaf_holding_below(node, skip, lo, hi, visit)) return true;
       if (level == 0) return false;
       const uint32_t position = node - level_first[level];
       skip = int(position % kCompactWidth);
@@ -313,33 +368,67 @@ struct CompactMeshView {
     return -1;
   }
 
-  // The face's vertices (sub-mesh-local indices) as bytes of leaf l's table; false when one is
-  // not in it (then no element of the leaf holds the face).
-  VS_HOST_DEVICE bool face_in_table(uint32_t l, const uint16_t* face, int face_size, uint8_t* face_bytes) const {
+  // The bytes of leaf l's table whose vertices are the face's four (a triangle repeats its first
+  // as the fourth), by equal(table entry, i) for face vertex i; false when one is not in it (then
+  // no element of the leaf holds the face). One pass without exits (the compiler vectorizes the
+  // index compares): each face vertex's position in the table plus one, 0 where absent (most
+  // leaves asked hold the face's box but not the face).
+  template <typename Equal>
+  VS_HOST_DEVICE bool face_in_table_where(uint32_t l, uint8_t* face_bytes, Equal&& equal) const {
     const CompactLeaf& leaf = leaves[l];
-    int found = 0;
+    const uint8_t* table = leaf_bytes(leaf);
+    uint32_t at0 = 0, at1 = 0, at2 = 0, at3 = 0;
     for (uint32_t t = 0; t < leaf.table_size(); ++t) {
-      const uint16_t v = table_entry(leaf, t);
-      for (int i = 0; i < face_size; ++i)
-        if (v == face[i]) face_bytes[i] = uint8_t(t), ++found;
+      const uint32_t v = uint32_t(table[2u * t]) | uint32_t(table[2u * t + 1u]) << 8;
+      at0 = equal(v, 0) ? t + 1u : at0, at1 = equal(v, 1) ? t + 1u : at1;
+      at2 = equal(v, 2) ? t + 1u : at2, at3 = equal(v, 3) ? t + 1u : at3;
     }
-    face_bytes[3] = face_size == 3 ? face_bytes[0] : face_bytes[3];
-    return found == face_size;
+    if (!(at0 && at1 && at2 && at3)) return false;
+    face_bytes[0] = uint8_t(at0 - 1u), face_bytes[1] = uint8_t(at1 - 1u);
+    face_bytes[2] = uint8_t(at2 - 1u), face_bytes[3] = uint8_t(at3 - 1u);
+    return true;
   }
-
-  // The element of another leaf `other` (of the same sub-mesh) holding the face, or -1.
-  VS_HOST_DEVICE int32_t face_neighbour_in_other_leaf(uint32_t other, const uint16_t* face, int face_size) const {
-    uint8_t face_bytes[4];
-    if (!face_in_table(other, face, face_size, face_bytes)) return -1;
-    return face_neighbour_in_leaf(other, kNoSkip, face_bytes, face_size);
+  // By sub-mesh-local indices (face[3] repeats face[0] for a triangle): leaves of the face's sub-mesh.
+  VS_HOST_DEVICE bool face_in_table(uint32_t l, const uint16_t* face, uint8_t* face_bytes) const {
+    return face_in_table_where(l, face_bytes, [&](uint32_t v, int i) { return v == face[i]; });
+  }
+  // By position (points[3] repeats points[0] for a triangle): leaves of another sub-mesh, where
+  // the face's vertices are replicated with the same coordinates.
+  VS_HOST_DEVICE bool face_in_table_at(uint32_t l, const vec3f* points, uint8_t* face_bytes) const {
+    const vec3f* local = vertices + submeshes[leaves[l].submesh].first_vertex;
+    return face_in_table_where(l, face_bytes, [&](uint32_t v, int i) { return local[v] == points[i]; });
   }
 
   // The element across face `face` of element k of leaf l (its corners and vertices given): in
-  // the same leaf, or in another leaf of the same sub-mesh (local indices are comparable only
-  // there) whose box holds the face. False where it is none of those: the mesh's boundary, or a
-  // neighbour in another sub-mesh.
+  // the same leaf, or in another leaf whose box holds the face. False at the mesh's boundary.
   VS_HOST_DEVICE bool face_neighbour(uint32_t& l, uint32_t& k, const uint8_t* corner, const uint16_t* v, int n,
                                      int face) const {
+    // A paired tet's face off its apex (corner 3: local face 3) is the face it shares with its pair.
+    if (n == 4 && face == 3 && k < 2u * leaves[l].tet_pairs) return k ^= 1u, true;
+#ifndef __CUDA_ARCH__
+    if (neighbour_cache) {
+      NeighbourCache& cache = NeighbourCache::of_thread(bytes);
+      const uint64_t key = 1u + (uint64_t(l) * kMultiLeafSize + k) * 8u + uint64_t(face);
+      const uint32_t at = NeighbourCache::entry(key);
+      if (cache.from[at] == key) {
+        const uint64_t to = cache.to[at];
+        if (to == NeighbourCache::kNone) return false;
+        const uint64_t to_leaf = to / kMultiLeafSize;
+        // Entries are of this mesh, but a freed one's bytes may have been reused: never outside it.
+        if (to_leaf < leaf_count && to % kMultiLeafSize < leaves[to_leaf].element_count())
+          return l = uint32_t(to_leaf), k = uint32_t(to % kMultiLeafSize), true;
+      }
+      const bool found = search_face_neighbour(l, k, corner, v, n, face);
+      cache.from[at] = key;
+      cache.to[at] = found ? uint64_t(l) * kMultiLeafSize + k : NeighbourCache::kNone;
+      return found;
+    }
+#endif
+    return search_face_neighbour(l, k, corner, v, n, face);
+  }
+  // face_neighbour without the cache.
+  VS_HOST_DEVICE bool search_face_neighbour(uint32_t& l, uint32_t& k, const uint8_t* corner, const uint16_t* v, int n,
+                                            int face) const {
     const shape::LocalFace f = shape::local_face(n, face);
     uint8_t face_bytes[4];
     uint16_t face_vertices[4];
@@ -349,20 +438,47 @@ struct CompactMeshView {
     }
     int32_t next = face_neighbour_in_leaf(l, k, face_bytes, f.count);
     if (next >= 0) return k = uint32_t(next), true;
-    // Another leaf: the neighbour's leaf box holds the face, so only leaves holding its centre
-    // are compared, nearest in the tree first.
+    // Another leaf: the neighbour's leaf box holds the face, so only leaves holding the face's
+    // box are compared (fewer than those holding a point of it), nearest in the tree first; in
+    // another sub-mesh (where a walk would otherwise end) by the face's vertex positions.
     const uint32_t submesh = leaves[l].submesh;
-    vec3f centre(0.f);
-    for (int i = 0; i < f.count; ++i) centre = centre + vertices[submeshes[submesh].first_vertex + face_vertices[i]];
-    centre = centre * (1.f / float(f.count));
-    return for_each_leaf_holding_near(l, centre, [&](uint32_t other) {
-      if (leaves[other].submesh != submesh) return false;
-      next = face_neighbour_in_other_leaf(other, face_vertices, f.count);
+    vec3f points[4];
+    box3f face_box = box3f::make_empty();
+    for (int i = 0; i < 4; ++i) {
+      points[i] = vertices[submeshes[submesh].first_vertex + face_vertices[i]];
+      face_box.extend(points[i]);
+    }
+    return for_each_leaf_holding_near(l, face_box.lower, face_box.upper, [&](uint32_t other) {
+      uint8_t other_bytes[4];
+      const bool holds = leaves[other].submesh == submesh ? face_in_table(other, face_vertices, other_bytes)
+                                                          : face_in_table_at(other, points, other_bytes);
+      next = holds ? face_neighbour_in_leaf(other, kNoSkip, other_bytes, f.count) : -1;
       if (next >= 0) l = other, k = uint32_t(next);
       return next >= 0;
     });
   }
   static constexpr uint32_t kNoSkip = 0xffffffffu;
+
+  // The face of the element with corners x whose centre lies most in p's direction from the
+  // element's centre: the way on where Newton gave none (it diverged or did not converge, far from
+  // a curved element), so that the walk goes on instead of ending in a search of leaves.
+  VS_HOST_DEVICE static int face_towards(int n, const vec3f* x, const vec3f& p) {
+    vec3f centre(0.f);
+    for (int i = 0; i < n; ++i) centre = centre + x[i];
+    centre = centre * (1.f / float(n));
+    int best = -1;
+    float best_reach = -INFINITY;
+    for (int face = 0; face < shape::face_count(n); ++face) {
+      const shape::LocalFace f = shape::local_face(n, face);
+      vec3f c(0.f);
+      for (int i = 0; i < f.count; ++i) c = c + x[f.v[i]];
+      const vec3f out = c * (1.f / float(f.count)) - centre;
+      // p's distance along the face's direction, in units of the face's distance.
+      const float reach = dot(p - centre, out) / dot(out, out);
+      if (reach > best_reach) best = face, best_reach = reach;
+    }
+    return best_reach > 0.f ? best : -1;
+  }
 
   // Walks from element k of leaf l towards p across the faces p lies beyond (as
   // UMeshView::walk, with neighbours found by face_neighbour): true with the hit when an element
@@ -383,6 +499,7 @@ struct CompactMeshView {
         for (int i = 0; i < n; ++i) hit.v[i] = v[i];
         return true;
       }
+      if (face < 0) face = face_towards(n, x, p);
       if (face < 0 || !face_neighbour(l, k, corner, v, n, face)) return false;
     }
     return false;

@@ -40,10 +40,8 @@ std::unique_ptr<FrameWriter> make_writer(const PlayArgs& a, const RenderPlan& r)
 
 // "12.3 frames/s, slowest: render 45.1 ms" from what the timeline holds so far.
 std::string progress_detail(const Timeline& timeline, int frames, double seconds) {
-  const StageSummary* slowest = nullptr;
   const auto summary = summarize(timeline.events());
-  for (const StageSummary& s : summary)
-    if (!slowest || s.mean_ms > slowest->mean_ms) slowest = &s;
+  const StageSummary* slowest = slowest_stage(summary);
   char text[128];
   std::snprintf(text, sizeof(text), "%.1f frames/s, slowest: %s %.1f ms", frames / std::max(seconds, 1e-9),
                 slowest ? stage_name(slowest->stage) : "-", slowest ? slowest->mean_ms : 0.0);

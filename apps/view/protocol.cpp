@@ -1,5 +1,7 @@
 #include "view/protocol.h"
 
+#include <arpa/inet.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -252,6 +254,70 @@ bool websocket_origin_allowed(const char* origin, const char* host) {
   if (!host || !*host) return false;
   // Origin is scheme://host[:port] with no path; the viewer serves plain http.
   return std::string_view(origin) == std::string("http://") + host;
+}
+
+ListenHost parse_listen_host(const std::string& host) {
+  const std::string usage =
+      "--host expects an IPv4 address such as 127.0.0.1 or 0.0.0.0, or an IPv6 one such as ::1 or ::";
+  ListenHost out{host, false};
+  if (host.size() > 2 && host.front() == '[' && host.back() == ']') out.address = host.substr(1, host.size() - 2);
+  if (out.address.find(':') != std::string::npos) {
+    in6_addr parsed{};
+    if (inet_pton(AF_INET6, out.address.c_str(), &parsed) != 1) throw UsageError(usage + " (got '" + host + "')");
+    out.ipv6 = true;
+    return out;
+  }
+  // IPv4 or a name: civetweb parses it; what would break its comma-separated port list is refused.
+  if (out.address != host || host.empty() || host.find_first_of(" ,[]") != std::string::npos)
+    throw UsageError(usage + " (got '" + host + "')");
+  return out;
+}
+
+std::string host_and_port(const ListenHost& host, int port) {
+  const std::string address = host.ipv6 ? "[" + host.address + "]" : host.address;
+  return address + ":" + std::to_string(port);
+}
+
+std::string page_url(const ListenHost& host, int port) { return "http://" + host_and_port(host, port) + "/"; }
+
+nlohmann::json slowest_of_frame(const FrameTimes& t, double encode_s) {
+  const std::pair<const char*, double> stages[] = {{"read", t.read},     {"upload", t.upload},
+                                                   {"ranges", t.ranges}, {"refit", t.classify + t.refit},
+                                                   {"render", t.render}, {"encode", encode_s}};
+  const auto* slowest = &stages[0];
+  for (const auto& s : stages)
+    if (s.second > slowest->second) slowest = &s;
+  return {{"stage", slowest->first}, {"ms", slowest->second * 1e3}};
+}
+
+void PlayMeter::add(const std::vector<stream::TimelineEvent>& events) {
+  int64_t newest = 0;
+  events_.insert(events_.end(), events.begin(), events.end());
+  for (const stream::TimelineEvent& e : events_) newest = std::max(newest, e.end_ns);
+  const auto cutoff = newest - int64_t(kPlayWindowSeconds * 1e9);
+  std::erase_if(events_, [&](const stream::TimelineEvent& e) { return e.end_ns < cutoff; });
+}
+
+double PlayMeter::fps() const {
+  int frames = 0;
+  int64_t first = 0, last = 0;
+  for (const stream::TimelineEvent& e : events_) {
+    if (e.stage != stream::Stage::output) continue;
+    first = frames++ ? std::min(first, e.end_ns) : e.end_ns;
+    last = std::max(last, e.end_ns);
+  }
+  return frames >= 2 && last > first ? double(frames - 1) / (double(last - first) * 1e-9) : 0.0;
+}
+
+nlohmann::json PlayMeter::describe() const {
+  const std::vector<stream::StageSummary> summary = stream::summarize({events_.begin(), events_.end()});
+  const stream::StageSummary* slowest = stream::slowest_stage(summary);
+  double render_ms = 0;
+  for (const stream::StageSummary& s : summary)
+    if (s.stage == stream::Stage::render) render_ms = s.mean_ms;
+  return {{"fps", fps()},
+          {"slowest", slowest ? json{{"stage", stream::stage_name(slowest->stage)}, {"ms", slowest->mean_ms}} : json()},
+          {"render_ms", render_ms}};
 }
 
 }  // namespace vs::view

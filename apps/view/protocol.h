@@ -1,13 +1,15 @@
 // The viewer's message protocol, without a socket: what the page may say (JSON text messages),
 // checked and turned into the render options the command line takes, so that the page's view,
 // `volstream render`'s command line and the frame request come from one set of values. Also the
-// histogram under the transfer-function editor and the "newest request wins" mailbox of the
-// render loop. The civetweb and JPEG glue is apps/view/server.cpp.
+// histogram under the transfer-function editor, the "newest request wins" mailbox of the render
+// loop, play's frames/s and slowest stage, and the --host address in URL syntax. The civetweb and
+// JPEG glue is apps/view/server.cpp.
 #pragma once
 #include <nlohmann/json.hpp>
 
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
@@ -34,6 +36,18 @@ inline constexpr int kHistogramBins = 256;
 // the page's Origin; it must name the host the page was served from (the request's Host header).
 // No Origin at all is a client that is not a browser page (a script), which is accepted.
 bool websocket_origin_allowed(const char* origin, const char* host);
+
+// --host: an IPv4 address (or a name civetweb resolves, e.g. localhost) or an IPv6 address, with
+// or without brackets (::1, [::1], ::). UsageError, one line, for anything else.
+struct ListenHost {
+  std::string address;  // without brackets
+  bool ipv6 = false;
+};
+ListenHost parse_listen_host(const std::string& host);
+// HOST:PORT with an IPv6 address in brackets ([::1]:8080): civetweb's listening_ports syntax,
+// the URL's authority and what browsers send as Host (hence the Origin check above).
+std::string host_and_port(const ListenHost& host, int port);
+std::string page_url(const ListenHost& host, int port);  // http://[::1]:8080/
 
 // A message the page sent that cannot be honoured; its what() goes back to the page.
 struct ProtocolError : std::runtime_error {
@@ -69,6 +83,24 @@ struct PlaySettings {
   double fps = 10;
 };
 PlaySettings play_settings(const nlohmann::json& play);
+
+// For the page's frame header, {"stage": "render", "ms": 12.3}: a still frame's slowest stage,
+// of the frame renderer's (only those this frame redid) and the JPEG encoding.
+nlohmann::json slowest_of_frame(const FrameTimes& times, double encode_s);
+
+// Frames/s and the slowest stage of play from the pipeline's timeline (stream/timeline.h), over
+// the last kPlayWindowSeconds: the view changes while playing, and with it the stages' times.
+inline constexpr double kPlayWindowSeconds = 2;
+class PlayMeter {
+ public:
+  void add(const std::vector<stream::TimelineEvent>& events);  // as Timeline::take_events() gives them
+  double fps() const;                                          // 0 until two frames were output
+  // {"fps", "slowest": {"stage", "ms"} (null before any event), "render_ms": the render stage's mean}
+  nlohmann::json describe() const;
+
+ private:
+  std::deque<stream::TimelineEvent> events_;
+};
 
 // `volstream render ...` that reproduces the frame (full size, resolved range and camera).
 std::string command_line(const std::string& dataset_path, const ViewState& state, const cli::RenderPlan& plan);

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <memory>
 #include <thread>
@@ -18,6 +19,10 @@
 #include "volstream/core/error.h"
 #include "volstream/core/stopwatch.h"
 #include "volstream/frame/frame_renderer.h"
+#include "volstream/io/image.h"
+#include "volstream/stream/pipeline.h"
+#include "volstream/stream/render_stages.h"
+#include "volstream/stream/timeline.h"
 
 namespace vs::cli {
 extern const char* const kViewPage;  // view_page.cpp (generated)
@@ -105,18 +110,42 @@ class Viewer {
   int values_field_ = -1, values_step_ = -1;
 };
 
-// "read 1.2 ms" for the stage that took longest in this frame (JPEG encoding included).
-std::string slowest_stage(const FrameTimes& t, double encode_s) {
-  const std::pair<const char*, double> stages[] = {{"read", t.read},     {"upload", t.upload},
-                                                   {"ranges", t.ranges}, {"refit", t.classify + t.refit},
-                                                   {"render", t.render}, {"encode", encode_s}};
-  const auto* slowest = &stages[0];
-  for (const auto& s : stages)
-    if (s.second > slowest->second) slowest = &s;
-  char text[64];
-  std::snprintf(text, sizeof(text), "%s %.1f ms", slowest->first, slowest->second * 1e3);
-  return text;
-}
+// Play through the streaming pipeline (stream/pipeline.h), as `volstream play` does: the tab's
+// own renderer and step buffers for the played field, the next step read (and uploaded) while
+// this one renders. The pipeline's output stage is `send`: the frame goes to the page.
+class Player : public stream::FrameWriter {
+ public:
+  using Send = std::function<void(const Image&, const PlayMeter&)>;
+  Player(const Dataset& ds, const cli::RenderPlan& plan, Send send)
+      : field_(plan.request.field),
+        send_(std::move(send)),
+        stages_(ds, plan.setup(), this),
+        timeline_("view play"),
+        pipeline_(ds, field_, stream::PipelineFlags::at(kPlayLevel), stages_, &timeline_) {}
+
+  static constexpr stream::Level kPlayLevel = stream::Level::overlap;  // `volstream play`'s default
+  int field() const { return field_; }
+
+  // Renders the request's step as the request shows it (the view may have changed since the
+  // last frame) and sends it; the pipeline starts loading `next` meanwhile.
+  void frame(const FrameRequest& request, int next) {
+    stages_.set_request(request);
+    pipeline_.advance(frames_++, request.step, next);
+  }
+  void write(const Image& image, int, int) override {
+    meter_.add(timeline_.take_events());
+    send_(image, meter_);
+  }
+
+ private:
+  int field_;
+  Send send_;
+  stream::RendererStages stages_;
+  stream::Timeline timeline_;
+  PlayMeter meter_;
+  int frames_ = 0;
+  stream::Pipeline pipeline_;  // last: destroyed first, waiting for its loader
+};
 
 // One browser tab: its state, its mailbox and the worker that renders for it.
 class Session {
@@ -129,7 +158,8 @@ class Session {
     worker_.join();
   }
 
-  // On civetweb's thread: check the message, update the state, wake the worker.
+  // On civetweb's thread: check the message, update the state, wake the worker. While playing,
+  // a view change waits for the next play frame, which shows it.
   void on_message(std::string_view text) {
     try {
       const Message m = parse_message(text);
@@ -137,9 +167,10 @@ class Session {
       if (m.kind == Message::Kind::view) {
         ViewFrame f = apply_view(state_, m.body, viewer_.dataset);
         state_ = f.state;
-        latest_.post(std::move(f));
+        if (play_.on) seeked_ = seeked_ || m.body.contains("step");
+        if (!play_.on) latest_.post(std::move(f));
       } else {
-        play_ = play_settings(m.body);
+        set_play(play_settings(m.body));
       }
     } catch (const std::exception& e) {  // ProtocolError, and anything a bad value provokes
       send_error(e.what());
@@ -149,18 +180,32 @@ class Session {
   void send_error(const std::string& message) { send_text(json{{"type", "error"}, {"message", message}}.dump()); }
 
  private:
+  // Under mutex_. Pausing shows the step played last as a still frame (with its histogram, which
+  // play frames leave as it was).
+  void set_play(const PlaySettings& p) {
+    if (p.on && !play_.on) seeked_ = false;
+    if (!p.on && play_.on) {
+      state_.preview = false;
+      latest_.post(plan_view(state_, viewer_.dataset));
+    }
+    play_ = p;
+  }
+
   void run() {
     Stopwatch since_frame;
     while (!latest_.stopped()) {
       std::optional<ViewFrame> f = latest_.take(wait_time(since_frame.seconds()));
-      if (!f && latest_.stopped()) break;
-      if (!f) f = next_play_frame();
-      if (!f) continue;
-      const double interval = since_frame.lap();
-      try {
-        render_and_send(*f, interval);
-      } catch (const std::exception& e) {
-        send_error(std::string("render failed: ") + e.what());
+      if (latest_.stopped()) break;
+      if (f) {
+        const double interval = since_frame.lap();
+        try {
+          render_and_send(*f, interval);
+        } catch (const std::exception& e) {
+          send_error(std::string("render failed: ") + e.what());
+        }
+      } else if (std::optional<ViewFrame> next = next_play_frame()) {
+        since_frame.lap();
+        play(*next);
       }
     }
   }
@@ -172,13 +217,58 @@ class Session {
     return std::chrono::milliseconds(std::max(0, int(left * 1e3)));
   }
 
-  // Playing: the next step at the current view (the page's slider follows the frames).
+  // Playing: the next step (or the one the slider moved to) at the current view; the page's
+  // slider follows the frames.
   std::optional<ViewFrame> next_play_frame() {
     std::lock_guard lock(mutex_);
     if (!play_.on) return std::nullopt;
-    state_.step = (state_.step + 1) % viewer_.dataset.manifest().step_count();
+    if (!seeked_) state_.step = (state_.step + 1) % viewer_.dataset.manifest().step_count();
+    seeked_ = false;
     state_.preview = false;
-    return plan_view(state_, viewer_.dataset);
+    try {
+      return plan_view(state_, viewer_.dataset);
+    } catch (const std::exception& e) {
+      stop_play(e.what());
+      return std::nullopt;
+    }
+  }
+
+  // One frame through the tab's pipeline; another field needs another pipeline (the old one
+  // is dropped first: it waits for its loader and frees its buffers). An error stops play.
+  void play(const ViewFrame& f) {
+    const FrameRequest& r = f.plan.request;
+    try {
+      if (!player_ || player_->field() != r.field) {
+        player_.reset();
+        player_ = std::make_unique<Player>(viewer_.dataset, f.plan, [this](const Image& image, const PlayMeter& meter) {
+          send_play_frame(image, meter);
+        });
+      }
+      playing_ = &f;
+      player_->frame(r, (r.step + 1) % viewer_.dataset.manifest().step_count());
+    } catch (const std::exception& e) {
+      std::lock_guard lock(mutex_);
+      stop_play(e.what());
+    }
+  }
+
+  // Under mutex_. The page's play button follows "playing".
+  void stop_play(const std::string& why) {
+    play_.on = false;
+    send_text(json{{"type", "error"}, {"message", "play stopped: " + why}, {"playing", false}}.dump());
+  }
+
+  // The pipeline's output stage (worker thread, inside Player::frame): the frame of *playing_.
+  void send_play_frame(const Image& image, const PlayMeter& meter) {
+    const ViewFrame& f = *playing_;
+    Stopwatch watch;
+    const std::vector<uint8_t> jpeg =
+        jpeg_.encode(to_rgb8(image, f.plan.background), f.plan.request.width, f.plan.request.height);
+    json header = frame_header(f, true);
+    header.update(meter.describe());
+    header["encode_ms"] = watch.seconds() * 1e3;
+    header["pipeline"] = stream::level_name(Player::kPlayLevel);
+    send_frame(header.dump(), jpeg);
   }
 
   void render_and_send(const ViewFrame& f, double interval_s) {
@@ -193,22 +283,28 @@ class Session {
     const std::vector<uint8_t> jpeg = jpeg_.encode(out.rgb, r.width, r.height);
     const double encode_s = watch.lap();
 
-    json header = describe_frame(f.state, f.plan, viewer_.dataset);
-    header["type"] = "frame";
+    json header = frame_header(f, false);
     header["render_ms"] = render_s * 1e3;
     header["encode_ms"] = encode_s * 1e3;
-    header["slowest"] = slowest_stage(out.report.seconds, encode_s);
+    header["slowest"] = slowest_of_frame(out.report.seconds, encode_s);
     header["fps"] = 1.0 / std::max(interval_s, 1e-6);
-    header["command"] = command_line(viewer_.dataset_path, f.state, f.plan);
-    {
-      std::lock_guard lock(mutex_);
-      header["playing"] = play_.on;
-    }
     if (new_histogram) {
       header["histogram"] = out.histogram;
       histogram_key_ = histogram_key;
     }
     send_frame(header.dump(), jpeg);
+  }
+
+  // What every frame's header says: the view (describe_frame), its command line, and whether
+  // the tab is playing (a play frame says so even when a pause came while it rendered: the
+  // still frame the pause asked for follows it).
+  json frame_header(const ViewFrame& f, bool play_frame) {
+    json header = describe_frame(f.state, f.plan, viewer_.dataset);
+    header["type"] = "frame";
+    header["command"] = command_line(viewer_.dataset_path, f.state, f.plan);
+    std::lock_guard lock(mutex_);
+    header["playing"] = play_frame || play_.on;
+    return header;
   }
 
   void send_frame(const std::string& header, const std::vector<uint8_t>& jpeg) {
@@ -228,13 +324,16 @@ class Session {
 
   mg_connection* conn_;
   Viewer& viewer_;
-  std::mutex mutex_;  // state_ and play_: civetweb's thread writes, the worker reads
+  std::mutex mutex_;  // state_, play_ and seeked_: civetweb's thread writes, the worker reads
   ViewState state_;
   PlaySettings play_;
+  bool seeked_ = false;  // playing: the slider moved, so the next frame shows state_.step
   LatestRequest<ViewFrame> latest_;
   JpegEncoder jpeg_;
-  std::string histogram_key_;  // worker only: the histogram the page has
-  std::thread worker_;         // last: starts once everything above exists
+  std::string histogram_key_;           // worker only: the histogram the page has
+  std::unique_ptr<Player> player_;      // worker only: made at the first play frame
+  const ViewFrame* playing_ = nullptr;  // worker only: the frame player_ is rendering
+  std::thread worker_;                  // last: starts once everything above exists
 };
 
 // The tabs by connection; civetweb's close handler (or the server's end) removes them.
@@ -326,21 +425,25 @@ class StopOnSignal {
   }, old_term_{};
 };
 
-void check_listen_args(const ViewArgs& a) {
-  if (a.port < 0 || a.port > 65535) throw UsageError("--port must be in [0, 65535] (0: any free port)");
-  if (a.host.empty() || a.host.find_first_of(" ,:[]") != std::string::npos)
-    throw UsageError("--host expects an IPv4 address such as 127.0.0.1 or 0.0.0.0");
+void check_port(int port) {
+  if (port < 0 || port > 65535) throw UsageError("--port must be in [0, 65535] (0: any free port)");
 }
 
 void run_view(const ViewArgs& a) {
-  check_listen_args(a);
+  check_port(a.port);
+  const ListenHost host = parse_listen_host(a.host);
+  // Debian's libcivetweb (1.15) is built without USE_IPV6: it would refuse [::1]:PORT with a
+  // message about the port; say why instead.
+  if (host.ipv6 && !mg_check_feature(8 /* MG_FEATURES_IPV6 */))
+    throw UsageError("--host " + a.host + ": this build's civetweb has no IPv6 support; use an IPv4 address such as " +
+                     "127.0.0.1");
   const Dataset ds(a.dir);
   Viewer viewer(a, ds);
   Sessions sessions(viewer);
   const StopOnSignal stop;
 
   mg_init_library(0);
-  const std::string ports = a.host + ":" + std::to_string(a.port);
+  const std::string ports = host_and_port(host, a.port);
   const char* options[] = {"listening_ports", ports.c_str(), "num_threads", "16", nullptr};
   mg_callbacks callbacks{};
   callbacks.log_message = [](const mg_connection*, const char*) { return 1; };  // quiet: errors are ours to report
@@ -353,8 +456,8 @@ void run_view(const ViewArgs& a) {
   mg_set_websocket_handler(ctx, "/ws$", on_ws_connect, on_ws_ready, on_ws_data, on_ws_close, &sessions);
   mg_server_port bound{};
   mg_get_server_ports(ctx, 1, &bound);
-  std::printf("volstream view: http://%s:%d/ (Ctrl-C stops; from another machine: ssh -L %d:localhost:%d HOST)\n",
-              a.host.c_str(), bound.port, bound.port, bound.port);
+  std::printf("volstream view: %s (Ctrl-C stops; from another machine: ssh -L %d:localhost:%d HOST)\n",
+              page_url(host, bound.port).c_str(), bound.port, bound.port);
   std::fflush(stdout);
   while (!StopOnSignal::requested()) std::this_thread::sleep_for(100ms);
   mg_stop(ctx);  // closes the connections (their close handlers end the sessions)
@@ -373,7 +476,8 @@ void add_view_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("view", "Serve an interactive browser viewer of a dataset (open the printed URL)");
   cmd->add_option("dataset", a->dir, "dataset directory")->required();
   cmd->add_option("--port", a->port, "TCP port (0: any free port)")->capture_default_str();
-  cmd->add_option("--host", a->host, "address to listen on (0.0.0.0: every interface)")->capture_default_str();
+  cmd->add_option("--host", a->host, "address to listen on: IPv4 or IPv6 (0.0.0.0 or ::: every interface)")
+      ->capture_default_str();
   add_render_options(cmd, a->render, RenderContext::image);
   cmd->callback([a] { view::run_view(*a); });
 }

@@ -1,5 +1,6 @@
 """Drives `volstream view` in headless chromium (selenium + chromedriver): see view_browser.sh."""
 import json
+import re
 import sys
 import time
 
@@ -11,6 +12,7 @@ from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import Select
 
 URL = sys.argv[1]
+URL6 = sys.argv[2] if len(sys.argv) > 2 else None  # a second server, on [::1]
 
 
 def browser():
@@ -103,14 +105,27 @@ def main():
             (v["last"]["camera"], camera)
         print("ok: reloading the URL restores the view")
 
-        # Play goes through the steps, with frames/s and the slowest stage shown.
+        # Play goes through the steps (the streaming pipeline), with frames/s and the slowest
+        # stage shown; pausing ends with a still frame of the step shown last, and no more frames.
         driver.find_element(By.ID, "play").click()
         steps = set()
         wait_for("three steps while playing", lambda: steps.add(viewer(driver)["last"]["step"]) or len(steps) >= 3)
+        # Frames/s needs two frames output before the one that shows it.
+        last = wait_for("frames/s measured", lambda: (lambda h: h if h["playing"] and h.get("fps", 0) > 0 else None)(
+            viewer(driver)["last"]))
         stats = driver.find_element(By.ID, "playStats").text
-        assert "frames/s" in stats and "slowest" in stats, stats
+        assert re.fullmatch(r"[0-9.]+ frames/s, slowest: (read|upload|ranges|refit|render|output) [0-9.]+ ms "
+                            r"\(pipeline overlap\)", stats), stats
+        assert last["pipeline"] == "overlap" and last["slowest"]["ms"] > 0, last
         driver.find_element(By.ID, "play").click()
-        print("ok: play:", stats)
+        paused = wait_for("a still frame after pause", lambda: (lambda v: v if not v["last"]["playing"] else None)(
+            viewer(driver)))
+        time.sleep(0.5)
+        after = viewer(driver)
+        assert after["frames"] == paused["frames"] and after["last"]["step"] == paused["last"]["step"], \
+            (paused["last"]["step"], after["last"]["step"], after["frames"] - paused["frames"])
+        assert driver.find_element(By.ID, "play").text == "play"
+        print("ok: play:", stats, "; paused at step", after["last"]["step"])
 
         # A second tab at once.
         first = driver.current_window_handle
@@ -135,6 +150,11 @@ def main():
         print("ok: bad messages answered:", "; ".join(r["message"] for r in replies))
         changes(driver, lambda: Select(driver.find_element(By.ID, "cmap")).select_by_visible_text("viridis"),
                 "colour map after bad messages")
+
+        if URL6:  # the page and its socket over IPv6 (the Origin check with a bracketed host)
+            driver.get(URL6)
+            full_frame_after(driver, 0, "a frame over IPv6")
+            print("ok: a frame from", URL6)
 
         errors = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"]
         assert not errors, json.dumps(errors, indent=1)

@@ -452,6 +452,83 @@ TEST(Pipeline, JumpsCostOneLoadAndMatchSequentialPlay) {
   }
 }
 
+// Frame by frame (the viewer's play): a step that was the previous call's `next` comes from the
+// loader, any other one (a seek) is loaded then; either way the frame is that step's.
+TEST(Pipeline, AdvanceFrameByFrameWithSeeks) {
+  const Dataset ds(series_dir());
+  ChecksumStages sequential(ds.topology());
+  Pipeline(ds, 0, PipelineFlags::at(Level::baseline), sequential, nullptr).play(all_steps());
+  const std::map<int, uint64_t> by_step(sequential.frames.begin(), sequential.frames.end());
+  // (step, next): two guesses of `next` are wrong (the frames after them seek), the last one is
+  // never asked for.
+  const std::vector<std::pair<int, int>> calls = {{0, 1}, {1, 2}, {4, 0}, {0, 1}, {3, 4}, {4, -1}, {2, 3}, {3, 4}};
+  for (int l = 0; l < kLevelCount; ++l) {
+    ChecksumStages stages(ds.topology());
+    Timeline timeline;
+    {
+      Pipeline p(ds, 0, PipelineFlags::at(Level(l)), stages, &timeline);
+      for (size_t i = 0; i < calls.size(); ++i) p.advance(int(i), calls[i].first, calls[i].second);
+    }  // waits for the loader's last read
+    ASSERT_EQ(stages.frames.size(), calls.size());
+    for (size_t i = 0; i < calls.size(); ++i) {
+      EXPECT_EQ(stages.frames[i].first, calls[i].first);
+      EXPECT_EQ(stages.frames[i].second, by_step.at(calls[i].first)) << level_name(Level(l)) << " frame " << i;
+    }
+    const auto events = timeline.events();
+    const auto reads =
+        std::count_if(events.begin(), events.end(), [](const TimelineEvent& e) { return e.stage == Stage::read; });
+    // Every frame reads once; a prefetching level also reads each wrong guess and the last `next`.
+    EXPECT_EQ(size_t(reads), calls.size() + (l >= int(Level::async_io) ? 3 : 0)) << level_name(Level(l));
+  }
+}
+
+// A prefetched step that is not asked for after all does not fail the frame with its error;
+// asking for it does.
+TEST(Pipeline, AdvanceDropsTheErrorOfAStepNotAskedFor) {
+  const fs::path dir = damaged_copy("pipeline_advance", [](const fs::path& f, uint64_t) { fs::remove(f); });
+  const Dataset ds(dir);
+  for (Level level : {Level::async_io, Level::overlap}) {
+    ChecksumStages stages(ds.topology());
+    Pipeline p(ds, 0, PipelineFlags::at(level), stages, nullptr);
+    p.advance(0, 1, 2);  // the loader fails on step 2
+    p.advance(1, 3, 2);  // ... and again
+    EXPECT_THROW(p.advance(2, 2, -1), InputError) << level_name(level);
+    p.advance(3, 4, -1);
+    EXPECT_EQ(stages.frames.size(), 3u);
+  }
+}
+
+// The viewer changes the view between frames: the stages render what set_request says, the same
+// image as the frame renderer's.
+TEST(Pipeline, RendererStagesFollowTheRequest) {
+  const Dataset ds(series_dir());
+  const RenderSetup setup = small_render_setup(ds, Device::cpu);
+  RendererStages stages(ds, setup, nullptr);
+  std::vector<std::vector<float>> images;
+  stages.on_image = [&](const FrameData&, const Image& img) { images.push_back(img.rgba); };
+  Pipeline p(ds, 0, PipelineFlags::at(Level::overlap), stages, nullptr);
+  FrameRenderer reference(ds, Device::cpu);
+  FrameRequest r;
+  r.tf = setup.tf;
+  r.camera = setup.camera;
+  r.width = setup.settings.width;
+  r.height = setup.settings.height;
+  for (int frame = 0; frame < 3; ++frame) {
+    r.step = frame + 1;
+    r.camera.position = r.camera.position + 0.3 * (r.camera.position - r.camera.look_at);  // zoom out
+    r.tf.hi = setup.tf.hi - 0.1f * float(frame) * (setup.tf.hi - setup.tf.lo);
+    stages.set_request(r);
+    p.advance(frame, r.step, r.step + 1);
+    EXPECT_EQ(images.back(), reference.render(r).rgba) << "frame " << frame;
+  }
+  EXPECT_NE(images[0], images[1]);
+  r.second_field = 0;
+  EXPECT_THROW(stages.set_request(r), UsageError);
+  r.second_field = -1;
+  r.stored_ranges = true;
+  EXPECT_THROW(stages.set_request(r), UsageError);
+}
+
 TEST(Pipeline, MidStreamErrorsNameTheStepAndStopBeforeItsFrame) {
   const std::map<std::string, std::function<void(const fs::path&, uint64_t)>> damages = {
       {"missing", [](const fs::path& f, uint64_t) { fs::remove(f); }},

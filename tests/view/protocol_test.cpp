@@ -10,6 +10,7 @@
 
 #include "test_util.h"
 #include "volstream/amr/demo.h"
+#include "volstream/core/error.h"
 #include "volstream/frame/look.h"
 
 namespace vs::view {
@@ -167,6 +168,84 @@ TEST(ViewProtocol, WebSocketsOnlyFromTheViewersOwnPage) {
   EXPECT_FALSE(websocket_origin_allowed("https://127.0.0.1:8080", "127.0.0.1:8080"));
   EXPECT_FALSE(websocket_origin_allowed("null", "127.0.0.1:8080"));
   EXPECT_FALSE(websocket_origin_allowed("http://127.0.0.1:8080", nullptr));
+}
+
+// The page of a viewer on an IPv6 address is at http://[::1]:PORT, and browsers send that
+// bracketed form as both Host and Origin.
+TEST(ViewProtocol, WebSocketsFromTheOwnPageOverIPv6) {
+  EXPECT_TRUE(websocket_origin_allowed("http://[::1]:8080", "[::1]:8080"));
+  EXPECT_FALSE(websocket_origin_allowed("http://[::1]:8081", "[::1]:8080"));
+  EXPECT_FALSE(websocket_origin_allowed("http://127.0.0.1:8080", "[::1]:8080"));
+  EXPECT_FALSE(websocket_origin_allowed("http://[::2]:8080", "[::1]:8080"));
+}
+
+TEST(ViewProtocol, ListenHostsInUrlSyntax) {
+  const ListenHost v4 = parse_listen_host("127.0.0.1");
+  EXPECT_FALSE(v4.ipv6);
+  EXPECT_EQ(host_and_port(v4, 8080), "127.0.0.1:8080");
+  EXPECT_EQ(page_url(v4, 8080), "http://127.0.0.1:8080/");
+  for (const char* text : {"::1", "[::1]"}) {
+    const ListenHost v6 = parse_listen_host(text);
+    EXPECT_TRUE(v6.ipv6) << text;
+    EXPECT_EQ(v6.address, "::1");
+    EXPECT_EQ(host_and_port(v6, 8080), "[::1]:8080");  // civetweb's listening_ports syntax
+    EXPECT_EQ(page_url(v6, 8080), "http://[::1]:8080/");
+  }
+  EXPECT_EQ(page_url(parse_listen_host("::"), 9), "http://[::]:9/");
+  EXPECT_EQ(page_url(parse_listen_host("fe80::1:2"), 80), "http://[fe80::1:2]:80/");
+  EXPECT_EQ(parse_listen_host("localhost").address, "localhost");  // civetweb resolves names
+  for (const char* bad : {"", "1.2.3.4,5", "::1::2", "[::1", "::1]", "[127.0.0.1]", "[]", "::g", "127.0.0.1:80", "a b",
+                          "[::1]:8080", "fe80::1%eth0"}) {
+    try {
+      parse_listen_host(bad);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const UsageError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("--host expects"), std::string::npos) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;  // one line
+    }
+  }
+}
+
+TEST(ViewProtocol, SlowestStageOfAStillFrame) {
+  FrameTimes t;
+  t.read = 0.004;
+  t.classify = 0.002;
+  t.refit = 0.003;
+  t.render = 0.001;
+  EXPECT_EQ(slowest_of_frame(t, 0.0005)["stage"], "refit");  // classify and refit together: 5 ms
+  EXPECT_NEAR(slowest_of_frame(t, 0.0005)["ms"].get<double>(), 5.0, 1e-9);
+  EXPECT_EQ(slowest_of_frame(t, 0.006)["stage"], "encode");
+}
+
+// Play's meter over the pipeline's timeline: output events make the frame rate, the stage with
+// the longest mean is the slowest, and only the last kPlayWindowSeconds count.
+TEST(PlayMeter, FramesPerSecondAndSlowestStageOverTheWindow) {
+  using stream::Stage;
+  constexpr int64_t ms = 1000000;
+  auto frame = [&](int i, double read_ms, double render_ms) {
+    const int64_t t = i * 100 * ms;  // 10 frames/s
+    return std::vector<stream::TimelineEvent>{{Stage::read, i + 1, stream::kPrefetchLane, t, t + int64_t(read_ms * ms)},
+                                              {Stage::render, i, stream::kFrameLane, t, t + int64_t(render_ms * ms)},
+                                              {Stage::output, i, stream::kFrameLane, t + 90 * ms, t + 95 * ms}};
+  };
+  PlayMeter meter;
+  EXPECT_EQ(meter.fps(), 0);
+  EXPECT_TRUE(meter.describe()["slowest"].is_null());
+  meter.add(frame(0, 10, 40));
+  EXPECT_EQ(meter.fps(), 0);  // one frame: no interval yet
+  for (int i = 1; i < 10; ++i) meter.add(frame(i, 10, 40));
+  EXPECT_NEAR(meter.fps(), 10, 1e-6);
+  json d = meter.describe();
+  EXPECT_EQ(d["slowest"]["stage"], "render");
+  EXPECT_NEAR(d["slowest"]["ms"].get<double>(), 40, 1e-6);
+  EXPECT_NEAR(d["render_ms"].get<double>(), 40, 1e-6);
+  // Reads get slow: once the fast frames are older than the window, read is the slowest.
+  for (int i = 10; i < 40; ++i) meter.add(frame(i, 70, 40));
+  d = meter.describe();
+  EXPECT_EQ(d["slowest"]["stage"], "read");
+  EXPECT_NEAR(d["slowest"]["ms"].get<double>(), 70, 1e-6);
+  EXPECT_NEAR(d["fps"].get<double>(), 10, 1e-6);
 }
 
 TEST(LatestRequest, KeepsOnlyTheNewest) {

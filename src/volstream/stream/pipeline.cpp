@@ -101,7 +101,7 @@ Pipeline::Pipeline(const Dataset& dataset, int field, PipelineFlags flags, Frame
 
 Pipeline::~Pipeline() = default;
 
-Pipeline::Slot& Pipeline::slot_for(int frame) { return *slots_[size_t(frame) % slots_.size()]; }
+Pipeline::Slot& Pipeline::slot_for(uint64_t frame) { return *slots_[size_t(frame % slots_.size())]; }
 
 uint64_t Pipeline::buffer_bytes() const {
   uint64_t total = flatten_index_.size() * sizeof(uint32_t) + device_values_->bytes();
@@ -216,33 +216,49 @@ PlayStats Pipeline::play(const std::vector<int>& steps, const std::function<void
   const auto start = Clock::now();
   const uint64_t bytes_before = reader_.bytes_read();
   const int frames = int(steps.size());
-  const Phase loader_upto = flags_.overlap ? Phase::uploaded : Phase::read;
-  std::future<void> pending;  // the loader's work on the next frame's slot
   for (int i = 0; i < frames; ++i) {
-    Slot& slot = slot_for(i);
-    if (pending.valid()) {
-      pending.get();  // rethrows the loader's error for steps[i]
-    } else {
-      slot.step = steps[size_t(i)];
-      slot.done = Phase::none;
-    }
-    // Start the next step on the loader before touching this one (paper 000, Fig. 4).
-    if (flags_.async_io && i + 1 < frames) {
-      Slot& next = slot_for(i + 1);
-      next.step = steps[size_t(i) + 1];
-      next.done = Phase::none;
-      pending = std::async(std::launch::async,
-                           [this, &next, loader_upto] { load(next, next.step, loader_upto, kPrefetchLane); });
-    }
-    load(slot, slot.step, Phase::uploaded, kFrameLane);  // whatever the loader did not do
-    process(slot, i);
-    if (on_frame) on_frame(i, slot.step);
+    const int step = steps[size_t(i)];
+    advance(i, step, i + 1 < frames ? steps[size_t(i) + 1] : -1);
+    if (on_frame) on_frame(i, step);
   }
   PlayStats stats;
   stats.frames = frames;
   stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   stats.bytes_read = reader_.bytes_read() - bytes_before;
   return stats;
+}
+
+void Pipeline::advance(int frame, int step, int next) {
+  Slot& slot = slot_for(advances_++);
+  take_prefetched(slot, step);
+  // Start the next step on the loader before touching this one (paper 000, Fig. 4).
+  if (flags_.async_io && next >= 0) {
+    Slot& ahead = slot_for(advances_);
+    ahead.step = next;
+    ahead.done = Phase::none;
+    const Phase upto = flags_.overlap ? Phase::uploaded : Phase::read;
+    loader_ = std::async(std::launch::async, [this, &ahead, upto] { load(ahead, ahead.step, upto, kPrefetchLane); });
+  }
+  load(slot, step, Phase::uploaded, kFrameLane);  // whatever the loader did not do
+  process(slot, frame);
+}
+
+// Waits for the loader's work on `slot`; keeps it if it is `step`, else starts `slot` afresh
+// (the buffers it shares with the other slot may hold another step by now).
+void Pipeline::take_prefetched(Slot& slot, int step) {
+  bool prefetched = false;
+  if (loader_.valid()) {
+    std::future<void> loading = std::move(loader_);
+    try {
+      loading.get();
+      prefetched = slot.step == step;
+    } catch (...) {
+      if (slot.step == step) throw;  // the loader's error for this step (it names the file)
+    }
+  }
+  if (prefetched) return;
+  slot.step = step;
+  slot.done = Phase::none;
 }
 
 }  // namespace vs::stream

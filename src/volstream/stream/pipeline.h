@@ -30,6 +30,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -116,6 +117,13 @@ class Pipeline {
   // `on_frame` runs after each frame's output (progress bars).
   PlayStats play(const std::vector<int>& steps, const std::function<void(int frame, int step)>& on_frame = {});
 
+  // One frame, for a caller that chooses each step as it goes (the viewer's play, whose camera
+  // and transfer function change between frames through the stages): processes `step` as frame
+  // `frame`, then returns while the loader (async levels) keeps loading `next` (-1: nothing).
+  // A step that is not the `next` of the previous call is loaded here (a seek): what the loader
+  // did is dropped, and so is its error. play() is a loop over this.
+  void advance(int frame, int step, int next);
+
   const PipelineFlags& flags() const { return flags_; }
   uint64_t buffer_bytes() const;  // all per-step buffers together
   std::string describe_buffers()
@@ -137,7 +145,8 @@ class Pipeline {
   void load(Slot& slot, int step, Phase upto, int lane);
   void flatten(const Slot& slot);
   void process(Slot& slot, int frame);
-  Slot& slot_for(int frame);
+  void take_prefetched(Slot& slot, int step);
+  Slot& slot_for(uint64_t frame);
 
   const Dataset& dataset_;
   int field_;
@@ -150,6 +159,8 @@ class Pipeline {
   std::vector<uint32_t> flatten_index_;  // file position of each device position (see above)
   bool file_order_ = false;              // reading the file-order copies (flatten_index_ is real)
   std::vector<std::unique_ptr<Slot>> slots_;
+  uint64_t advances_ = 0;     // advance() calls so far: which slot is next
+  std::future<void> loader_;  // the loader's work on the next slot; last, so it is waited for first
 };
 
 }  // namespace vs::stream

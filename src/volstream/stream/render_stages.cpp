@@ -226,6 +226,16 @@ std::unique_ptr<ValueStore> RendererStages::make_value_store(int count, uint64_t
   return std::make_unique<GpuValueStore>(count, dataset_.manifest().value_count());
 }
 
+void RendererStages::set_request(const FrameRequest& request) {
+  if (request.second_field >= 0)
+    throw UsageError(
+        "a second field (colour field, blackbody temperature): not available when streaming (one field "
+        "per step)");
+  if (request.stored_ranges)
+    throw UsageError("stored ranges: not available when streaming (the ranges stage computes them)");
+  request_ = request;
+}
+
 void RendererStages::ranges(const FrameData& frame) {
   renderer_.use_values(frame.values);
   renderer_.compute_ranges(request_);

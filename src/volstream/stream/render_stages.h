@@ -85,6 +85,11 @@ class RendererStages : public FrameStages {
   void refit(const FrameData& frame, bool rebuild) override;
   void render(const FrameData& frame) override;
   void output(const FrameData& frame) override;
+  // What the next frames show, for a caller that changes the view between frames (the viewer's
+  // play): anything but the field, which is the pipeline's, and the step, which is the frame's.
+  // UsageError for what the pipeline cannot stream: a second field (colour field, blackbody
+  // temperature) or stored ranges.
+  void set_request(const FrameRequest& request);
   const Image& image() const { return image_; }
   uint64_t visible_abrs() const { return renderer_.visible_regions(); }
   // Called after each frame's output with its image (tests and benchmarks compare frames).

@@ -50,14 +50,29 @@ void Timeline::record(Stage stage, int step, int lane, Clock::time_point begin, 
   events_.push_back(e);
 }
 
+namespace {
+std::vector<TimelineEvent> sorted_by_begin(std::vector<TimelineEvent> events) {
+  std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) { return a.begin_ns < b.begin_ns; });
+  return events;
+}
+}  // namespace
+
 std::vector<TimelineEvent> Timeline::events() const {
   std::vector<TimelineEvent> copy;
   {
     std::lock_guard lock(mutex_);
     copy = events_;
   }
-  std::stable_sort(copy.begin(), copy.end(), [](const auto& a, const auto& b) { return a.begin_ns < b.begin_ns; });
-  return copy;
+  return sorted_by_begin(std::move(copy));
+}
+
+std::vector<TimelineEvent> Timeline::take_events() {
+  std::vector<TimelineEvent> taken;
+  {
+    std::lock_guard lock(mutex_);
+    taken.swap(events_);
+  }
+  return sorted_by_begin(std::move(taken));
 }
 
 size_t Timeline::size() const {
@@ -124,6 +139,13 @@ std::vector<StageSummary> summarize(const std::vector<TimelineEvent>& events) {
     out.push_back(sum);
   }
   return out;
+}
+
+const StageSummary* slowest_stage(const std::vector<StageSummary>& summary) {
+  const StageSummary* slowest = nullptr;
+  for (const StageSummary& s : summary)
+    if (!slowest || s.mean_ms > slowest->mean_ms) slowest = &s;
+  return slowest;
 }
 
 std::string format_summary(const std::vector<StageSummary>& summary) {

@@ -65,6 +65,9 @@ class Timeline {
   Scope scope(Stage s, int step, int lane) { return Scope(this, s, step, lane); }
 
   std::vector<TimelineEvent> events() const;  // a snapshot, sorted by begin
+  // The events so far, sorted by begin, and forgotten: a long run (the viewer's play) reads them
+  // as they come instead of keeping them all.
+  std::vector<TimelineEvent> take_events();
   size_t size() const;
   const std::string& process() const { return process_; }
   int pid() const { return pid_; }
@@ -91,6 +94,8 @@ struct StageSummary {
   double total_ms = 0, mean_ms = 0, median_ms = 0, max_ms = 0;
 };
 std::vector<StageSummary> summarize(const std::vector<TimelineEvent>& events);  // stages that occurred
-std::string format_summary(const std::vector<StageSummary>& summary);           // a text table
+// The stage with the longest mean time (null for an empty summary): what limits the frame rate.
+const StageSummary* slowest_stage(const std::vector<StageSummary>& summary);
+std::string format_summary(const std::vector<StageSummary>& summary);  // a text table
 
 }  // namespace vs::stream

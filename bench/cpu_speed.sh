@@ -28,8 +28,10 @@ echo "# base $BASE"
 echo "# new  $NEW"
 
 [ -f "$OUT/amr.plt/Header" ] || "$PY" "$HERE/make_amr_plotfile.py" "$OUT/amr.plt"
-[ -f "$OUT/amr/manifest.json" ] || "$BASE" convert "$OUT/amr.plt" -o "$OUT/amr" -q >/dev/null
-[ -f "$OUT/jet/manifest.json" ] || "$BASE" demo jet --cells 1e6 --steps 1 -o "$OUT/jet" -q >/dev/null
+# Datasets in the new binary's format (the base reads it and ignores what it does not know, such
+# as the stored ABR BVH, which it builds at load as it always did).
+[ -f "$OUT/amr/manifest.json" ] || "$NEW" convert "$OUT/amr.plt" -o "$OUT/amr" -q >/dev/null
+[ -f "$OUT/jet/manifest.json" ] || "$NEW" demo jet --cells 1e6 --steps 1 -o "$OUT/jet" -q >/dev/null
 OPACITY="$("$PY" "$HERE/layers_opacity.py" "$LO" "$HI" 6 0.3)"
 
 declare -A ARGS

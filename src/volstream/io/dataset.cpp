@@ -276,10 +276,17 @@ void validate_topology(const AmrTopology& t, const std::string& file) {
     input_error(file, "bricks hold " + std::to_string(next) + " cells, manifest says " + std::to_string(t.cell_count));
   for (uint32_t id : t.abr_bricks)
     if (id >= t.bricks.size()) input_error(file, "ABR brick index " + std::to_string(id) + " out of range");
-  for (const Abr& a : t.abrs) {
-    if (uint64_t(a.first_brick) + a.brick_count > t.abr_bricks.size() || a.brick_count == 0 || !abr_geometry_ok(t, a))
-      input_error(file, "ABR " + std::to_string(&a - t.abrs.data()) + " is invalid");
-  }
+  // Half a million ABRs on jet 1e6: checked on every core, the first bad one reported.
+  std::atomic<uint64_t> first_bad{UINT64_MAX};
+  parallel_for("check_abrs", int64_t(t.abrs.size()), [&](int64_t i) {
+    const Abr& a = t.abrs[size_t(i)];
+    if (uint64_t(a.first_brick) + a.brick_count > t.abr_bricks.size() || a.brick_count == 0 || !abr_geometry_ok(t, a)) {
+      uint64_t seen = first_bad.load();
+      while (uint64_t(i) < seen && !first_bad.compare_exchange_weak(seen, uint64_t(i))) {
+      }
+    }
+  });
+  if (first_bad.load() != UINT64_MAX) input_error(file, "ABR " + std::to_string(first_bad.load()) + " is invalid");
 }
 
 // Every element's used slots come first (4, 5, 6 or 8), name existing vertices and match the

@@ -99,4 +99,13 @@ std::vector<Cell> uniform_cells(vec3i dims, int level, vec3i offset) {
   return cells;
 }
 
+std::string bvh_difference(const std::vector<BvhNode>& a, const std::vector<BvhNode>& b) {
+  if (a.size() != b.size()) return std::to_string(a.size()) + " vs " + std::to_string(b.size()) + " nodes";
+  for (size_t i = 0; i < a.size(); ++i)
+    if (!(a[i].index == b[i].index && a[i].is_leaf == b[i].is_leaf && a[i].box.lower == b[i].box.lower &&
+          a[i].box.upper == b[i].box.upper))
+      return "node " + std::to_string(i);
+  return "";
+}
+
 }  // namespace vs::test

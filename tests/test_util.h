@@ -19,6 +19,9 @@ namespace vs::test {
 std::vector<Cell> random_octree_cells(uint32_t seed, vec3i root_dims, int levels, double refine);
 // A smooth test function of grid position (plus a per-cell jitter that makes level jumps visible).
 float test_value(const Cell& c, int variant = 0);
+// Empty when the two trees are the same node for node (links and boxes), else the first
+// difference.
+std::string bvh_difference(const std::vector<BvhNode>& a, const std::vector<BvhNode>& b);
 }  // namespace vs::test
 
 #include <functional>

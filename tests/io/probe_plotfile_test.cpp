@@ -58,14 +58,7 @@ TEST_P(PlotfileProbe, AbrProbeEqualsBruteForce) {
   ASSERT_EQ(ds.topology().abr_bvh.size(), 2 * ds.topology().abrs.size() - 1);
   AmrTopology unstored = ds.topology();
   unstored.abr_bvh.clear();
-  const Bvh built = build_abr_bvh(unstored);
-  ASSERT_EQ(built.nodes.size(), bvh.nodes.size());
-  for (size_t i = 0; i < bvh.nodes.size(); ++i) {
-    const BvhNode &a = bvh.nodes[i], &b = built.nodes[i];
-    ASSERT_TRUE(a.index == b.index && a.is_leaf == b.is_leaf && a.box.lower == b.box.lower &&
-                a.box.upper == b.box.upper)
-        << "node " << i;
-  }
+  ASSERT_EQ(test::bvh_difference(bvh.nodes, build_abr_bvh(unstored).nodes), "");
   std::mt19937 rng(GetParam());
   std::uniform_real_distribution<double> ux(-1.05, 1.05), uy(-0.05, 1.05), uz(1.95, 3.05);
   std::vector<vec3f> grid;

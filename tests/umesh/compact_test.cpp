@@ -147,30 +147,36 @@ TEST_P(CompactTest, WalkFromTheHintEqualsSearchAlongLines) {
   EXPECT_GT(walked, 1000);
 }
 
-// Every face of every element of `view`: face_neighbour (through the thread's NeighbourCache,
-// asked twice: the second answer is the cache's) gives what search_face_neighbour gives; calls
-// check(leaf before, leaf after) for each neighbour found.
-template <typename Check>
-void expect_cached_neighbours_equal_search(const CompactMeshView& view, Check&& check) {
+// Calls f(leaf, element, corner, v, n, face) for every face of every element of `view`.
+template <typename F>
+void for_each_element_face(const CompactMeshView& view, F&& f) {
   for (uint32_t l = 0; l < view.leaf_count; ++l)
     for (uint32_t k = 0; k < view.leaves[l].element_count(); ++k) {
       uint8_t corner[8];
       uint16_t v[8];
       const int n = view.element(view.leaves[l], k, corner, v);
-      for (int face = 0; face < shape::face_count(n); ++face) {
-        uint32_t want_l = l, want_k = k;
-        const bool want = view.search_face_neighbour(want_l, want_k, corner, v, n, face);
-        for (int ask = 0; ask < 2; ++ask) {
-          uint32_t got_l = l, got_k = k;
-          ASSERT_EQ(view.face_neighbour(got_l, got_k, corner, v, n, face), want)
-              << "leaf " << l << " element " << k << " face " << face << " ask " << ask;
-          if (!want) continue;
-          ASSERT_EQ(got_l, want_l) << "leaf " << l << " element " << k << " face " << face;
-          ASSERT_EQ(got_k, want_k) << "leaf " << l << " element " << k << " face " << face;
-        }
-        if (want) check(l, want_l);
-      }
+      for (int face = 0; face < shape::face_count(n); ++face) f(l, k, corner, v, n, face);
     }
+}
+
+// Every face of every element of `view`: face_neighbour (through the thread's NeighbourCache,
+// asked twice: the second answer is the cache's) gives what search_face_neighbour gives; calls
+// check(leaf before, leaf after) for each neighbour found.
+template <typename Check>
+void expect_cached_neighbours_equal_search(const CompactMeshView& view, Check&& check) {
+  for_each_element_face(view, [&](uint32_t l, uint32_t k, const uint8_t* corner, const uint16_t* v, int n, int face) {
+    uint32_t want_l = l, want_k = k;
+    const bool want = view.search_face_neighbour(want_l, want_k, corner, v, n, face);
+    for (int ask = 0; ask < 2; ++ask) {
+      uint32_t got_l = l, got_k = k;
+      ASSERT_EQ(view.face_neighbour(got_l, got_k, corner, v, n, face), want)
+          << "leaf " << l << " element " << k << " face " << face << " ask " << ask;
+      if (!want) continue;
+      ASSERT_EQ(got_l, want_l) << "leaf " << l << " element " << k << " face " << face;
+      ASSERT_EQ(got_k, want_k) << "leaf " << l << " element " << k << " face " << face;
+    }
+    if (want) check(l, want_l);
+  });
 }
 
 // The neighbour cache answers what the search answers, when filled and when hit, and a thread
@@ -205,23 +211,16 @@ TEST(Compact, FaceNeighboursAcrossSubMeshesAreFoundByPosition) {
     return out;
   };
   int across = 0;
-  for (uint32_t l = 0; l < view.leaf_count; ++l)
-    for (uint32_t k = 0; k < c.leaves[l].element_count(); ++k) {
-      uint8_t corner[8];
-      uint16_t v[8];
-      const int n = view.element(c.leaves[l], k, corner, v);
-      for (int face = 0; face < shape::face_count(n); ++face) {
-        uint32_t to_l = l, to_k = k;
-        if (!view.face_neighbour(to_l, to_k, corner, v, n, face) || c.leaves[to_l].submesh == c.leaves[l].submesh)
-          continue;
-        ++across;
-        // The two tets share exactly the face's three reference vertices.
-        const std::vector<uint32_t> a = reference_corners(l, k), b = reference_corners(to_l, to_k);
-        std::vector<uint32_t> shared;
-        std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(shared));
-        ASSERT_EQ(shared.size(), 3u) << "leaf " << l << " element " << k << " face " << face;
-      }
-    }
+  for_each_element_face(view, [&](uint32_t l, uint32_t k, const uint8_t* corner, const uint16_t* v, int n, int face) {
+    uint32_t to_l = l, to_k = k;
+    if (!view.face_neighbour(to_l, to_k, corner, v, n, face) || c.leaves[to_l].submesh == c.leaves[l].submesh) return;
+    ++across;
+    // The two tets share exactly the face's three reference vertices.
+    const std::vector<uint32_t> a = reference_corners(l, k), b = reference_corners(to_l, to_k);
+    std::vector<uint32_t> shared;
+    std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(shared));
+    ASSERT_EQ(shared.size(), 3u) << "leaf " << l << " element " << k << " face " << face;
+  });
   EXPECT_GT(across, 100);
 }
 

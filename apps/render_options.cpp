@@ -37,6 +37,9 @@ void add_render_options(CLI::App* cmd, RenderOptions& o, RenderContext context) 
   cmd->add_option("--opacity", o.opacity,
                   "opacity points VALUE:ALPHA,... with VALUE in data units (also with --log) and ALPHA the opacity "
                   "per unit distance; linear in between, constant outside (default: a ramp over the upper 90%)");
+  cmd->add_option("--layers", o.layers,
+                  "N[:ALPHA] opacity of N narrow Gaussian layers evenly over the range, ends included, each "
+                  "peaking at ALPHA (default 0.3), with the width of yt's add_layers(N); instead of --opacity");
   cmd->add_option("--unit-distance", o.unit_distance,
                   "world length over which ALPHA applies (default: 1/256 of the domain's largest extent)");
   cmd->add_option("--iso", o.iso, "isosurface values V[,V...] (at most 8), coloured by the transfer function");
@@ -140,6 +143,14 @@ TransferFunctionRequest transfer_function_request(const RenderOptions& o) {
     t.range = Range{float(v[0]), float(v[1])};
   }
   if (!o.opacity.empty()) t.opacity = parse_opacity(o.opacity);
+  if (!o.layers.empty()) {
+    const auto v = parse_numbers(o.layers, "--layers", ':');
+    if (v.empty() || v.size() > 2 || v[0] != std::floor(v[0]))
+      throw UsageError("--layers expects N or N:ALPHA with N a whole number");
+    t.layers = int(std::clamp(v[0], 0.0, 1000.0));
+    if (t.layers == 0) throw UsageError("--layers: the layer count must be in [1, 64]");
+    if (v.size() == 2) t.layer_alpha = v[1];
+  }
   return t;
 }
 

@@ -18,7 +18,7 @@
 namespace vs::cli {
 
 struct RenderOptions {
-  std::string field, tf = "auto", range, opacity, iso, color_field;
+  std::string field, tf = "auto", range, opacity, layers, iso, color_field;
   std::string camera_pos, camera_at, camera_up, size = "512x512", background = "0.06,0.06,0.08", device = "auto";
   uint32_t spp = 1;
   double fov = 35, rate = 2, iso_alpha = 1, unit_distance = 0;

@@ -21,6 +21,23 @@ expect_bad_input "bad size" render jet --size 0x10 -o x.png
 expect_bad_input "bad extension" render jet -o x.jpg
 expect_bad_input "bad colour map" render jet --tf nosuchmap -o x.png
 expect_bad_input "bad opacity" render jet --opacity 3 -o x.png
+# --layers N[:ALPHA]: the opacity of bench/layers_opacity.py (yt's add_layers), as an option.
+"$VS" render jet --log --range 1,1600 --layers 6 --size 48x48 -o layers.pfm >/dev/null
+"$VS" render jet --log --range 1,1600 --opacity "$(/usr/bin/python3 "$(dirname "$0")/../../bench/layers_opacity.py" 1 1600 6 0.3)" \
+  --size 48x48 -o points.pfm >/dev/null
+/usr/bin/python3 - layers.pfm points.pfm <<'PY' || fail "--layers 6 differs from the same layers as --opacity points"
+import struct, sys
+def pfm(path):
+    with open(path, "rb") as f:
+        f.readline(); w, h = map(int, f.readline().split()); f.readline()
+        data = f.read()
+        return struct.unpack("<%df" % (len(data) // 4), data)
+a, b = pfm(sys.argv[1]), pfm(sys.argv[2])
+assert max(abs(x - y) for x, y in zip(a, b)) < 1e-3 and max(a) > 1e-3, (max(a), max(abs(x - y) for x, y in zip(a, b)))
+PY
+expect_bad_input "layers and opacity" render jet --layers 6 --opacity 1:0.5 -o x.png
+expect_bad_input "bad layer count" render jet --layers 0 -o x.png
+expect_bad_input "bad layer alpha" render jet --layers 4:2 -o x.png
 expect_bad_input "bad camera" render jet --camera-pos 1,2 -o x.png
 expect_bad_input "degenerate camera" render jet --camera-pos 1,1,1 --camera-at 1,1,1 -o x.png
 expect_bad_input "unknown field" render jet --field nope -o x.png

@@ -205,3 +205,34 @@ TEST(FrameRendererCuda, DeviceMemoryIsWhatInfoPredicts) {
 
 }  // namespace
 }  // namespace vs
+
+namespace vs {
+namespace {
+// --layers: N Gaussian layers as yt's add_layers(N) places them, checked against the closed form
+// (the same construction as bench/layers_opacity.py): centres at LO, HI and evenly between on the
+// log scale, the peak at each centre, exp(-1/2) of it one sigma away, zero at 4 sigma.
+TEST(Look, LayersAreYtsGaussiansOnTheTableScale) {
+  TransferFunctionSpec spec;
+  spec.log_scale = true;
+  spec.lo = 6e-4f;
+  spec.hi = 4.f;
+  const int n = 6;
+  const std::vector<OpacityPoint> pts = layer_opacity_points(spec, n, 0.3);
+  ASSERT_EQ(pts.size(), size_t(15 * n));
+  const double a = std::log10(6e-4), b = std::log10(4.0), w = 0.001 * (b - a) / n, sigma = std::sqrt(w / 2);
+  for (int i = 0; i < n; ++i) {
+    const double centre = a + (b - a) * i / (n - 1);
+    const OpacityPoint* layer = &pts[size_t(15 * i)];
+    EXPECT_NEAR(layer[7].x, float(normalised_position(spec, std::pow(10.0, centre))), 1e-6) << i;
+    EXPECT_NEAR(layer[7].a, 0.3f, 1e-7f);
+    EXPECT_NEAR(layer[9].a, 0.3 * std::exp(-0.5), 1e-6);  // k = 1: exp(-sigma^2 / w) = exp(-1/2)
+    EXPECT_NEAR(layer[9].x - layer[7].x, sigma / (b - a), 1e-6);
+    EXPECT_EQ(layer[0].a, 0.f);
+    EXPECT_EQ(layer[14].a, 0.f);
+  }
+  for (size_t k = 1; k < pts.size(); ++k) EXPECT_LT(pts[k - 1].x, pts[k].x);
+  EXPECT_THROW(layer_opacity_points(spec, 0, 0.3), UsageError);
+  EXPECT_THROW(layer_opacity_points(spec, 6, 1.5), UsageError);
+}
+}  // namespace
+}  // namespace vs

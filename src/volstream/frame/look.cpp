@@ -97,6 +97,26 @@ std::vector<OpacityPoint> opacity_points(const std::vector<std::pair<double, dou
 
 }  // namespace
 
+std::vector<OpacityPoint> layer_opacity_points(const TransferFunctionSpec& spec, int n, double alpha) {
+  if (n < 1 || n > 64) throw UsageError("--layers: the layer count must be in [1, 64]");
+  if (!(alpha > 0 && alpha <= 1)) throw UsageError("--layers: the layer alpha must be in (0, 1]");
+  auto scale = [&](double v) { return spec.log_scale ? std::log10(v) : v; };
+  const double a = scale(spec.lo), span = scale(spec.hi) - a;
+  if (!(span > 0)) throw UsageError("--layers: the value range is empty");
+  const double w = 0.001 * span / n, sigma = std::sqrt(w / 2);
+  static const double kSigmas[] = {-4, -3, -2.5, -2, -1.5, -1, -0.5, 0, 0.5, 1, 1.5, 2, 2.5, 3, 4};
+  std::vector<OpacityPoint> pts;
+  for (int i = 0; i < n; ++i) {
+    const double c = n > 1 ? double(i) / (n - 1) : 0.5;  // normalised centre
+    for (double k : kSigmas) {
+      const double d = k * sigma;  // scale units from the centre
+      const double layer = std::fabs(k) == 4 ? 0.0 : alpha * std::exp(-d * d / w);
+      pts.push_back({float(c + d / span), float(layer)});
+    }
+  }
+  return pts;  // sorted: the layers are far narrower than their spacing
+}
+
 TransferFunctionSpec make_transfer_function(const DatasetManifest& m, int field, const std::vector<int>& range_steps,
                                             const TransferFunctionRequest& request) {
   const Look look = default_look(m);
@@ -105,7 +125,10 @@ TransferFunctionSpec make_transfer_function(const DatasetManifest& m, int field,
   TransferFunctionSpec spec;
   spec.log_scale = request.log || (use_look && look.log_decades > 0);
   value_range(request, union_range(m.fields[size_t(field)], range_steps), use_look ? look.log_decades : 0.f, spec);
-  if (!request.opacity.empty())
+  if (request.layers > 0 && !request.opacity.empty()) throw UsageError("--layers and --opacity exclude each other");
+  if (request.layers > 0)
+    spec.opacity = layer_opacity_points(spec, request.layers, request.layer_alpha);
+  else if (!request.opacity.empty())
     spec.opacity = opacity_points(request.opacity, spec);
   else if (use_look)
     spec.opacity = look.opacity;

@@ -44,7 +44,18 @@ struct TransferFunctionRequest {
   std::optional<Range> range;      // data units; default: the field's range over the range steps
   bool log = false;                // log10 scale (the demos' looks are log anyway under auto)
   std::vector<std::pair<double, double>> opacity;  // (value in data units, alpha); empty: look/preset/ramp
+  // Instead of opacity points: `layers` narrow Gaussian layers over the range, each peaking at
+  // layer_alpha (layer_opacity_points); 0: none.
+  int layers = 0;
+  double layer_alpha = 0.3;
 };
+
+// Opacity of n narrow Gaussian layers as yt's ColorTransferFunction.add_layers(n) places them,
+// in the table's scale (log10 with log_scale): centres evenly spaced over [lo, hi] including both
+// ends, each alpha * exp(-(x - c)^2 / w) with yt's default width w = 0.001 (hi - lo) / n (scale
+// units), sampled at 15 points over +-4 sigma (zero at the outermost). Positions normalised as
+// OpacityPoint's (0 at lo, 1 at hi; the end layers reach beyond).
+std::vector<OpacityPoint> layer_opacity_points(const TransferFunctionSpec& spec, int n, double alpha);
 
 // The union of a field's stored per-step ranges over `steps`.
 Range union_range(const FieldInfo& field, const std::vector<int>& steps);

@@ -48,7 +48,7 @@ uint64_t RegionBvh::classify(const std::vector<Range>& ranges, const TransferTab
 uint64_t RegionBvh::refit(const std::vector<uint8_t>& keep, SkipStats* stats) {
   Stopwatch watch;
   refit_bvh(nodes_, boxes_, keep);
-  refit_bvh4(wide_, nodes_);
+  if (!wide_.nodes.empty()) refit_bvh4(wide_, nodes_);  // only where the CPU walk uses it (ABRs)
   const uint64_t visible = keep.empty() ? boxes_.size() : uint64_t(std::count(keep.begin(), keep.end(), uint8_t(1)));
   if (stats) {
     stats->refit_seconds = watch.seconds();

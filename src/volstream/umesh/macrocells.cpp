@@ -59,6 +59,12 @@ MacroGrid make_grid(const box3f& bounds, uint64_t elements) {
 
 }  // namespace
 
+box3f MacroCells::box(size_t region) const {
+  const uint64_t c = cell_of_region[region], row = uint64_t(grid.dims.x);
+  const uint64_t plane = row * uint64_t(grid.dims.y);
+  return grid.cell_box({int(c % row), int(c / row % uint64_t(grid.dims.y)), int(c / plane)});
+}
+
 float element_size(const box3f& b) {
   const vec3d s(b.size());  // double: the product of three large extents overflows a float
   const float root = cbrtf(float(std::min(s.x * s.y * s.z, double(FLT_MAX))));
@@ -99,28 +105,19 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, ElementsOf&& visit_e
     });
   });
   m.region_of_cell.assign(n, -1);
-  for (int z = 0; z < m.grid.dims.z; ++z)
-    for (int y = 0; y < m.grid.dims.y; ++y)
-      for (int x = 0; x < m.grid.dims.x; ++x) {
-        const uint64_t c = m.grid.index({x, y, z});
-        const float width = from_ordered(finest[c]);
-        if (finest[c] == ordered(INFINITY)) continue;  // no element overlaps it
-        m.region_of_cell[c] = int32_t(m.boxes.size());
-        const vec3f lower = m.grid.bounds.lower + vec3f(float(x), float(y), float(z)) * m.grid.cell_size;
-        // The last layer ends exactly on the bounds (no rounding gap at the far faces).
-        vec3f upper = lower + m.grid.cell_size;
-        for (int a = 0; a < 3; ++a)
-          if ((a == 0 ? x : a == 1 ? y : z) == m.grid.dims[a] - 1) upper[a] = m.grid.bounds.upper[a];
-        m.boxes.push_back({lower, upper});
-        m.step_width.push_back(width);
-      }
+  for (uint64_t c = 0; c < n; ++c) {
+    if (finest[c] == ordered(INFINITY)) continue;  // no element overlaps it
+    m.region_of_cell[c] = int32_t(m.cell_of_region.size());
+    m.cell_of_region.push_back(uint32_t(c));
+    m.step_width.push_back(from_ordered(finest[c]));
+  }
   return m;
 }
 
 // The ranges over an encoding's elements (visit_elements as for build_over).
 template <typename ElementsOf>
 std::vector<Range> ranges_over(const MacroCells& m, int64_t items, const float* values, ElementsOf&& visit_elements) {
-  std::vector<uint32_t> lo(m.boxes.size(), ordered(INFINITY)), hi(m.boxes.size(), ordered(-INFINITY));
+  std::vector<uint32_t> lo(m.region_count(), ordered(INFINITY)), hi(m.region_count(), ordered(-INFINITY));
   parallel_for("macrocell ranges", items, [&](int64_t item) {
     visit_elements(item, [&](const box3f& box, const uint32_t* vertex, int n) {
       float elo = INFINITY, ehi = -INFINITY;
@@ -138,7 +135,7 @@ std::vector<Range> ranges_over(const MacroCells& m, int64_t items, const float* 
       });
     });
   });
-  std::vector<Range> ranges(m.boxes.size());
+  std::vector<Range> ranges(m.region_count());
   for (size_t r = 0; r < ranges.size(); ++r) ranges[r] = {from_ordered(lo[r]), from_ordered(hi[r])};
   return ranges;
 }

@@ -247,6 +247,36 @@ TEST_P(CompactTest, ChildrenHoldingNeverDropsAChildThatHoldsThePoint) {
 
 INSTANTIATE_TEST_SUITE_P(Demos, CompactTest, ::testing::Values("tets", "mixed", "holes"));
 
+// A multi-leaf holds two runs of the cluster order where they hold tets alone (64 per leaf but
+// the last), else one: other elements (here hexes of 8 vertices each, 64 x 8 > 256) 32 at most.
+TEST(Compact, LeavesOfTetsHoldTwoRunsOthersOne) {
+  const Encoded e = encode("tets", 20000);
+  size_t full = 0;
+  for (const CompactLeaf& leaf : e.compact.leaves) full += leaf.element_count() == kMultiLeafSize;
+  EXPECT_EQ(full, e.mesh.elements.size() / kMultiLeafSize);
+
+  UMesh hexes;  // 1000 unit cubes apart from each other, 8 vertices of their own each
+  for (uint32_t h = 0; h < 1000; ++h) {
+    UElement el;
+    const vec3f at(float(h % 10) * 2.f, float(h / 10 % 10) * 2.f, float(h / 100) * 2.f);
+    for (uint32_t i = 0; i < 8; ++i) {
+      el.v[i] = uint32_t(hexes.vertices.size());
+      const uint32_t x = (i == 1 || i == 2 || i == 5 || i == 6), y = (i == 2 || i == 3 || i == 6 || i == 7);
+      hexes.vertices.push_back(at + vec3f(float(x), float(y), float(i >= 4)));
+    }
+    hexes.elements.push_back(el);
+  }
+  hexes.count_by_type[3] = hexes.elements.size();
+  const CompactMesh c = build_compact_mesh(hexes);
+  uint64_t elements = 0;
+  for (const CompactLeaf& leaf : c.leaves) {
+    EXPECT_LE(leaf.element_count(), kMultiLeafSize / 2);
+    EXPECT_EQ(leaf.table_size(), 8u * leaf.element_count());
+    elements += leaf.element_count();
+  }
+  EXPECT_EQ(elements, hexes.elements.size());
+}
+
 TEST(Compact, BytesPerElementOfOneMillionTetsAreMeasured) {
   const Encoded e = encode("tets", 1000000);
   const CompactBytes b = e.compact.bytes_by_part();

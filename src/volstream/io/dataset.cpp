@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <type_traits>
 
@@ -86,6 +87,7 @@ json manifest_to_json(const DatasetManifest& m) {
       j["compact"] = {{"local_vertices", m.mesh.local_vertices},
                       {"leaf_parents", m.mesh.leaf_parents},
                       {"records", m.mesh.compact_records}};
+      if (m.mesh.macrocells) j["compact"]["macrocells"] = m.mesh.macrocells;
     } else {
       j["mesh_encoding"] = "reference";
       j["bvh_node_count"] = m.mesh.bvh_nodes;
@@ -138,6 +140,7 @@ DatasetManifest manifest_from_json(const json& j) {
       m.mesh.local_vertices = c.at("local_vertices").get<uint64_t>();
       m.mesh.leaf_parents = c.at("leaf_parents").get<uint64_t>();
       m.mesh.compact_records = c.at("records").get<std::map<std::string, uint64_t>>();
+      m.mesh.macrocells = c.value("macrocells", uint64_t(0));  // absent before issue 17's leaf index
     } else if (encoding == "reference") {
       m.mesh.bvh_nodes = j.at("bvh_node_count").get<uint64_t>();
     } else {
@@ -219,6 +222,7 @@ void validate_manifest(const DatasetManifest& m) {
         fail("compact counts out of range");
       for (const auto& [file, records] : c.compact_records)
         if (records > 8 * c.elements + c.local_vertices + 1) fail("compact record count of " + file + " out of range");
+      if (c.macrocells > uint64_t(256 * 256 * 256)) fail("macrocell count out of range");
     } else if (c.bvh_nodes == 0 || c.bvh_nodes > 2 * c.elements) {
       fail("counts out of range");
     }
@@ -379,6 +383,18 @@ void DatasetWriter::write_compact_mesh(const UMesh& mesh, const CompactMesh& com
     write_file(dir_ / file, array.data(), array.size() * sizeof(array[0]));
     manifest_.mesh.compact_records[file] = array.size();
   });
+  write_macrocells(build_macrocells(compact));
+}
+
+// The grid, then the non-empty cells: what a rank chooses its leaves by (umesh/leaf_index.h).
+void DatasetWriter::write_macrocells(const MacroCells& cells) {
+  const std::vector<StoredMacrocell> stored = stored_macrocells(cells);
+  std::vector<uint8_t> bytes(sizeof(MacroGrid) + stored.size() * sizeof(StoredMacrocell));
+  std::memcpy(bytes.data(), &cells.grid, sizeof(MacroGrid));
+  if (!stored.empty())
+    std::memcpy(bytes.data() + sizeof(MacroGrid), stored.data(), stored.size() * sizeof(StoredMacrocell));
+  write_file(dir_ / dataset_files::kMeshMacrocells, bytes.data(), bytes.size());
+  manifest_.mesh.macrocells = stored.size();
 }
 
 void DatasetWriter::write_values(int field, int step, const std::vector<float>& values) {
@@ -416,7 +432,14 @@ void DatasetWriter::finish() {
 }
 
 // ---------------------------------------------------------------------------------------------
-Dataset::Dataset(const fs::path& dir) : dir_(dir) {
+template <typename T>
+std::vector<T> Dataset::read_topology(const fs::path& path, uint64_t count) {
+  std::vector<T> records = read_records<T>(path, count);
+  topology_bytes_read_ += count * sizeof(T);
+  return records;
+}
+
+Dataset::Dataset(const fs::path& dir, TopologyLoad load) : dir_(dir) {
   const fs::path manifest_path = dir / dataset_files::kManifest;
   try {
     manifest_ = manifest_from_json(json::parse(read_text_file(manifest_path)));
@@ -427,13 +450,14 @@ Dataset::Dataset(const fs::path& dir) : dir_(dir) {
     input_error(manifest_path.string(), std::string("bad manifest: ") + e.what());
   }
   if (manifest_.kind == DatasetKind::umesh) {
+    deferred_ = load == TopologyLoad::deferred && manifest_.mesh.compact() && manifest_.mesh.macrocells > 0;
     load_mesh();
     return;
   }
   topology_.cell_count = manifest_.cell_count;
-  topology_.bricks = read_records<Brick>(dir / dataset_files::kBricks, manifest_.brick_count);
-  topology_.abrs = read_records<Abr>(dir / dataset_files::kAbrs, manifest_.abr_count);
-  topology_.abr_bricks = read_records<uint32_t>(dir / dataset_files::kAbrBricks, manifest_.abr_brick_count);
+  topology_.bricks = read_topology<Brick>(dir / dataset_files::kBricks, manifest_.brick_count);
+  topology_.abrs = read_topology<Abr>(dir / dataset_files::kAbrs, manifest_.abr_count);
+  topology_.abr_bricks = read_topology<uint32_t>(dir / dataset_files::kAbrBricks, manifest_.abr_brick_count);
   validate_topology(topology_, (dir / dataset_files::kBricks).string());
   if (manifest_.abr_bvh_node_count) read_abr_bvh();
   count_topology_bytes();
@@ -447,14 +471,14 @@ Dataset::Dataset(const fs::path& dir) : dir_(dir) {
 
 void Dataset::load_mesh() {
   if (manifest_.mesh.compact()) return load_compact_mesh();
-  mesh_.vertices = read_records<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
-  mesh_.elements = read_records<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
+  mesh_.vertices = read_topology<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
+  mesh_.elements = read_topology<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
   for (int t = 0; t < 4; ++t) mesh_.count_by_type[t] = manifest_.mesh.by_type[t];
   validate_mesh(mesh_, manifest_.mesh, (dir_ / dataset_files::kMeshElements).string());
-  mesh_accel_.bvh.nodes = read_records<ElementBvhNode>(dir_ / dataset_files::kMeshBvhNodes, manifest_.mesh.bvh_nodes);
-  mesh_accel_.bvh.items = read_records<uint32_t>(dir_ / dataset_files::kMeshBvhItems, manifest_.mesh.elements);
+  mesh_accel_.bvh.nodes = read_topology<ElementBvhNode>(dir_ / dataset_files::kMeshBvhNodes, manifest_.mesh.bvh_nodes);
+  mesh_accel_.bvh.items = read_topology<uint32_t>(dir_ / dataset_files::kMeshBvhItems, manifest_.mesh.elements);
   mesh_accel_.neighbors =
-      read_records<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
+      read_topology<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
   check_mesh_accel(mesh_, mesh_accel_, (dir_ / dataset_files::kMeshBvhNodes).string());
   count_mesh_bytes();
 }
@@ -473,16 +497,26 @@ void Dataset::count_mesh_bytes() {
 
 // The compact arrays, each of the manifest's record count (a file the manifest does not list, or
 // lists and the table does not know, is a damaged dataset), then checked as a whole.
+namespace {
+// The manifest's record count of each compact array file, checked to name exactly the arrays.
+const std::map<std::string, uint64_t>& compact_records(const DatasetManifest& m, const fs::path& manifest_path) {
+  std::map<std::string, uint64_t> unlisted = m.mesh.compact_records;
+  CompactMesh names;
+  for_each_compact_array(names, [&](const char* file, auto&) {
+    if (!unlisted.erase(file)) input_error(manifest_path.string(), std::string("no record count for ") + file);
+  });
+  if (!unlisted.empty()) input_error(manifest_path.string(), "unknown compact array " + unlisted.begin()->first);
+  return m.mesh.compact_records;
+}
+}  // namespace
+
 void Dataset::load_compact_mesh() {
   const fs::path manifest_path = dir_ / dataset_files::kManifest;
-  std::map<std::string, uint64_t> unread = manifest_.mesh.compact_records;
+  const std::map<std::string, uint64_t>& records = compact_records(manifest_, manifest_path);
+  if (deferred_) return load_compact_index();
   for_each_compact_array(compact_, [&](const char* file, auto& array) {
-    const auto it = unread.find(file);
-    if (it == unread.end()) input_error(manifest_path.string(), std::string("no record count for ") + file);
-    array = read_records<typename std::decay_t<decltype(array)>::value_type>(dir_ / file, it->second);
-    unread.erase(it);
+    array = read_topology<typename std::decay_t<decltype(array)>::value_type>(dir_ / file, records.at(file));
   });
-  if (!unread.empty()) input_error(manifest_path.string(), "unknown compact array " + unread.begin()->first);
   if (compact_.vertices.size() != manifest_.mesh.local_vertices)
     input_error(manifest_path.string(), "local_vertices does not match compact_vertices.bin");
   compact_.elements = manifest_.mesh.elements;
@@ -491,6 +525,51 @@ void Dataset::load_compact_mesh() {
       compact_.vertices.size() - std::min<uint64_t>(compact_.vertices.size(), manifest_.mesh.vertices);
   check_compact_mesh(compact_, manifest_.mesh.by_type, dir_);
   count_mesh_bytes();
+}
+
+// The leaf index only: the tree, leaf and sub-mesh records (checked as at a whole read, but for
+// what needs the bytes and vertices: restrict_to checks the part's) and the macrocells.
+void Dataset::load_compact_index() {
+  const std::map<std::string, uint64_t>& records = manifest_.mesh.compact_records;
+  compact_.nodes = read_topology<CompactNode>(dir_ / "compact_nodes.bin", records.at("compact_nodes.bin"));
+  compact_.leaves = read_topology<CompactLeaf>(dir_ / "compact_leaves.bin", records.at("compact_leaves.bin"));
+  compact_.submeshes =
+      read_topology<CompactSubmesh>(dir_ / "compact_submeshes.bin", records.at("compact_submeshes.bin"));
+  if (records.at("compact_vertices.bin") != manifest_.mesh.local_vertices)
+    input_error((dir_ / dataset_files::kManifest).string(), "local_vertices does not match compact_vertices.bin");
+  compact_.elements = manifest_.mesh.elements;
+  compact_.leaf_parents = uint32_t(manifest_.mesh.leaf_parents);
+  check_submeshes(compact_.submeshes, manifest_.mesh.local_vertices, records.at("compact_bytes.bin"), dir_);
+  check_leaf_records(compact_, manifest_.mesh.by_type, dir_);
+  check_compact_tree(compact_, dir_);
+  read_stored_macrocells();
+  count_mesh_bytes();
+}
+
+void Dataset::read_stored_macrocells() {
+  const fs::path path = dir_ / dataset_files::kMeshMacrocells;
+  const uint64_t count = manifest_.mesh.macrocells;
+  const uint64_t size = file_size_checked(path), bytes = sizeof(MacroGrid) + count * sizeof(StoredMacrocell);
+  if (size != bytes) throw_size_mismatch(path, size, bytes);
+  MacroGrid grid;
+  read_exact(path, 0, &grid, sizeof(grid));
+  std::vector<StoredMacrocell> cells(count);
+  read_exact(path, sizeof(grid), cells.data(), count * sizeof(StoredMacrocell));
+  topology_bytes_read_ += bytes;
+  stored_cells_ = macrocells_from_stored(grid, cells, manifest_.mesh.elements, path.string());
+}
+
+CompactLeafIndex Dataset::compact_leaf_index() const {
+  if (!is_compact_mesh() || part())
+    throw std::logic_error("Dataset::compact_leaf_index: not a compact mesh, or already restricted");
+  return vs::compact_leaf_index(compact_, deferred_ ? stored_cells_ : build_macrocells(compact_));
+}
+
+Box3<double> Dataset::mesh_world_bounds() const {
+  if (!deferred_) return world_bounds(mesh_vertices(), manifest_.transform);
+  // Every local vertex is a corner of an element, so the grid's bounds are the vertices'.
+  const box3f& b = stored_cells_.grid.bounds;
+  return {manifest_.transform.to_world(vec3d(b.lower)), manifest_.transform.to_world(vec3d(b.upper))};
 }
 
 const UMesh& Dataset::mesh() const {
@@ -505,6 +584,7 @@ const MeshAccel& Dataset::mesh_accel() const {
 
 const CompactMesh& Dataset::compact_mesh() const {
   if (!is_compact_mesh()) throw std::logic_error("Dataset::compact_mesh: the dataset stores no compact encoding");
+  if (deferred_) throw std::logic_error("Dataset::compact_mesh: the topology is deferred (restrict_to first)");
   return compact_;
 }
 
@@ -542,7 +622,7 @@ std::vector<float> Dataset::load_file_order_values(int field, int step) const {
 
 void Dataset::read_abr_bvh() {
   const fs::path path = dir_ / dataset_files::kAbrBvh;
-  const std::vector<uint32_t> links = read_records<uint32_t>(path, 2 * manifest_.abr_bvh_node_count);
+  const std::vector<uint32_t> links = read_topology<uint32_t>(path, 2 * manifest_.abr_bvh_node_count);
   std::vector<BvhNode>& nodes = topology_.abr_bvh;
   nodes.resize(manifest_.abr_bvh_node_count);
   for (size_t i = 0; i < nodes.size(); ++i) nodes[i] = {box3f::make_empty(), links[2 * i], links[2 * i + 1]};
@@ -639,7 +719,10 @@ void Dataset::restrict_bricks(const DatasetPart& part) {
 // The part's vertices are in ascending order of the file's: their values are runs of it.
 void Dataset::restrict_mesh(const std::vector<uint32_t>& items) {
   std::vector<uint32_t> source;
-  if (is_compact_mesh()) {
+  if (deferred_) {
+    read_compact_part(items, source);
+    deferred_ = false;
+  } else if (is_compact_mesh()) {
     compact_ = compact_subset(compact_, items, source);
   } else {
     mesh_ = mesh_subset(mesh_, items, source);
@@ -647,6 +730,69 @@ void Dataset::restrict_mesh(const std::vector<uint32_t>& items) {
   }
   count_mesh_bytes();
   for (uint32_t v : source) append_run(part_runs_, {uint64_t(v) * sizeof(float), sizeof(float)});
+}
+
+namespace {
+// A file of exactly `count` records of `record` bytes (as read_records checks it), of which only
+// runs are read.
+void check_record_file(const fs::path& path, uint64_t count, uint64_t record) {
+  const uint64_t size = file_size_checked(path);
+  if (size != count * record) throw_size_mismatch(path, size, count * record);
+}
+}  // namespace
+
+// The leaves' bytes and then the vertices their tables name, each as runs of the files (leaves
+// and vertices ascend), checked before they are used as at a whole read; then the part as a whole
+// (check_compact_mesh), and each leaf inside the index box it was chosen by.
+void Dataset::read_compact_part(const std::vector<uint32_t>& leaves, std::vector<uint32_t>& source_vertex) {
+  const fs::path bytes_path = dir_ / "compact_bytes.bin", vertices_path = dir_ / "compact_vertices.bin";
+  const uint64_t vertex_count = manifest_.mesh.local_vertices;
+  const uint64_t byte_count = manifest_.mesh.compact_records.at("compact_bytes.bin");
+  check_record_file(bytes_path, byte_count, 1);
+  check_record_file(vertices_path, vertex_count, sizeof(vec3f));
+  std::vector<ByteRun> runs;
+  std::vector<uint64_t> offsets;  // of each leaf's bytes in `bytes`
+  uint64_t total = 0;
+  for (uint32_t l : leaves) {
+    const CompactLeaf& leaf = compact_.leaves.at(l);
+    const SubmeshRuns in = submesh_runs(compact_.submeshes, leaf.submesh, vertex_count, byte_count);
+    const uint64_t begin = in.bytes_begin + leaf.first_byte, size = leaf_byte_count(leaf);
+    if (begin + size > in.bytes_end)
+      input_error((dir_ / "compact_leaves.bin").string(),
+                  "leaf " + std::to_string(l) + " has bytes beyond its sub-mesh's");
+    append_run(runs, {begin, size});
+    offsets.push_back(total);
+    total += size;
+  }
+  std::vector<uint8_t> bytes(total);
+  read_runs(bytes_path, runs, bytes.data());
+  topology_bytes_read_ += total;
+  CompactPieces pieces;
+  for (size_t i = 0; i < leaves.size(); ++i) {
+    const CompactLeaf& leaf = compact_.leaves[leaves[i]];
+    const uint64_t submesh_vertices = submesh_runs(compact_.submeshes, leaf.submesh, vertex_count, byte_count).vertices;
+    if (const std::string problem = leaf_bytes_problem(leaf, bytes.data() + offsets[i], submesh_vertices);
+        !problem.empty())
+      input_error(bytes_path.string(), "leaf " + std::to_string(leaves[i]) + " " + problem);
+    pieces.leaves.push_back(leaf);
+    pieces.bytes.push_back(bytes.data() + offsets[i]);
+  }
+  const CompactLeafIndex index = compact_leaf_index();
+  CompactMesh part = compact_part(pieces, compact_.submeshes, source_vertex);
+  runs.clear();
+  for (uint32_t v : source_vertex) append_run(runs, {uint64_t(v) * sizeof(vec3f), sizeof(vec3f)});
+  std::vector<vec3f> vertices(source_vertex.size());
+  read_runs(vertices_path, runs, vertices.data());
+  topology_bytes_read_ += vertices.size() * sizeof(vec3f);
+  const std::vector<box3f> boxes = finish_compact_part(part, std::move(vertices));
+  uint64_t by_type[4] = {};
+  for (size_t i = 0; i < leaves.size(); ++i) {
+    for (int t = 0; t < 4; ++t) by_type[t] += part.leaves[i].counts[t];
+    if (!index.leaf_boxes[leaves[i]].contains(boxes[i]))
+      input_error((dir_ / "compact_nodes.bin").string(), "leaf " + std::to_string(leaves[i]) + " lies outside its box");
+  }
+  if (!leaves.empty()) check_compact_mesh(part, by_type, dir_);
+  compact_ = std::move(part);
 }
 
 // ---------------------------------------------------------------------------------------------

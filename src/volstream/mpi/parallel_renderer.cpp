@@ -28,6 +28,7 @@ ParallelRenderer::ParallelRenderer(Dataset& dataset, Device device, const FrameR
   dataset.restrict_to(std::move(part));
   if (dataset.is_mesh()) share_.vertices = dataset.mesh_vertices().size();
   share_.topology_bytes = dataset.topology_bytes();
+  share_.topology_bytes_read = dataset.topology_bytes_read();
   if (!empty) renderer_ = std::make_unique<FrameRenderer>(dataset, device);
 }
 
@@ -47,10 +48,9 @@ void ParallelRenderer::share_bricks(DatasetPart& part, const IntegratorSettings&
 }
 
 namespace {
-// The mesh's partition by element centroids and this rank's share, on the whole mesh's
-// macrocells (kept for the part: its regions are theirs).
-template <typename Mesh>
-MeshShare split_mesh(const Mesh& mesh, const IntegratorSettings& settings, int rank, int ranks, Partition& partition,
+// The reference encoding's partition by element centroids and this rank's share, on the whole
+// mesh's macrocells (kept for the part: its regions are theirs).
+MeshShare split_mesh(const UMesh& mesh, const IntegratorSettings& settings, int rank, int ranks, Partition& partition,
                      MacroGrid& grid) {
   const std::vector<vec3d> centroids = element_centroids(mesh);
   partition = partition_points(centroids, ranks);
@@ -58,11 +58,19 @@ MeshShare split_mesh(const Mesh& mesh, const IntegratorSettings& settings, int r
   grid = cells.grid;
   return mesh_share(mesh, cells, centroids, partition.regions[size_t(rank)], settings);
 }
+// The compact encoding's by its leaf index (read without the mesh where the dataset stores it).
+MeshShare split_mesh(const CompactLeafIndex& index, const IntegratorSettings& settings, int rank, int ranks,
+                     Partition& partition, MacroGrid& grid) {
+  const std::vector<vec3d> points = index.leaf_points();
+  partition = partition_points(points, ranks, index.leaf_elements);
+  grid = index.cells.grid;
+  return mesh_share(index, points, partition.regions[size_t(rank)], settings);
+}
 }  // namespace
 
 void ParallelRenderer::share_mesh(DatasetPart& part, const IntegratorSettings& settings, int rank, int ranks) {
   MeshShare mine = dataset_.is_compact_mesh()
-                       ? split_mesh(dataset_.compact_mesh(), settings, rank, ranks, partition_, part.mesh_grid)
+                       ? split_mesh(dataset_.compact_leaf_index(), settings, rank, ranks, partition_, part.mesh_grid)
                        : split_mesh(dataset_.mesh(), settings, rank, ranks, partition_, part.mesh_grid);
   part.owned = partition_.regions[size_t(rank)];
   share_.mesh = true;

@@ -42,7 +42,9 @@ void for_each_cell(const MacroGrid& g, const box3f& b, F&& f) {
       for (int x = lo.x; x <= hi.x; ++x) f(g.index({x, y, z}));
 }
 
-MacroGrid make_grid(const box3f& bounds, uint64_t elements) {
+}  // namespace
+
+MacroGrid macro_grid(const box3f& bounds, uint64_t elements) {
   MacroGrid g;
   g.bounds = bounds;
   const vec3f size = vmax(g.bounds.size(), vec3f(1e-30f));
@@ -57,7 +59,20 @@ MacroGrid make_grid(const box3f& bounds, uint64_t elements) {
   return g;
 }
 
-}  // namespace
+box3f macrocell_box(const MacroGrid& g, const vec3i& c) {
+  const vec3f lower = g.bounds.lower + vec3f(float(c.x), float(c.y), float(c.z)) * g.cell_size;
+  // The last layer ends exactly on the bounds (no rounding gap at the far faces).
+  vec3f upper = lower + g.cell_size;
+  for (int a = 0; a < 3; ++a)
+    if (c[a] == g.dims[a] - 1) upper[a] = g.bounds.upper[a];
+  return {lower, upper};
+}
+
+bool box_touches(const MacroGrid& grid, const box3f& box, const std::vector<uint8_t>& cells) {
+  uint8_t hit = 0;
+  for_each_cell(grid, box, [&](uint64_t c) { hit |= cells[c]; });
+  return hit != 0;
+}
 
 float element_size(const box3f& b) {
   const vec3d s(b.size());  // double: the product of three large extents overflows a float
@@ -89,7 +104,7 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, ElementsOf&& visit_e
       },
       1024);
   MacroCells m;
-  m.grid = grid ? *grid : make_grid(bounds, elements);
+  m.grid = grid ? *grid : macro_grid(bounds, elements);
   const uint64_t n = m.grid.cell_count();
   std::vector<uint32_t> finest(n, ordered(INFINITY));
   parallel_for("macrocell sizes", items, [&](int64_t item) {
@@ -106,12 +121,7 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, ElementsOf&& visit_e
         const float width = from_ordered(finest[c]);
         if (finest[c] == ordered(INFINITY)) continue;  // no element overlaps it
         m.region_of_cell[c] = int32_t(m.boxes.size());
-        const vec3f lower = m.grid.bounds.lower + vec3f(float(x), float(y), float(z)) * m.grid.cell_size;
-        // The last layer ends exactly on the bounds (no rounding gap at the far faces).
-        vec3f upper = lower + m.grid.cell_size;
-        for (int a = 0; a < 3; ++a)
-          if ((a == 0 ? x : a == 1 ? y : z) == m.grid.dims[a] - 1) upper[a] = m.grid.bounds.upper[a];
-        m.boxes.push_back({lower, upper});
+        m.boxes.push_back(macrocell_box(m.grid, {x, y, z}));
         m.step_width.push_back(width);
       }
   return m;
@@ -181,20 +191,6 @@ std::vector<vec3d> centroids_of(const Mesh& mesh, const std::vector<vec3f>& vert
   return out;
 }
 
-template <typename Mesh>
-std::vector<uint8_t> touching(const Mesh& mesh, int64_t items, const MacroGrid& grid,
-                              const std::vector<uint8_t>& cells) {
-  std::vector<uint8_t> out(size_t(items), 0);
-  const auto visit = elements_of(mesh);
-  parallel_for("items touching cells", items, [&](int64_t item) {
-    uint8_t hit = 0;
-    visit(item, [&](const box3f& box, const uint32_t*, int) {
-      for_each_cell(grid, box, [&](uint64_t c) { hit |= cells[c]; });
-    });
-    out[size_t(item)] = hit;
-  });
-  return out;
-}
 }  // namespace
 
 std::vector<vec3d> element_centroids(const UMesh& mesh) {
@@ -204,11 +200,12 @@ std::vector<vec3d> element_centroids(const CompactMesh& mesh) {
   return centroids_of(mesh, mesh.vertices, int64_t(mesh.leaves.size()));
 }
 
-std::vector<uint8_t> items_touching(const UMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells) {
-  return touching(mesh, int64_t(mesh.elements.size()), grid, cells);
-}
-std::vector<uint8_t> items_touching(const CompactMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells) {
-  return touching(mesh, int64_t(mesh.leaves.size()), grid, cells);
+std::vector<uint8_t> elements_touching(const UMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells) {
+  std::vector<uint8_t> out(mesh.elements.size(), 0);
+  parallel_for("elements touching cells", int64_t(out.size()), [&](int64_t e) {
+    out[size_t(e)] = box_touches(grid, element_box(mesh.vertices.data(), mesh.elements[size_t(e)]), cells);
+  });
+  return out;
 }
 
 std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& m, const float* values) {

@@ -21,4 +21,17 @@ UMesh mesh_subset(const UMesh& mesh, const std::vector<uint32_t>& elements, std:
 CompactMesh compact_subset(const CompactMesh& mesh, const std::vector<uint32_t>& leaves,
                            std::vector<uint32_t>& source_vertex);
 
+// compact_subset in two steps, for a reader that has only the asked-for leaves (Dataset reading
+// a rank's share): from their records (in the whole mesh's order, sub-meshes the whole mesh's)
+// and bytes (checked: compact_store.h), the part without vertex positions, and source_vertex;
+// then its vertices (the positions of source_vertex, in order) and its tree. The part's leaf
+// boxes are returned.
+struct CompactPieces {
+  std::vector<CompactLeaf> leaves;
+  std::vector<const uint8_t*> bytes;  // each leaf's vertex table and corners
+};
+CompactMesh compact_part(const CompactPieces& pieces, const std::vector<CompactSubmesh>& submeshes,
+                         std::vector<uint32_t>& source_vertex);
+std::vector<box3f> finish_compact_part(CompactMesh& part, std::vector<vec3f> vertices);
+
 }  // namespace vs

@@ -1,0 +1,76 @@
+#include "volstream/umesh/leaf_index.h"
+
+#include <cmath>
+
+#include "volstream/core/error.h"
+
+namespace vs {
+
+std::vector<StoredMacrocell> stored_macrocells(const MacroCells& cells) {
+  std::vector<StoredMacrocell> out;
+  out.reserve(cells.boxes.size());
+  for (uint64_t c = 0; c < cells.region_of_cell.size(); ++c)
+    if (const int32_t r = cells.region_of_cell[c]; r >= 0) out.push_back({uint32_t(c), cells.step_width[size_t(r)]});
+  return out;
+}
+
+namespace {
+
+bool finite(const vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// The grid is the one build_macrocells makes over its bounds (so a rank renders on one
+// process's grid, and every cell index is in range).
+void check_grid(const MacroGrid& grid, uint64_t elements, const std::string& file) {
+  const box3f& b = grid.bounds;
+  input_check(
+      finite(b.lower) && finite(b.upper) && b.lower.x <= b.upper.x && b.lower.y <= b.upper.y && b.lower.z <= b.upper.z,
+      file, "the macrocell grid's bounds are not a finite box");
+  const MacroGrid expected = macro_grid(b, elements);
+  for (int a = 0; a < 3; ++a)
+    input_check(grid.dims[a] == expected.dims[a] && grid.cell_size[a] == expected.cell_size[a], file,
+                "the macrocell grid is not the one its bounds and element count give");
+}
+
+}  // namespace
+
+MacroCells macrocells_from_stored(const MacroGrid& grid, const std::vector<StoredMacrocell>& stored, uint64_t elements,
+                                  const std::string& file) {
+  check_grid(grid, elements, file);
+  MacroCells m;
+  m.grid = grid;
+  m.region_of_cell.assign(grid.cell_count(), -1);
+  const uint64_t per_layer = uint64_t(grid.dims.x) * uint64_t(grid.dims.y);
+  for (size_t r = 0; r < stored.size(); ++r) {
+    const StoredMacrocell& s = stored[r];
+    if (!(s.cell < grid.cell_count() && (r == 0 || s.cell > stored[r - 1].cell)))
+      input_error(file, "macrocell " + std::to_string(r) + " is outside the grid or out of order");
+    if (!(std::isfinite(s.step_width) && s.step_width >= 0.f))
+      input_error(file, "macrocell " + std::to_string(r) + " has a bad step width");
+    m.region_of_cell[s.cell] = int32_t(r);
+    const vec3i c(int(s.cell % uint64_t(grid.dims.x)), int(s.cell / uint64_t(grid.dims.x) % uint64_t(grid.dims.y)),
+                  int(s.cell / per_layer));
+    m.boxes.push_back(macrocell_box(grid, c));
+    m.step_width.push_back(s.step_width);
+  }
+  return m;
+}
+
+std::vector<vec3d> CompactLeafIndex::leaf_points() const {
+  std::vector<vec3d> points;
+  points.reserve(leaf_boxes.size());
+  for (const box3f& b : leaf_boxes) points.push_back((vec3d(b.lower) + vec3d(b.upper)) * 0.5);
+  return points;
+}
+
+CompactLeafIndex compact_leaf_index(const CompactMesh& mesh, MacroCells cells) {
+  CompactLeafIndex index;
+  index.leaf_boxes.reserve(mesh.leaves.size());
+  for (uint32_t l = 0; l < mesh.leaves.size(); ++l) {
+    index.leaf_boxes.push_back(mesh.nodes[mesh.leaf_parents + l / kCompactWidth].child_box(int(l % kCompactWidth)));
+    index.leaf_elements.push_back(mesh.leaves[l].element_count());
+  }
+  index.cells = std::move(cells);
+  return index;
+}
+
+}  // namespace vs

@@ -1,0 +1,165 @@
+// A compact mesh opened with its topology deferred (issue 17: a data-parallel rank reads only its
+// leaves): at open only the leaf index is read (tree, leaf and sub-mesh records, the stored
+// macrocells, which equal the ones built from the mesh); a part read from the files equals the
+// part made from the whole mesh, array for array, with the same values, for less than the whole
+// topology; damaged files are refused with one line naming the file, at open or at the part read.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <functional>
+
+#include "test_util.h"
+#include "volstream/core/error.h"
+#include "volstream/io/mesh_convert.h"
+#include "volstream/mpi/mesh_share.h"
+
+namespace vs {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path& holes_dir() {
+  static const fs::path dir = [] {
+    const fs::path d = test::scratch_dir("deferred_holes");
+    auto series = make_mesh_demo_series({"holes", 6000, 1});
+    ConvertOptions options = ConvertOptions::silent();
+    options.mesh_encoding = MeshEncoding::compact;
+    convert_mesh_to_dataset(*series, d, options);
+    return d;
+  }();
+  return dir;
+}
+
+uint64_t topology_file_bytes(const fs::path& dir) {
+  uint64_t bytes = 0;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().extension() == ".bin") bytes += entry.file_size();
+  return bytes;
+}
+
+// Rank `rank` of `ranks`'s leaves, chosen as ParallelRenderer chooses them.
+std::vector<uint32_t> share_of(const CompactLeafIndex& index, int rank, int ranks) {
+  const std::vector<vec3d> points = index.leaf_points();
+  const Partition p = partition_points(points, ranks, index.leaf_elements);
+  return mesh_share(index, points, p.regions[size_t(rank)], IntegratorSettings{}).items;
+}
+
+template <typename T>
+void expect_same_bytes(const std::vector<T>& a, const std::vector<T>& b, const char* what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(T)), 0) << what;
+}
+
+TEST(DeferredMesh, OpensWithTheIndexOnlyWhoseMacrocellsAreTheBuiltOnes) {
+  const Dataset whole(holes_dir()), deferred(holes_dir(), TopologyLoad::deferred);
+  EXPECT_FALSE(whole.topology_deferred());
+  EXPECT_TRUE(deferred.topology_deferred());
+  const uint64_t files = topology_file_bytes(holes_dir());
+  EXPECT_LT(deferred.topology_bytes_read(), files / 3) << "of " << files;
+  EXPECT_THROW((void)deferred.compact_mesh(), std::logic_error);
+  const Box3<double> a = whole.mesh_world_bounds(), b = deferred.mesh_world_bounds();
+  EXPECT_EQ(a.lower, b.lower);
+  EXPECT_EQ(a.upper, b.upper);
+  const CompactLeafIndex built = whole.compact_leaf_index(), stored = deferred.compact_leaf_index();
+  EXPECT_EQ(built.cells.grid.dims, stored.cells.grid.dims);
+  EXPECT_EQ(built.cells.grid.bounds.lower, stored.cells.grid.bounds.lower);
+  EXPECT_EQ(built.cells.grid.bounds.upper, stored.cells.grid.bounds.upper);
+  EXPECT_EQ(built.cells.region_of_cell, stored.cells.region_of_cell);
+  EXPECT_EQ(built.cells.step_width, stored.cells.step_width);
+  expect_same_bytes(built.cells.boxes, stored.cells.boxes, "macrocell boxes");
+  expect_same_bytes(built.leaf_boxes, stored.leaf_boxes, "leaf boxes");
+  EXPECT_EQ(built.leaf_elements, stored.leaf_elements);
+}
+
+TEST(DeferredMesh, PartReadFromTheFilesEqualsThePartOfTheWholeMesh) {
+  const uint64_t files = topology_file_bytes(holes_dir());
+  const int ranks = 4;
+  uint64_t read = 0;
+  for (int rank = 0; rank < ranks; ++rank) {
+    Dataset whole(holes_dir()), deferred(holes_dir(), TopologyLoad::deferred);
+    const std::vector<uint32_t> leaves = share_of(deferred.compact_leaf_index(), rank, ranks);
+    ASSERT_EQ(leaves, share_of(whole.compact_leaf_index(), rank, ranks));
+    DatasetPart part;
+    part.mesh_items = leaves;
+    whole.restrict_to(part);
+    deferred.restrict_to(part);
+    EXPECT_FALSE(deferred.topology_deferred());
+    const CompactMesh &a = whole.compact_mesh(), &b = deferred.compact_mesh();
+    expect_same_bytes(a.nodes, b.nodes, "nodes");
+    expect_same_bytes(a.leaves, b.leaves, "leaves");
+    expect_same_bytes(a.bytes, b.bytes, "bytes");
+    expect_same_bytes(a.submeshes, b.submeshes, "sub-meshes");
+    expect_same_bytes(a.vertices, b.vertices, "vertices");
+    EXPECT_EQ(a.leaf_parents, b.leaf_parents);
+    EXPECT_EQ(whole.load_values(0, 0), deferred.load_values(0, 0));
+    EXPECT_LT(deferred.topology_bytes_read(), files) << "rank " << rank;
+    read += deferred.topology_bytes_read();
+    std::printf("rank %d of %d: %zu of %llu leaves, topology read %llu of %llu B\n", rank, ranks, leaves.size(),
+                (unsigned long long)whole.manifest().mesh.compact_records.at("compact_leaves.bin"),
+                (unsigned long long)deferred.topology_bytes_read(), (unsigned long long)files);
+  }
+  EXPECT_LT(read, uint64_t(ranks) * files);
+}
+
+// The line a deferred open and a read of leaves 0 .. 7 give for a damaged copy ("accepted" if none).
+std::string read_damaged(const std::string& name, const std::string& file,
+                         const std::function<void(std::vector<char>&)>& damage) {
+  const fs::path dir = test::damaged_copy(holes_dir(), "deferred_damaged_" + name, file, damage);
+  try {
+    Dataset ds(dir, TopologyLoad::deferred);
+    DatasetPart part;
+    for (uint32_t l = 0; l < 8; ++l) part.mesh_items.push_back(l);
+    ds.restrict_to(part);
+  } catch (const InputError& e) {
+    const std::string line = e.file() + ": " + e.what();
+    EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+    return line;
+  }
+  return "accepted";
+}
+
+template <typename T>
+void patch(std::vector<char>& bytes, size_t at, T value) {
+  std::memcpy(bytes.data() + at, &value, sizeof(T));
+}
+
+TEST(DeferredMesh, ReaderRefusesDamagedFilesNamingThem) {
+  auto has = [](const std::string& line, const char* file, const char* what) {
+    return line.find(file) != std::string::npos && line.find(what) != std::string::npos;
+  };
+  const char* cells = "mesh_macrocells.bin";
+  std::string line = read_damaged("cells_truncated", cells, [](auto& b) { b.resize(b.size() - 3); });
+  EXPECT_TRUE(has(line, cells, "")) << line;
+  EXPECT_NE(line, "accepted");
+  line = read_damaged("grid", cells, [](auto& b) { patch<int32_t>(b, offsetof(MacroGrid, dims), 300); });
+  EXPECT_TRUE(has(line, cells, "grid")) << line;
+  line = read_damaged("bounds", cells, [](auto& b) { patch<float>(b, offsetof(MacroGrid, bounds), NAN); });
+  EXPECT_TRUE(has(line, cells, "bounds")) << line;
+  line = read_damaged("order", cells, [](auto& b) { patch<uint32_t>(b, sizeof(MacroGrid) + 8, 0); });
+  EXPECT_TRUE(has(line, cells, "out of order")) << line;
+  line = read_damaged("width", cells, [](auto& b) { patch<float>(b, sizeof(MacroGrid) + 4, -1.f); });
+  EXPECT_TRUE(has(line, cells, "step width")) << line;
+  // The part's leaves (0 .. 7): leaf 0's bytes start the file, its vertex table first.
+  line = read_damaged("table", "compact_bytes.bin", [](auto& b) { patch<uint16_t>(b, 0, 65535); });
+  EXPECT_TRUE(has(line, "compact_bytes.bin", "outside its sub-mesh")) << line;
+  line = read_damaged("leaf_run", "compact_leaves.bin",
+                      [](auto& b) { patch<uint32_t>(b, 12 * 5 + offsetof(CompactLeaf, first_byte), 0xfffff000u); });
+  EXPECT_TRUE(has(line, "compact_leaves.bin", "beyond its sub-mesh")) << line;
+  line = read_damaged("bytes_truncated", "compact_bytes.bin", [](auto& b) { b.resize(b.size() - 1); });
+  EXPECT_TRUE(has(line, "compact_bytes.bin", "")) << line;
+  EXPECT_NE(line, "accepted");
+  // Leaf 0's first vertex moved far away: outside the box the leaf was chosen by; not finite.
+  const uint16_t first = [] {
+    const Dataset ds(holes_dir());
+    return CompactMeshView(view_of(ds.compact_mesh())).table_entry(ds.compact_mesh().leaves[0], 0);
+  }();
+  line = read_damaged("moved", "compact_vertices.bin", [&](auto& b) { patch<float>(b, 12 * size_t(first), 1e30f); });
+  EXPECT_TRUE(has(line, "compact_nodes.bin", "outside its box")) << line;
+  line = read_damaged("nan", "compact_vertices.bin", [&](auto& b) { patch<float>(b, 12 * size_t(first), NAN); });
+  EXPECT_NE(line, "accepted");
+  line =
+      read_damaged("cycle", "compact_nodes.bin", [](auto& b) { patch<uint32_t>(b, offsetof(CompactNode, first), 0); });
+  EXPECT_TRUE(has(line, "compact_nodes.bin", "node 0")) << line;
+}
+
+}  // namespace
+}  // namespace vs

@@ -150,8 +150,7 @@ void print_ranks(const std::vector<double>& rows, const mpi::ShareStats& share, 
   const size_t n = rows.size() / kRankColumns;
   double read = 0, held = 0, sent = 0;
   const char* unit = share.mesh ? "elements" : "cells";
-  const char* parts =
-      share.mesh ? (compact ? "vertices, %.0f leaves" : "vertices, %.0f elements") : "bricks, %.0f ABRs";
+  const char* parts = share.mesh ? (compact ? "vertices, %.0f leaves" : "vertices, %.0f chunks") : "bricks, %.0f ABRs";
   for (size_t r = 0; r < n; ++r) {
     const double* v = rows.data() + r * kRankColumns;
     char held_parts[64];

@@ -80,10 +80,9 @@ void expect_clean(const std::function<void()>& f) {
 namespace {
 // A rank's share, chosen as ParallelRenderer chooses it (rank 0 of 2), before anything renders.
 void restrict_to_a_share(Dataset& ds) {
-  if (!ds.is_compact_mesh()) return;
-  const CompactLeafIndex index = ds.compact_leaf_index();
-  const std::vector<vec3d> points = index.leaf_points();
-  const Partition p = partition_points(points, 2, index.leaf_elements);
+  const MeshIndex index = ds.mesh_index();
+  const std::vector<vec3d> points = index.item_points();
+  const Partition p = partition_points(points, 2, index.item_elements);
   DatasetPart part;
   part.mesh_items = mesh_share(index, points, p.regions[0], IntegratorSettings{}).items;
   part.mesh_grid = index.cells.grid;

@@ -82,12 +82,12 @@ json manifest_to_json(const DatasetManifest& m) {
     j["vertex_count"] = m.mesh.vertices;
     j["element_count"] = m.mesh.elements;
     for (int t = 0; t < 4; ++t) j["elements_by_type"][kTypeSlotNames[t]] = m.mesh.by_type[t];
+    if (m.mesh.macrocells) j["macrocells"] = m.mesh.macrocells;
     if (m.mesh.compact()) {
       j["mesh_encoding"] = "compact";
       j["compact"] = {{"local_vertices", m.mesh.local_vertices},
                       {"leaf_parents", m.mesh.leaf_parents},
                       {"records", m.mesh.compact_records}};
-      if (m.mesh.macrocells) j["compact"]["macrocells"] = m.mesh.macrocells;
     } else {
       j["mesh_encoding"] = "reference";
       j["bvh_node_count"] = m.mesh.bvh_nodes;
@@ -133,6 +133,7 @@ DatasetManifest manifest_from_json(const json& j) {
     m.mesh.vertices = j.at("vertex_count").get<uint64_t>();
     m.mesh.elements = j.at("element_count").get<uint64_t>();
     for (int t = 0; t < 4; ++t) m.mesh.by_type[t] = j.at("elements_by_type").at(kTypeSlotNames[t]).get<uint64_t>();
+    m.mesh.macrocells = j.value("macrocells", uint64_t(0));              // absent before issue 17's mesh index
     const std::string encoding = j.value("mesh_encoding", "reference");  // absent before issue 13
     if (encoding == "compact") {
       const json& c = j.at("compact");
@@ -140,7 +141,6 @@ DatasetManifest manifest_from_json(const json& j) {
       m.mesh.local_vertices = c.at("local_vertices").get<uint64_t>();
       m.mesh.leaf_parents = c.at("leaf_parents").get<uint64_t>();
       m.mesh.compact_records = c.at("records").get<std::map<std::string, uint64_t>>();
-      m.mesh.macrocells = c.value("macrocells", uint64_t(0));  // absent before issue 17's leaf index
     } else if (encoding == "reference") {
       m.mesh.bvh_nodes = j.at("bvh_node_count").get<uint64_t>();
     } else {
@@ -222,10 +222,10 @@ void validate_manifest(const DatasetManifest& m) {
         fail("compact counts out of range");
       for (const auto& [file, records] : c.compact_records)
         if (records > 8 * c.elements + c.local_vertices + 1) fail("compact record count of " + file + " out of range");
-      if (c.macrocells > uint64_t(256 * 256 * 256)) fail("macrocell count out of range");
     } else if (c.bvh_nodes == 0 || c.bvh_nodes > 2 * c.elements) {
       fail("counts out of range");
     }
+    if (c.macrocells > uint64_t(256 * 256 * 256)) fail("macrocell count out of range");
     if (c.by_type[0] + c.by_type[1] + c.by_type[2] + c.by_type[3] != c.elements)
       fail("elements by type do not add up to element_count");
     return;
@@ -295,20 +295,29 @@ void validate_topology(const AmrTopology& t, const std::string& file) {
 
 // Every element's used slots come first (4, 5, 6 or 8), name existing vertices and match the
 // manifest's counts by type; every vertex is finite.
-void validate_mesh(const UMesh& m, const MeshCounts& counts, const std::string& file) {
-  for (size_t i = 0; i < m.vertices.size(); ++i) {
-    const vec3f& v = m.vertices[i];
+void check_finite_vertices(const std::vector<vec3f>& vertices, const std::string& file) {
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    const vec3f& v = vertices[i];
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
       input_error(file, "vertex " + std::to_string(i) + " is not finite");
   }
+}
+
+// Its used slots come first (4, 5, 6 or 8) and name existing vertices.
+bool element_valid(const UElement& el, uint64_t vertex_count) {
+  const int n = el.vertex_count();
+  bool ok = true;
+  for (int k = 0; k < 8; ++k) ok = ok && (k < n ? el.v[k] < vertex_count : el.v[k] == kNoVertex);
+  return ok;
+}
+
+void validate_mesh(const UMesh& m, const MeshCounts& counts, const std::string& file) {
+  check_finite_vertices(m.vertices, file);
   uint64_t by_type[4] = {};
   for (size_t e = 0; e < m.elements.size(); ++e) {
     const UElement& el = m.elements[e];
-    const int n = el.vertex_count();
-    bool ok = true;
-    for (int k = 0; k < 8; ++k) ok = ok && (k < n ? el.v[k] < m.vertices.size() : el.v[k] == kNoVertex);
-    if (!ok) input_error(file, "element " + std::to_string(e) + " is invalid");
-    ++by_type[type_slot(n)];
+    if (!element_valid(el, m.vertices.size())) input_error(file, "element " + std::to_string(e) + " is invalid");
+    ++by_type[type_slot(el.vertex_count())];
   }
   for (int t = 0; t < 4; ++t)
     if (by_type[t] != counts.by_type[t])
@@ -369,6 +378,14 @@ void DatasetWriter::write_mesh(const UMesh& mesh) {
              accel.bvh.nodes.size() * sizeof(ElementBvhNode));
   write_file(dir_ / dataset_files::kMeshBvhItems, accel.bvh.items.data(), accel.bvh.items.size() * sizeof(uint32_t));
   write_file(dir_ / dataset_files::kMeshNeighbors, accel.neighbors.data(), accel.neighbors.size() * sizeof(uint32_t));
+  // The vertices' bounds (those of a vertex of no element too: one process's world bounds),
+  // then the chunk boxes: what a rank chooses its elements by (umesh/mesh_index.h).
+  box3f bounds = box3f::make_empty();
+  for (const vec3f& v : mesh.vertices) bounds.extend(v);
+  std::vector<box3f> chunks = reference_chunk_boxes(mesh, accel.bvh.items);
+  chunks.insert(chunks.begin(), bounds);
+  write_file(dir_ / dataset_files::kMeshChunks, chunks.data(), chunks.size() * sizeof(box3f));
+  write_macrocells(build_macrocells(mesh));
 }
 
 void DatasetWriter::write_compact_mesh(const UMesh& mesh, const CompactMesh& compact) {
@@ -386,7 +403,7 @@ void DatasetWriter::write_compact_mesh(const UMesh& mesh, const CompactMesh& com
   write_macrocells(build_macrocells(compact));
 }
 
-// The grid, then the non-empty cells: what a rank chooses its leaves by (umesh/leaf_index.h).
+// The grid, then the non-empty cells: what a rank chooses its leaves by (umesh/mesh_index.h).
 void DatasetWriter::write_macrocells(const MacroCells& cells) {
   const std::vector<StoredMacrocell> stored = stored_macrocells(cells);
   std::vector<uint8_t> bytes(sizeof(MacroGrid) + stored.size() * sizeof(StoredMacrocell));
@@ -450,7 +467,7 @@ Dataset::Dataset(const fs::path& dir, TopologyLoad load) : dir_(dir) {
     input_error(manifest_path.string(), std::string("bad manifest: ") + e.what());
   }
   if (manifest_.kind == DatasetKind::umesh) {
-    deferred_ = load == TopologyLoad::deferred && manifest_.mesh.compact() && manifest_.mesh.macrocells > 0;
+    deferred_ = load == TopologyLoad::deferred && manifest_.mesh.macrocells > 0;
     load_mesh();
     return;
   }
@@ -471,6 +488,7 @@ Dataset::Dataset(const fs::path& dir, TopologyLoad load) : dir_(dir) {
 
 void Dataset::load_mesh() {
   if (manifest_.mesh.compact()) return load_compact_mesh();
+  if (deferred_) return load_reference_index();
   mesh_.vertices = read_topology<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
   mesh_.elements = read_topology<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
   for (int t = 0; t < 4; ++t) mesh_.count_by_type[t] = manifest_.mesh.by_type[t];
@@ -546,6 +564,22 @@ void Dataset::load_compact_index() {
   count_mesh_bytes();
 }
 
+// The vertices' bounds and the chunk boxes (finite, ordered), and the macrocells.
+void Dataset::load_reference_index() {
+  const fs::path path = dir_ / dataset_files::kMeshChunks;
+  std::vector<box3f> boxes = read_topology<box3f>(path, 1 + chunk_count(manifest_.mesh.elements));
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const box3f& b = boxes[i];
+    if (!(b.lower.x <= b.upper.x && b.lower.y <= b.upper.y && b.lower.z <= b.upper.z) ||
+        !std::isfinite(b.lower.x + b.lower.y + b.lower.z + b.upper.x + b.upper.y + b.upper.z))
+      input_error(path.string(), i == 0 ? std::string("the vertices' bounds are not a finite box")
+                                        : "chunk " + std::to_string(i - 1) + " has no finite box");
+  }
+  vertex_bounds_ = boxes.front();
+  chunk_boxes_.assign(boxes.begin() + 1, boxes.end());
+  read_stored_macrocells();
+}
+
 void Dataset::read_stored_macrocells() {
   const fs::path path = dir_ / dataset_files::kMeshMacrocells;
   const uint64_t count = manifest_.mesh.macrocells;
@@ -559,21 +593,25 @@ void Dataset::read_stored_macrocells() {
   stored_cells_ = macrocells_from_stored(grid, cells, manifest_.mesh.elements, path.string());
 }
 
-CompactLeafIndex Dataset::compact_leaf_index() const {
-  if (!is_compact_mesh() || part())
-    throw std::logic_error("Dataset::compact_leaf_index: not a compact mesh, or already restricted");
-  return vs::compact_leaf_index(compact_, deferred_ ? stored_cells_ : build_macrocells(compact_));
+MeshIndex Dataset::mesh_index() const {
+  if (!is_mesh() || part()) throw std::logic_error("Dataset::mesh_index: not a mesh, or already restricted");
+  if (is_compact_mesh()) return compact_mesh_index(compact_, deferred_ ? stored_cells_ : build_macrocells(compact_));
+  if (deferred_) return reference_mesh_index(chunk_boxes_, manifest_.mesh.elements, stored_cells_);
+  return reference_mesh_index(reference_chunk_boxes(mesh_, mesh_accel_.bvh.items), mesh_.elements.size(),
+                              build_macrocells(mesh_));
 }
 
 Box3<double> Dataset::mesh_world_bounds() const {
   if (!deferred_) return world_bounds(mesh_vertices(), manifest_.transform);
-  // Every local vertex is a corner of an element, so the grid's bounds are the vertices'.
-  const box3f& b = stored_cells_.grid.bounds;
+  // Every local vertex of a compact mesh is a corner of an element, so the grid's bounds are the
+  // vertices'; the reference encoding stores them (a vertex of no element counts).
+  const box3f& b = is_compact_mesh() ? stored_cells_.grid.bounds : vertex_bounds_;
   return {manifest_.transform.to_world(vec3d(b.lower)), manifest_.transform.to_world(vec3d(b.upper))};
 }
 
 const UMesh& Dataset::mesh() const {
   if (is_compact_mesh()) throw std::logic_error("Dataset::mesh: the dataset stores the compact encoding");
+  if (deferred_) throw std::logic_error("Dataset::mesh: the topology is deferred (restrict_to first)");
   return mesh_;
 }
 
@@ -719,15 +757,19 @@ void Dataset::restrict_bricks(const DatasetPart& part) {
 // The part's vertices are in ascending order of the file's: their values are runs of it.
 void Dataset::restrict_mesh(const std::vector<uint32_t>& items) {
   std::vector<uint32_t> source;
-  if (deferred_) {
-    read_compact_part(items, source);
-    deferred_ = false;
-  } else if (is_compact_mesh()) {
-    compact_ = compact_subset(compact_, items, source);
+  if (is_compact_mesh()) {
+    if (deferred_)
+      read_compact_part(items, source);
+    else
+      compact_ = compact_subset(compact_, items, source);
   } else {
-    mesh_ = mesh_subset(mesh_, items, source);
+    if (deferred_)
+      read_reference_part(items, source);
+    else
+      mesh_ = mesh_subset(mesh_, chunk_elements(items, mesh_accel_.bvh.items), source);
     mesh_accel_ = mesh_.elements.empty() ? MeshAccel{} : build_mesh_accel(mesh_);
   }
+  deferred_ = false;
   count_mesh_bytes();
   for (uint32_t v : source) append_run(part_runs_, {uint64_t(v) * sizeof(float), sizeof(float)});
 }
@@ -740,6 +782,56 @@ void check_record_file(const fs::path& path, uint64_t count, uint64_t record) {
   if (size != count * record) throw_size_mismatch(path, size, count * record);
 }
 }  // namespace
+
+// The chunks' items, then the elements they name and the vertices those use, each as runs of the
+// files, checked before they are used as at a whole read (items distinct elements, elements'
+// slots, finite vertices), and each element inside the box its chunk was chosen by.
+void Dataset::read_reference_part(const std::vector<uint32_t>& chunks, std::vector<uint32_t>& source_vertex) {
+  const fs::path items_path = dir_ / dataset_files::kMeshBvhItems, elements_path = dir_ / dataset_files::kMeshElements,
+                 vertices_path = dir_ / dataset_files::kMeshVertices;
+  const uint64_t elements = manifest_.mesh.elements, vertex_count = manifest_.mesh.vertices;
+  check_record_file(items_path, elements, sizeof(uint32_t));
+  check_record_file(elements_path, elements, sizeof(UElement));
+  check_record_file(vertices_path, vertex_count, sizeof(vec3f));
+  std::vector<ByteRun> runs;
+  std::vector<uint32_t> chunk_of;  // of each item read
+  for (uint32_t c : chunks) {
+    append_run(runs, {chunk_first(c) * sizeof(uint32_t), chunk_size(c, elements) * sizeof(uint32_t)});
+    chunk_of.insert(chunk_of.end(), chunk_size(c, elements), c);
+  }
+  std::vector<uint32_t> items(chunk_of.size());
+  read_runs(items_path, runs, items.data());
+  topology_bytes_read_ += items.size() * sizeof(uint32_t);
+  std::vector<std::pair<uint32_t, uint32_t>> held;  // (element, chunk), by element
+  for (size_t i = 0; i < items.size(); ++i) {
+    if (items[i] >= elements) input_error(items_path.string(), "BVH items are not a permutation of the elements");
+    held.push_back({items[i], chunk_of[i]});
+  }
+  std::sort(held.begin(), held.end());
+  runs.clear();
+  for (size_t i = 0; i < held.size(); ++i) {
+    if (i > 0 && held[i].first == held[i - 1].first)
+      input_error(items_path.string(), "BVH items are not a permutation of the elements");
+    append_run(runs, {uint64_t(held[i].first) * sizeof(UElement), sizeof(UElement)});
+  }
+  std::vector<UElement> records(held.size());
+  read_runs(elements_path, runs, records.data());
+  topology_bytes_read_ += records.size() * sizeof(UElement);
+  for (size_t i = 0; i < held.size(); ++i)
+    if (!element_valid(records[i], vertex_count))
+      input_error(elements_path.string(), "element " + std::to_string(held[i].first) + " is invalid");
+  mesh_ = mesh_part(std::move(records), source_vertex);
+  runs.clear();
+  for (uint32_t v : source_vertex) append_run(runs, {uint64_t(v) * sizeof(vec3f), sizeof(vec3f)});
+  mesh_.vertices.resize(source_vertex.size());
+  read_runs(vertices_path, runs, mesh_.vertices.data());
+  topology_bytes_read_ += mesh_.vertices.size() * sizeof(vec3f);
+  check_finite_vertices(mesh_.vertices, vertices_path.string());
+  for (size_t i = 0; i < held.size(); ++i)
+    if (!chunk_boxes_[held[i].second].contains(element_box(mesh_.vertices.data(), mesh_.elements[i])))
+      input_error((dir_ / dataset_files::kMeshChunks).string(),
+                  "element " + std::to_string(held[i].first) + " lies outside its chunk's box");
+}
 
 // The leaves' bytes and then the vertices their tables name, each as runs of the files (leaves
 // and vertices ascend), checked before they are used as at a whole read; then the part as a whole
@@ -777,7 +869,7 @@ void Dataset::read_compact_part(const std::vector<uint32_t>& leaves, std::vector
     pieces.leaves.push_back(leaf);
     pieces.bytes.push_back(bytes.data() + offsets[i]);
   }
-  const CompactLeafIndex index = compact_leaf_index();
+  const MeshIndex index = mesh_index();  // before compact_ is replaced
   CompactMesh part = compact_part(pieces, compact_.submeshes, source_vertex);
   runs.clear();
   for (uint32_t v : source_vertex) append_run(runs, {uint64_t(v) * sizeof(vec3f), sizeof(vec3f)});
@@ -788,7 +880,7 @@ void Dataset::read_compact_part(const std::vector<uint32_t>& leaves, std::vector
   uint64_t by_type[4] = {};
   for (size_t i = 0; i < leaves.size(); ++i) {
     for (int t = 0; t < 4; ++t) by_type[t] += part.leaves[i].counts[t];
-    if (!index.leaf_boxes[leaves[i]].contains(boxes[i]))
+    if (!index.item_boxes[leaves[i]].contains(boxes[i]))
       input_error((dir_ / "compact_nodes.bin").string(), "leaf " + std::to_string(leaves[i]) + " lies outside its box");
   }
   if (!leaves.empty()) check_compact_mesh(part, by_type, dir_);

@@ -22,28 +22,16 @@ std::vector<uint8_t> held_cells(const MacroCells& cells, const Box3<double>& reg
 
 }  // namespace
 
-MeshShare mesh_share(const UMesh& mesh, const MacroCells& cells, const std::vector<vec3d>& centroids,
-                     const Box3<double>& region, const IntegratorSettings& settings) {
-  MeshShare share;
-  const std::vector<uint8_t> touching =
-      elements_touching(mesh, cells.grid, held_cells(cells, region, settings, share.margin));
-  for (uint32_t e = 0; e < touching.size(); ++e)
-    if (touching[e]) share.items.push_back(e);
-  share.held_elements = share.items.size();
-  for (const vec3d& c : centroids) share.owned_elements += in_region(region, c);
-  return share;
-}
-
-MeshShare mesh_share(const CompactLeafIndex& index, const std::vector<vec3d>& leaf_points, const Box3<double>& region,
+MeshShare mesh_share(const MeshIndex& index, const std::vector<vec3d>& item_points, const Box3<double>& region,
                      const IntegratorSettings& settings) {
   MeshShare share;
   const std::vector<uint8_t> marked = held_cells(index.cells, region, settings, share.margin);
-  for (uint32_t l = 0; l < index.leaf_boxes.size(); ++l) {
-    if (box_touches(index.cells.grid, index.leaf_boxes[l], marked)) {
+  for (uint32_t l = 0; l < index.item_boxes.size(); ++l) {
+    if (box_touches(index.cells.grid, index.item_boxes[l], marked)) {
       share.items.push_back(l);
-      share.held_elements += index.leaf_elements[l];
+      share.held_elements += index.item_elements[l];
     }
-    if (in_region(region, leaf_points[l])) share.owned_elements += index.leaf_elements[l];
+    if (in_region(region, item_points[l])) share.owned_elements += index.item_elements[l];
   }
   return share;
 }

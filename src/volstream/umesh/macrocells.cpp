@@ -200,14 +200,6 @@ std::vector<vec3d> element_centroids(const CompactMesh& mesh) {
   return centroids_of(mesh, mesh.vertices, int64_t(mesh.leaves.size()));
 }
 
-std::vector<uint8_t> elements_touching(const UMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells) {
-  std::vector<uint8_t> out(mesh.elements.size(), 0);
-  parallel_for("elements touching cells", int64_t(out.size()), [&](int64_t e) {
-    out[size_t(e)] = box_touches(grid, element_box(mesh.vertices.data(), mesh.elements[size_t(e)]), cells);
-  });
-  return out;
-}
-
 std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& m, const float* values) {
   return ranges_over(m, int64_t(mesh.elements.size()), values, elements_of(mesh));
 }

@@ -72,8 +72,6 @@ box3f macrocell_box(const MacroGrid& grid, const vec3i& c);
 // The box overlaps a grid cell marked in `cells` (one byte per cell of `grid`), by the overlap
 // test of the macrocells.
 bool box_touches(const MacroGrid& grid, const box3f& box, const std::vector<uint8_t>& cells);
-// Per element: 1 where its box overlaps a marked cell.
-std::vector<uint8_t> elements_touching(const UMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells);
 
 // Per region: the range of the finite values at the vertices of the elements overlapping it
 // (shape functions are convex combinations, so no value inside an element leaves its vertices'

@@ -19,24 +19,27 @@ uint32_t position_in(const std::vector<uint32_t>& sorted, uint32_t v) {
 
 }  // namespace
 
-UMesh mesh_subset(const UMesh& mesh, const std::vector<uint32_t>& elements, std::vector<uint32_t>& source_vertex) {
+UMesh mesh_part(std::vector<UElement> elements, std::vector<uint32_t>& source_vertex) {
   std::vector<uint32_t> used;
-  for (uint32_t e : elements) {
-    const UElement& el = mesh.elements.at(e);
-    used.insert(used.end(), el.v, el.v + el.vertex_count());
-  }
+  for (const UElement& el : elements) used.insert(used.end(), el.v, el.v + el.vertex_count());
   source_vertex = distinct_sorted(std::move(used));
   UMesh part;
-  part.vertices.reserve(source_vertex.size());
-  for (uint32_t v : source_vertex) part.vertices.push_back(mesh.vertices[v]);
-  part.elements.reserve(elements.size());
-  for (uint32_t e : elements) {
-    UElement el = mesh.elements[e];
+  part.elements = std::move(elements);
+  for (UElement& el : part.elements) {
     const int n = el.vertex_count();
     for (int k = 0; k < n; ++k) el.v[k] = position_in(source_vertex, el.v[k]);
-    part.elements.push_back(el);
     ++part.count_by_type[type_slot(n)];
   }
+  return part;
+}
+
+UMesh mesh_subset(const UMesh& mesh, const std::vector<uint32_t>& elements, std::vector<uint32_t>& source_vertex) {
+  std::vector<UElement> records;
+  records.reserve(elements.size());
+  for (uint32_t e : elements) records.push_back(mesh.elements.at(e));
+  UMesh part = mesh_part(std::move(records), source_vertex);
+  part.vertices.reserve(source_vertex.size());
+  for (uint32_t v : source_vertex) part.vertices.push_back(mesh.vertices[v]);
   return part;
 }
 

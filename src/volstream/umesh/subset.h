@@ -13,6 +13,10 @@ namespace vs {
 // `elements`: ascending indices into mesh.elements. source_vertex[i]: the whole mesh's vertex of
 // the part's vertex i (ascending).
 UMesh mesh_subset(const UMesh& mesh, const std::vector<uint32_t>& elements, std::vector<uint32_t>& source_vertex);
+// mesh_subset for a reader that has only the asked-for element records (checked: their slots
+// and indices valid): the part without vertex positions (the caller sets the positions of
+// source_vertex, in order).
+UMesh mesh_part(std::vector<UElement> elements, std::vector<uint32_t>& source_vertex);
 
 // `leaves`: ascending indices into mesh.leaves. The leaves keep their order, elements and corner
 // bytes; their vertex tables are renumbered into the part's sub-meshes (those of the whole mesh

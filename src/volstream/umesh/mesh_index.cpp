@@ -1,5 +1,6 @@
-#include "volstream/umesh/leaf_index.h"
+#include "volstream/umesh/mesh_index.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "volstream/core/error.h"
@@ -55,20 +56,46 @@ MacroCells macrocells_from_stored(const MacroGrid& grid, const std::vector<Store
   return m;
 }
 
-std::vector<vec3d> CompactLeafIndex::leaf_points() const {
+std::vector<vec3d> MeshIndex::item_points() const {
   std::vector<vec3d> points;
-  points.reserve(leaf_boxes.size());
-  for (const box3f& b : leaf_boxes) points.push_back((vec3d(b.lower) + vec3d(b.upper)) * 0.5);
+  points.reserve(item_boxes.size());
+  for (const box3f& b : item_boxes) points.push_back((vec3d(b.lower) + vec3d(b.upper)) * 0.5);
   return points;
 }
 
-CompactLeafIndex compact_leaf_index(const CompactMesh& mesh, MacroCells cells) {
-  CompactLeafIndex index;
-  index.leaf_boxes.reserve(mesh.leaves.size());
+MeshIndex compact_mesh_index(const CompactMesh& mesh, MacroCells cells) {
+  MeshIndex index;
+  index.item_boxes.reserve(mesh.leaves.size());
   for (uint32_t l = 0; l < mesh.leaves.size(); ++l) {
-    index.leaf_boxes.push_back(mesh.nodes[mesh.leaf_parents + l / kCompactWidth].child_box(int(l % kCompactWidth)));
-    index.leaf_elements.push_back(mesh.leaves[l].element_count());
+    index.item_boxes.push_back(mesh.nodes[mesh.leaf_parents + l / kCompactWidth].child_box(int(l % kCompactWidth)));
+    index.item_elements.push_back(mesh.leaves[l].element_count());
   }
+  index.cells = std::move(cells);
+  return index;
+}
+
+std::vector<box3f> reference_chunk_boxes(const UMesh& mesh, const std::vector<uint32_t>& bvh_items) {
+  const uint64_t elements = bvh_items.size();
+  std::vector<box3f> boxes(chunk_count(elements), box3f::make_empty());
+  for (uint32_t c = 0; c < boxes.size(); ++c)
+    for (uint64_t i = chunk_first(c); i < chunk_first(c) + chunk_size(c, elements); ++i)
+      boxes[c].extend(element_box(mesh.vertices.data(), mesh.elements[bvh_items[i]]));
+  return boxes;
+}
+
+std::vector<uint32_t> chunk_elements(const std::vector<uint32_t>& chunks, const std::vector<uint32_t>& bvh_items) {
+  std::vector<uint32_t> elements;
+  for (uint32_t c : chunks)
+    for (uint64_t i = chunk_first(c); i < chunk_first(c) + chunk_size(c, bvh_items.size()); ++i)
+      elements.push_back(bvh_items.at(i));
+  std::sort(elements.begin(), elements.end());
+  return elements;
+}
+
+MeshIndex reference_mesh_index(std::vector<box3f> chunk_boxes, uint64_t elements, MacroCells cells) {
+  MeshIndex index;
+  index.item_boxes = std::move(chunk_boxes);
+  for (uint32_t c = 0; c < index.item_boxes.size(); ++c) index.item_elements.push_back(chunk_size(c, elements));
   index.cells = std::move(cells);
   return index;
 }

@@ -8,6 +8,7 @@
 
 #include <cstring>
 #include <functional>
+#include <regex>
 
 #include "test_util.h"
 #include "volstream/core/error.h"
@@ -127,6 +128,32 @@ TEST(DeferredMesh, PartReadFromTheFilesEqualsThePartOfTheWholeMesh) {
   for (const MeshEncoding encoding : kEncodings) {
     SCOPED_TRACE(encoding == MeshEncoding::compact ? "compact" : "reference");
     expect_parts_equal(holes_dir(encoding));
+  }
+}
+
+// A dataset written before the mesh index (no macrocell count, no index files) is read whole,
+// deferred or not, and gives the same index and parts.
+TEST(DeferredMesh, DatasetsWithoutAnIndexAreReadWhole) {
+  for (const MeshEncoding encoding : kEncodings) {
+    const bool compact = encoding == MeshEncoding::compact;
+    const fs::path dir = test::damaged_copy(
+        holes_dir(encoding), compact ? "old_compact" : "old_reference", "manifest.json", [](std::vector<char>& b) {
+          const std::string text(b.begin(), b.end());
+          const std::string old = std::regex_replace(text, std::regex("\"macrocells\": \\d+,"), "");
+          b.assign(old.begin(), old.end());
+        });
+    fs::remove(dir / "mesh_macrocells.bin");
+    fs::remove(dir / "mesh_chunks.bin");
+    Dataset old(dir, TopologyLoad::deferred), indexed(holes_dir(encoding), TopologyLoad::deferred);
+    EXPECT_FALSE(old.topology_deferred());
+    EXPECT_EQ(old.manifest().mesh.macrocells, 0u);
+    const std::vector<uint32_t> items = share_of(indexed.mesh_index(), 1, 3);
+    ASSERT_EQ(items, share_of(old.mesh_index(), 1, 3));
+    DatasetPart part;
+    part.mesh_items = items;
+    old.restrict_to(part);
+    indexed.restrict_to(part);
+    expect_same_parts(old, indexed);
   }
 }
 

@@ -39,7 +39,6 @@ void add_mesh_resident_bytes(const Dataset& ds, nlohmann::json& summary) {
     summary["element_bvh_nodes"] = renderer.element_bvh().nodes.size();
   }
   summary["resident_bytes"]["macrocells"] = b.macrocells;
-  summary["resident_bytes"]["macrocell_bvh"] = b.region_bvh;
   summary["resident_bytes"]["one_field"] = b.field;
   summary["resident_bytes"]["total"] = b.total();
   summary["bytes_per_element"] = double(b.total()) / double(ds.manifest().mesh.elements);

@@ -121,7 +121,10 @@ TEST(MeshFrame, CompactEncodingEqualsReference) {
   r.mesh_encoding = MeshEncoding::compact;
   const Image b = fr.render(r);
   EXPECT_GT(mean_alpha(a), 0.003);
-  EXPECT_LT(max_difference(a, b), 1e-6);
+  // A paired tet's corners come in another order, so its barycentric solve rounds differently:
+  // sampled values agree within 1e-6 relative (below; the encoding's stated bound is 1e-5), and a
+  // pixel sums hundreds of them, so it gets the stated bound.
+  EXPECT_LT(max_difference(a, b), 1e-5);
   std::vector<vec3d> points;
   for (int i = 0; i < 300; ++i) points.push_back({0.004 * i - 0.1, 0.42 + 0.001 * i, 0.5 - 0.0005 * i});
   const std::vector<float> want = fr.probe(0, 1, points), got = fr.probe(0, 1, points, MeshEncoding::compact);

@@ -181,7 +181,7 @@ TEST(MeshPartition, PartSamplesAsTheWhole) {
   for (size_t c = 0; c < cells.region_of_cell.size(); ++c) {
     const int32_t r = cells.region_of_cell[c], q = part_cells.region_of_cell[c];
     if (r < 0) continue;
-    const box3f& b = cells.boxes[size_t(r)];
+    const box3f b = cells.box(size_t(r));
     bool reaches = true;
     for (int a = 0; a < 3; ++a) reaches &= double(b.lower[a]) <= near.upper[a] && double(b.upper[a]) >= near.lower[a];
     if (!reaches) continue;

@@ -153,7 +153,7 @@ inline constexpr int kLeafBatch = 64;
 
 // Every leaf the ray crosses, front to back, as visit(item, t0, t1) (return false to stop):
 // kLeafBatch leaves per traversal (bvh_next_leaves). The interval walk of every volume whose
-// regions are disjoint boxes under a refit BVH (ABRs, mesh macrocells); the CPU walks the 4-wide
+// regions are disjoint boxes under a refit BVH (the ABRs); the CPU walks the 4-wide
 // form of the same tree instead (bvh_wide.h).
 template <typename Visit>
 VS_HOST_DEVICE inline void bvh_for_each_leaf(const BvhNode* nodes, uint32_t node_count, const vec3f& org,

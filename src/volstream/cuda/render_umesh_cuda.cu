@@ -10,18 +10,20 @@
 
 namespace vs::cuda {
 
-// What a frame of either encoding needs besides the mesh: the macrocells, the refit region
-// nodes, the image and the probe points.
+// What a frame of either encoding needs besides the mesh: the macrocells, their visible flags,
+// the image and the probe points.
 struct MeshFrameBuffers {
   Buffer<float> step_widths{Device::cuda, "mesh BVH and macrocells"};
   Buffer<int32_t> region_of_cell{Device::cuda, "mesh BVH and macrocells"};
-  Buffer<BvhNode> region_nodes{Device::cuda, "BVH"};
+  Buffer<uint8_t> visible{Device::cuda, "mesh BVH and macrocells"};
   Buffer<float> rgba{Device::cuda, "image"};
   Buffer<uint32_t> counts{Device::cuda, "image"};
   Buffer<vec3f> points{Device::cuda, "probe points"};
   Buffer<float> probed{Device::cuda, "probe points"};
 
-  explicit MeshFrameBuffers(const MacroCells& cells) {
+  size_t regions;
+
+  explicit MeshFrameBuffers(const MacroCells& cells) : regions(cells.region_count()) {
     step_widths.upload(cells.step_width);
     region_of_cell.upload(cells.region_of_cell);
   }
@@ -29,15 +31,13 @@ struct MeshFrameBuffers {
   template <typename Locator>
   RenderTimes render(const FrameView<MeshVolume<Locator>>& h, const Locator& device_mesh) {
     const Stopwatch watch;
-    region_nodes.upload(h.volume.nodes, h.volume.node_count);
+    visible.upload(h.volume.visible, regions);
     const size_t pixels = size_t(h.width) * h.height;
     rgba.resize(pixels * 4);
     counts.resize(pixels);
     FrameView<MeshVolume<Locator>> d = h;
     d.volume.mesh = device_mesh;
-    d.volume.nodes = region_nodes.data();
-    d.volume.wide_nodes = nullptr;  // the CPU's walk; the GPU walks the binary tree
-    d.volume.wide_node_count = 0;
+    d.volume.visible = visible.data();
     d.volume.step_widths = step_widths.data();
     d.volume.region_of_cell = region_of_cell.data();
     d.rgba = rgba.data();

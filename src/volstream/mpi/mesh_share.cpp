@@ -6,11 +6,11 @@ namespace {
 // The grid cells of the macrocells the region's rank samples (one byte per grid cell).
 std::vector<uint8_t> held_cells(const MacroCells& cells, const Box3<double>& region, const IntegratorSettings& settings,
                                 double& margin) {
-  std::vector<RegionExtent> extents(cells.boxes.size());
-  for (size_t r = 0; r < extents.size(); ++r) extents[r] = {cells.boxes[r], cells.step_width[r]};
+  std::vector<RegionExtent> extents(cells.region_count());
+  for (size_t r = 0; r < extents.size(); ++r) extents[r] = {cells.box(r), cells.step_width[r]};
   const HeldRegions held = held_regions(extents, region, settings);
   margin = held.margin;
-  std::vector<uint8_t> is_held(cells.boxes.size(), 0);
+  std::vector<uint8_t> is_held(cells.region_count(), 0);
   for (uint32_t r : held.indices) is_held[r] = 1;
   std::vector<uint8_t> marked(cells.region_of_cell.size(), 0);
   for (size_t c = 0; c < marked.size(); ++c) {

@@ -1,8 +1,8 @@
 // Empty-space skipping for any volume kind (volume/volume.h): a BVH template over the volume's
 // region boxes, built once (binned SAH), then per step, transfer-function or iso change the
 // regions are classified from their value ranges (classify.h) and the BVH refit (culled regions
-// get empty boxes, accel/refit.h), never rebuilt. The ABRs are the first user; the unstructured
-// mesh's leaf clusters will be the next.
+// get empty boxes, accel/refit.h), never rebuilt. The ABRs use it; mesh macrocells, cells of a
+// uniform grid, are walked over the grid instead (umesh/macrocells.h) and only classified here.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -31,7 +31,7 @@ class RegionBvh {
   explicit RegionBvh(std::vector<box3f> region_boxes);  // builds the template
   // Takes a template built (or stored) over region_boxes already: a tree as build_bvh_sah makes.
   // wide_walk: also keep the refit tree's 4-wide form for the CPU walk (bvh_wide.h; the ABRs,
-  // where traversal is a quarter of a render; mesh macrocells are few per ray and do without).
+  // where traversal is a quarter of a render).
   RegionBvh(std::vector<box3f> region_boxes, Bvh template_bvh, bool wide_walk = false);
   // Classifies the regions and refits; skip = false keeps every region. Returns visible ones.
   uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso, bool skip,

@@ -14,20 +14,26 @@
 namespace vs {
 namespace {
 
+// The median splits end in runs of half a multi-leaf; a leaf is the two runs of one split where
+// their vertices fit its table, else each run is a leaf (leaf_end).
+constexpr size_t kClusterRun = kMultiLeafSize / 2;
+static_assert(kClusterRun * 8 <= kMaxLeafTable, "a run of hexes must fit one leaf's table");
+
 // Splits elements [begin, end) of `order` at the median of their centres along the longest axis
-// of the centres' box, recursively, down to runs of kMultiLeafSize: each run is a compact cluster
+// of the centres' box, recursively, down to runs of kClusterRun: each run is a compact cluster
 // (few faces to other leaves, so a walk mostly stays in its leaf, and leaf boxes overlap little),
 // and consecutive runs are close in space (the tree above groups them in eights). Split points
-// are multiples of kMultiLeafSize so that every leaf but the last is full.
+// are multiples of kMultiLeafSize down to groups of one leaf, which split once more in two runs,
+// so every leaf-sized group but the last is full and its runs are its halves.
 void median_split_order(const std::vector<vec3f>& centre, uint32_t* begin, uint32_t* end) {
   const size_t n = size_t(end - begin);
-  if (n <= kMultiLeafSize) return;
+  if (n <= kClusterRun) return;
   box3f bounds = box3f::make_empty();
   for (const uint32_t* e = begin; e != end; ++e) bounds.extend(centre[*e]);
   const vec3f extent = bounds.size();
   const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
-  const size_t leaves = (n + kMultiLeafSize - 1) / kMultiLeafSize;
-  uint32_t* middle = begin + (leaves / 2) * kMultiLeafSize;
+  const size_t groups = (n + kMultiLeafSize - 1) / kMultiLeafSize;
+  uint32_t* middle = begin + (n <= kMultiLeafSize ? kClusterRun : (groups / 2) * kMultiLeafSize);
   std::nth_element(begin, middle, end, [&](uint32_t a, uint32_t b) { return centre[a][axis] < centre[b][axis]; });
   if (n > 65536) {
     tbb::parallel_invoke([&] { median_split_order(centre, begin, middle); },
@@ -177,7 +183,7 @@ void add_leaf(const UMesh& mesh, const std::vector<uint32_t>& order, size_t begi
   for (const uint32_t v : corners) {
     const size_t at = size_t(std::find(table.begin(), table.end(), v) - table.begin());
     if (at == table.size()) table.push_back(v);
-    corner_bytes.push_back(uint8_t(at));  // at most kMultiLeafSize * 8 = 256 distinct vertices
+    corner_bytes.push_back(uint8_t(at));  // at most kMaxLeafTable = 256 distinct vertices (leaf_end)
   }
   CompactLeaf leaf{};
   leaf.submesh = uint16_t(c.submeshes.size() - 1);
@@ -253,14 +259,34 @@ void build_compact_tree(CompactMesh& c, const std::vector<box3f>& leaf_boxes) {
   c.leaf_parents = uint32_t(c.nodes.size() - (leaf_boxes.size() + kCompactWidth - 1) / kCompactWidth);
 }
 
+size_t distinct_vertices(const UMesh& mesh, const std::vector<uint32_t>& order, size_t begin, size_t end) {
+  std::vector<uint32_t> v;
+  for (size_t k = begin; k < end; ++k) {
+    const UElement& e = mesh.elements[order[k]];
+    v.insert(v.end(), e.v, e.v + e.vertex_count());
+  }
+  std::sort(v.begin(), v.end());
+  return size_t(std::unique(v.begin(), v.end()) - v.begin());
+}
+
+// Where the leaf starting at `begin` (a run's start) ends: after the two runs of one group (an
+// even run and the next) where their distinct vertices fit one table, else after one run. Tets always
+// pair up (64 x 4 corners); hexes do where they share vertices, as in a block of cells.
+size_t leaf_end(const UMesh& mesh, const std::vector<uint32_t>& order, size_t begin) {
+  const size_t one = std::min(order.size(), begin + kClusterRun);
+  const size_t two = std::min(order.size(), begin + 2 * kClusterRun);
+  const bool pair_start = (begin / kClusterRun) % 2 == 0;
+  return pair_start && two > one && distinct_vertices(mesh, order, begin, two) <= kMaxLeafTable ? two : one;
+}
+
 CompactMesh build_compact_mesh(const UMesh& mesh) {
   CompactMesh c;
   c.elements = mesh.elements.size();
   const std::vector<uint32_t> order = cluster_order(mesh);
   std::unordered_map<uint32_t, uint32_t> local;  // reference vertex -> local index in the current sub-mesh
   std::vector<box3f> leaf_boxes;
-  for (size_t begin = 0; begin < order.size(); begin += kMultiLeafSize) {
-    const size_t end = std::min(order.size(), begin + kMultiLeafSize);
+  for (size_t begin = 0, end = 0; begin < order.size(); begin = end) {
+    end = leaf_end(mesh, order, begin);
     const uint32_t in_use = uint32_t(c.vertices.size()) - (c.submeshes.empty() ? 0 : c.submeshes.back().first_vertex);
     if (c.submeshes.empty() || in_use + new_vertices(mesh, order, begin, end, local) > 65536) {
       if (c.submeshes.size() > 0xffff)

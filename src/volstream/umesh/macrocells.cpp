@@ -59,19 +59,16 @@ MacroGrid macro_grid(const box3f& bounds, uint64_t elements) {
   return g;
 }
 
-box3f macrocell_box(const MacroGrid& g, const vec3i& c) {
-  const vec3f lower = g.bounds.lower + vec3f(float(c.x), float(c.y), float(c.z)) * g.cell_size;
-  // The last layer ends exactly on the bounds (no rounding gap at the far faces).
-  vec3f upper = lower + g.cell_size;
-  for (int a = 0; a < 3; ++a)
-    if (c[a] == g.dims[a] - 1) upper[a] = g.bounds.upper[a];
-  return {lower, upper};
-}
-
 bool box_touches(const MacroGrid& grid, const box3f& box, const std::vector<uint8_t>& cells) {
   uint8_t hit = 0;
   for_each_cell(grid, box, [&](uint64_t c) { hit |= cells[c]; });
   return hit != 0;
+}
+
+box3f MacroCells::box(size_t region) const {
+  const uint64_t c = cell_of_region[region], row = uint64_t(grid.dims.x);
+  const uint64_t plane = row * uint64_t(grid.dims.y);
+  return grid.cell_box({int(c % row), int(c / row % uint64_t(grid.dims.y)), int(c / plane)});
 }
 
 float element_size(const box3f& b) {
@@ -114,23 +111,19 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, ElementsOf&& visit_e
     });
   });
   m.region_of_cell.assign(n, -1);
-  for (int z = 0; z < m.grid.dims.z; ++z)
-    for (int y = 0; y < m.grid.dims.y; ++y)
-      for (int x = 0; x < m.grid.dims.x; ++x) {
-        const uint64_t c = m.grid.index({x, y, z});
-        const float width = from_ordered(finest[c]);
-        if (finest[c] == ordered(INFINITY)) continue;  // no element overlaps it
-        m.region_of_cell[c] = int32_t(m.boxes.size());
-        m.boxes.push_back(macrocell_box(m.grid, {x, y, z}));
-        m.step_width.push_back(width);
-      }
+  for (uint64_t c = 0; c < n; ++c) {
+    if (finest[c] == ordered(INFINITY)) continue;  // no element overlaps it
+    m.region_of_cell[c] = int32_t(m.cell_of_region.size());
+    m.cell_of_region.push_back(uint32_t(c));
+    m.step_width.push_back(from_ordered(finest[c]));
+  }
   return m;
 }
 
 // The ranges over an encoding's elements (visit_elements as for build_over).
 template <typename ElementsOf>
 std::vector<Range> ranges_over(const MacroCells& m, int64_t items, const float* values, ElementsOf&& visit_elements) {
-  std::vector<uint32_t> lo(m.boxes.size(), ordered(INFINITY)), hi(m.boxes.size(), ordered(-INFINITY));
+  std::vector<uint32_t> lo(m.region_count(), ordered(INFINITY)), hi(m.region_count(), ordered(-INFINITY));
   parallel_for("macrocell ranges", items, [&](int64_t item) {
     visit_elements(item, [&](const box3f& box, const uint32_t* vertex, int n) {
       float elo = INFINITY, ehi = -INFINITY;
@@ -148,7 +141,7 @@ std::vector<Range> ranges_over(const MacroCells& m, int64_t items, const float* 
       });
     });
   });
-  std::vector<Range> ranges(m.boxes.size());
+  std::vector<Range> ranges(m.region_count());
   for (size_t r = 0; r < ranges.size(); ++r) ranges[r] = {from_ordered(lo[r]), from_ordered(hi[r])};
   return ranges;
 }

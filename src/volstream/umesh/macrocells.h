@@ -5,11 +5,14 @@
 // overlapping it (empty-space skipping and isosurfaces, recomputed per step: only scalars
 // change) and the size of its smallest element (the adaptive step). Macrocells no element
 // touches are not regions at all, so rays skip holes, cavities and the gaps between the parts of
-// a mesh without sampling them.
+// a mesh without sampling them. A ray finds its macrocells front to back by a walk over the
+// grid (for_each_cell_along), not through a BVH: the cells are implicit, so the walk needs no
+// tree and no boxes, and culled regions cost a flag each (volume/umesh_volume.h).
 #pragma once
 #include <cstdint>
 #include <vector>
 
+#include "volstream/accel/bvh_traverse.h"
 #include "volstream/amr/model.h"
 #include "volstream/core/math.h"
 #include "volstream/umesh/compact.h"
@@ -36,15 +39,60 @@ struct MacroGrid {
     return (uint64_t(c.z) * uint64_t(dims.y) + uint64_t(c.y)) * uint64_t(dims.x) + uint64_t(c.x);
   }
   uint64_t cell_count() const { return uint64_t(dims.x) * uint64_t(dims.y) * uint64_t(dims.z); }
+  // The box of cell c; the last layer ends exactly on the bounds (no rounding gap at the far faces).
+  VS_HOST_DEVICE box3f cell_box(const vec3i& c) const {
+    box3f b;
+    b.lower = bounds.lower + vec3f(float(c.x), float(c.y), float(c.z)) * cell_size;
+    b.upper = b.lower + cell_size;
+    for (int a = 0; a < 3; ++a)
+      if (c[a] == dims[a] - 1) b.upper[a] = bounds.upper[a];
+    return b;
+  }
+  VS_HOST_DEVICE bool holds(const vec3i& c) const {
+    return c.x >= 0 && c.y >= 0 && c.z >= 0 && c.x < dims.x && c.y < dims.y && c.z < dims.z;
+  }
 };
+
+// Every cell of g that the ray org + t dir (t >= 0) crosses, front to back, as visit(cell, t0,
+// t1) with the ray's interval in cell_box(cell) as ray_box gives it (so the intervals are those a
+// BVH over the same boxes gives); visit returns false to stop. Each step crosses the face through
+// which the ray leaves the cell, so the walk ends after at most dims.x + dims.y + dims.z cells.
+template <typename Visit>
+VS_HOST_DEVICE inline void for_each_cell_along(const MacroGrid& g, const vec3f& org, const vec3f& dir, Visit&& visit) {
+  const SlabRay ray(org, dir);
+  float t_in, t_out;
+  ray_box(ray, g.bounds, t_in, t_out);
+  t_in = t_in > 0.f ? t_in : 0.f;
+  if (!(t_in <= t_out)) return;
+  vec3i c = g.cell_of(org + dir * t_in);  // a rounding error here only adds or drops an empty interval
+  for (;;) {
+    const box3f b = g.cell_box(c);
+    float t0, t1;
+    ray_box(ray, b, t0, t1);
+    t0 = t0 > 0.f ? t0 : 0.f;
+    if (t0 <= t1 && t1 > 0.f && !visit(c, t0, t1)) return;
+    int axis = 0;
+    float t_leave = INFINITY;
+    for (int a = 0; a < 3; ++a) {
+      const float face = ray.inv_dir[a] >= 0.f ? b.upper[a] : b.lower[a];
+      const float t = (face - ray.org[a]) * ray.inv_dir[a];
+      if (t < t_leave) t_leave = t, axis = a;
+    }
+    c[axis] += ray.inv_dir[axis] >= 0.f ? 1 : -1;
+    if (!g.holds(c)) return;
+  }
+}
 
 struct MacroCells {
   MacroGrid grid;
-  std::vector<int32_t> region_of_cell;  // grid cell -> region, -1 where no element overlaps
-  std::vector<box3f> boxes;             // per region
-  std::vector<float> step_width;        // per region: its smallest element's size
+  std::vector<int32_t> region_of_cell;   // grid cell -> region, -1 where no element overlaps
+  std::vector<uint32_t> cell_of_region;  // region -> grid cell (grid.index)
+  std::vector<float> step_width;         // per region: its smallest element's size
+  size_t region_count() const { return cell_of_region.size(); }
+  box3f box(size_t region) const;  // its grid cell's box
   uint64_t bytes() const {
-    return region_of_cell.size() * sizeof(int32_t) + boxes.size() * sizeof(box3f) + step_width.size() * sizeof(float);
+    return region_of_cell.size() * sizeof(int32_t) + cell_of_region.size() * sizeof(uint32_t) +
+           step_width.size() * sizeof(float);
   }
 };
 
@@ -67,8 +115,6 @@ std::vector<vec3d> element_centroids(const CompactMesh& mesh);
 // The grid build_macrocells makes over elements with these bounds (of their boxes): cubic cells,
 // about kElementsPerMacrocell elements each, at most 256 per axis.
 MacroGrid macro_grid(const box3f& bounds, uint64_t elements);
-// The box of grid cell c (the last layer ends exactly on the bounds).
-box3f macrocell_box(const MacroGrid& grid, const vec3i& c);
 // The box overlaps a grid cell marked in `cells` (one byte per cell of `grid`), by the overlap
 // test of the macrocells.
 bool box_touches(const MacroGrid& grid, const box3f& box, const std::vector<uint8_t>& cells);

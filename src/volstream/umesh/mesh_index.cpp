@@ -8,10 +8,8 @@
 namespace vs {
 
 std::vector<StoredMacrocell> stored_macrocells(const MacroCells& cells) {
-  std::vector<StoredMacrocell> out;
-  out.reserve(cells.boxes.size());
-  for (uint64_t c = 0; c < cells.region_of_cell.size(); ++c)
-    if (const int32_t r = cells.region_of_cell[c]; r >= 0) out.push_back({uint32_t(c), cells.step_width[size_t(r)]});
+  std::vector<StoredMacrocell> out(cells.region_count());
+  for (size_t r = 0; r < out.size(); ++r) out[r] = {cells.cell_of_region[r], cells.step_width[r]};
   return out;
 }
 
@@ -40,7 +38,6 @@ MacroCells macrocells_from_stored(const MacroGrid& grid, const std::vector<Store
   MacroCells m;
   m.grid = grid;
   m.region_of_cell.assign(grid.cell_count(), -1);
-  const uint64_t per_layer = uint64_t(grid.dims.x) * uint64_t(grid.dims.y);
   for (size_t r = 0; r < stored.size(); ++r) {
     const StoredMacrocell& s = stored[r];
     if (!(s.cell < grid.cell_count() && (r == 0 || s.cell > stored[r - 1].cell)))
@@ -48,9 +45,7 @@ MacroCells macrocells_from_stored(const MacroGrid& grid, const std::vector<Store
     if (!(std::isfinite(s.step_width) && s.step_width >= 0.f))
       input_error(file, "macrocell " + std::to_string(r) + " has a bad step width");
     m.region_of_cell[s.cell] = int32_t(r);
-    const vec3i c(int(s.cell % uint64_t(grid.dims.x)), int(s.cell / uint64_t(grid.dims.x) % uint64_t(grid.dims.y)),
-                  int(s.cell / per_layer));
-    m.boxes.push_back(macrocell_box(grid, c));
+    m.cell_of_region.push_back(s.cell);
     m.step_width.push_back(s.step_width);
   }
   return m;

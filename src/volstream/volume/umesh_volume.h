@@ -1,15 +1,12 @@
 // An unstructured mesh (umesh/umesh.h, reference encoding; umesh/compact.h, compact) as a volume: the regions are the
-// non-empty macrocells (umesh/macrocells.h), found front to back by the refit region BVH like
-// ABRs; a sample locates its element through the element BVH (umesh/element_bvh.h) wherever it
+// non-empty macrocells (umesh/macrocells.h), found front to back by a walk over their grid that
+// skips empty and culled cells; a sample locates its element through the element BVH (umesh/element_bvh.h) wherever it
 // is, so sample and sample_near are the same, and a point in no element (a hole, a notch, the
 // space between the parts of a mesh inside a macrocell) is NaN, which the integrator skips.
 #pragma once
 #include <cmath>
 #include <cstdint>
 
-#include "volstream/accel/bvh.h"
-#include "volstream/accel/bvh_traverse.h"
-#include "volstream/accel/bvh_wide.h"
 #include "volstream/umesh/compact.h"
 #include "volstream/umesh/element_bvh.h"
 #include "volstream/umesh/macrocells.h"
@@ -23,11 +20,8 @@ template <typename Locator>
 struct MeshVolume {
   Locator mesh;
   const float* fields[kVolumeFields] = {};  // per vertex; fields[1] may be null
-  const BvhNode* nodes = nullptr;           // refit BVH over the macrocells: visible ones only
-  uint32_t node_count = 0;
-  const Bvh4Node* wide_nodes = nullptr;  // its 4-wide form (bvh_wide.h); null: the binary walk
-  uint32_t wide_node_count = 0;
-  const float* step_widths = nullptr;  // per macrocell
+  const uint8_t* visible = nullptr;         // per macrocell: 0 where classification culled it
+  const float* step_widths = nullptr;       // per macrocell
   MacroGrid grid;
   const int32_t* region_of_cell = nullptr;
 
@@ -47,10 +41,11 @@ struct MeshVolume {
   }
   template <typename Visit>
   VS_HOST_DEVICE void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
-    for_each_region_leaf(nodes, node_count, wide_nodes, wide_node_count, org, dir,
-                         [&](uint32_t region, float t0, float t1) {
-                           return visit(RayInterval{region, t0, t1});
-                         });
+    for_each_cell_along(grid, org, dir, [&](const vec3i& cell, float t0, float t1) {
+      const int32_t region = region_of_cell[grid.index(cell)];
+      if (region < 0 || !visible[region]) return true;
+      return visit(RayInterval{uint32_t(region), t0, t1});
+    });
   }
 };
 using UMeshVolume = MeshVolume<UMeshView>;

@@ -1,5 +1,8 @@
 #include "volstream/render/integrators/umesh_renderer.h"
 
+#include <algorithm>
+#include <stdexcept>
+
 #include "volstream/backend/parallel.h"
 #include "volstream/core/error.h"
 #include "volstream/core/stopwatch.h"
@@ -28,18 +31,43 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
       accel_(borrowed ? borrowed : owned_.get()),
       stored_(stored),
       transform_(transform),
-      bounds_(whole ? whole->world_bounds : world_bounds(mesh ? mesh->vertices : stored->vertices, transform)),
-      skipping_([&] {
-        Stopwatch watch;
-        const MacroGrid* grid = whole ? &whole->grid : nullptr;
-        cells_ = mesh ? build_macrocells(*mesh, grid) : build_macrocells(*stored, grid);
-        build_seconds_ = watch.seconds();
-        return cells_.boxes;
-      }()) {
+      bounds_(whole ? whole->world_bounds : world_bounds(mesh ? mesh->vertices : stored->vertices, transform)) {
+  Stopwatch watch;
+  const MacroGrid* grid = whole ? &whole->grid : nullptr;
+  cells_ = mesh ? build_macrocells(*mesh, grid) : build_macrocells(*stored, grid);
+  build_seconds_ = watch.seconds();
+  visible_.assign(cells_.region_count(), 1);
   const UMeshBytes b = bytes();
   // The BVH and adjacency are the dataset's ("mesh") unless built here.
   const uint64_t accel = owned_ ? b.bvh_nodes + b.bvh_items + b.face_neighbors : 0;
-  counted_ = CountedBytes("mesh macrocells", MemorySpace::host, int64_t(accel + b.macrocells + b.region_bvh));
+  counted_ = CountedBytes("mesh macrocells", MemorySpace::host, int64_t(accel + b.macrocells));
+}
+
+uint64_t UMeshRenderer::classify(const std::vector<Range>& ranges, const TransferTable& tf,
+                                 const IntegratorSettings& iso, bool skip, SkipStats* stats) {
+  if (ranges.size() != region_count()) throw std::invalid_argument("one value range per macrocell expected");
+  Stopwatch watch;
+  const std::vector<uint8_t> keep = skip ? classify_regions(ranges, tf, iso) : std::vector<uint8_t>{};
+  const double classify_s = watch.seconds();
+  const uint64_t visible = refit(keep, stats);
+  if (stats) stats->classify_seconds = classify_s;
+  return visible;
+}
+
+uint64_t UMeshRenderer::refit(const std::vector<uint8_t>& keep, SkipStats* stats) {
+  Stopwatch watch;
+  if (keep.empty())
+    std::fill(visible_.begin(), visible_.end(), uint8_t(1));
+  else if (keep.size() == visible_.size())
+    std::copy(keep.begin(), keep.end(), visible_.begin());
+  else
+    throw std::invalid_argument("one flag per macrocell expected");
+  const uint64_t visible = uint64_t(std::count(visible_.begin(), visible_.end(), uint8_t(1)));
+  if (stats) {
+    stats->refit_seconds = watch.seconds();
+    stats->visible = visible;
+  }
+  return visible;
 }
 
 const MeshAccel& UMeshRenderer::reference_accel() const {
@@ -61,8 +89,7 @@ FrameView<MeshVolume<Locator>> UMeshRenderer::make_view(const Locator& locator, 
   v.volume.mesh = locator;
   v.volume.fields[0] = fields.primary;
   v.volume.fields[1] = fields.second;
-  v.volume.nodes = skipping_.refit_nodes().data();
-  v.volume.node_count = uint32_t(skipping_.refit_nodes().size());
+  v.volume.visible = visible_.data();
   v.volume.step_widths = cells_.step_width.data();
   v.volume.grid = cells_.grid;
   v.volume.region_of_cell = cells_.region_of_cell.data();
@@ -132,8 +159,8 @@ UMeshBytes UMeshRenderer::bytes() const {
     b.field = b.compact.field;
     b.compact.field = 0;
   }
-  b.macrocells = cells_.bytes();
-  b.region_bvh = 2 * skipping_.template_bvh().nodes.size() * sizeof(BvhNode);  // template + refit copy
+  // With what a frame keeps per macrocell: one field's value range and the visible flag.
+  b.macrocells = cells_.bytes() + cells_.region_count() * (sizeof(Range) + sizeof(uint8_t));
   return b;
 }
 

@@ -1,8 +1,9 @@
 // The host side of unstructured-mesh rendering (issue 12, reference encoding): the element BVH
-// for point location and the macrocells with their region BVH for the march are built once;
-// per step the macrocells' value ranges are recomputed (only scalars change), then classified
-// and the region BVH refit, never rebuilt, as for ABRs. The one integrator (integrator.h) runs
-// over UMeshVolume.
+// for point location and the macrocells for the march are built once; per step the macrocells'
+// value ranges are recomputed (only scalars change) and classified, as for ABRs. Rays walk the
+// macrocell grid (umesh/macrocells.h), so the pipeline's `refit` stage only sets one visible
+// flag per macrocell: there is no region BVH. The one integrator (integrator.h) runs over
+// UMeshVolume.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -24,12 +25,10 @@ namespace vs {
 // Resident bytes of each structure the renderer keeps for a mesh (info, bytes_per_element): the
 // reference encoding's parts, or the stored compact encoding's (`compact`, its field excluded).
 struct UMeshBytes {
-  uint64_t vertices = 0, elements = 0, bvh_nodes = 0, bvh_items = 0, face_neighbors = 0, macrocells = 0, region_bvh = 0,
-           field = 0;
+  uint64_t vertices = 0, elements = 0, bvh_nodes = 0, bvh_items = 0, face_neighbors = 0, macrocells = 0, field = 0;
   CompactBytes compact;
   uint64_t total() const {
-    return vertices + elements + bvh_nodes + bvh_items + face_neighbors + macrocells + region_bvh + field +
-           compact.total();
+    return vertices + elements + bvh_nodes + bvh_items + face_neighbors + macrocells + field + compact.total();
   }
 };
 
@@ -57,11 +56,11 @@ class UMeshRenderer {
   std::vector<Range> ranges(const float* values) const {
     return mesh_ ? macrocell_ranges(*mesh_, cells_, values) : macrocell_ranges(*stored_, cells_, values);
   }
+  // Classifies the macrocells by their ranges (skip = false keeps every one); returns the visible ones.
   uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso, bool skip,
-                    SkipStats* stats = nullptr) {
-    return skipping_.classify(ranges, tf, iso, skip, stats);
-  }
-  uint64_t refit(const std::vector<uint8_t>& keep, SkipStats* stats = nullptr) { return skipping_.refit(keep, stats); }
+                    SkipStats* stats = nullptr);
+  // Keeps the macrocells with keep[i] != 0 (empty: all); returns the visible ones.
+  uint64_t refit(const std::vector<uint8_t>& keep, SkipStats* stats = nullptr);
 
   FrameView<UMeshVolume> view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
                               const Camera& camera, const FrameSettings& settings) const;
@@ -87,7 +86,7 @@ class UMeshRenderer {
   const MacroCells& macrocells() const { return cells_; }
   const ElementBvh& element_bvh() const { return reference_accel().bvh; }
   const std::vector<uint32_t>& face_neighbors() const { return reference_accel().neighbors; }
-  size_t region_count() const { return cells_.boxes.size(); }
+  size_t region_count() const { return cells_.region_count(); }
   UMeshBytes bytes() const;
   double build_seconds() const { return build_seconds_; }
 
@@ -108,7 +107,7 @@ class UMeshRenderer {
   Box3<double> bounds_;  // world box of the vertices (the default reference step), once per mesh
   double build_seconds_ = 0;
   MacroCells cells_;
-  RegionBvh skipping_;  // over the macrocell boxes
+  std::vector<uint8_t> visible_;  // per macrocell, from classify or refit
   CountedBytes counted_;
   std::unique_ptr<CompactMesh> compact_;
   CountedBytes compact_counted_;

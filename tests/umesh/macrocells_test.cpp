@@ -1,0 +1,118 @@
+// The macrocell grid walk (for_each_cell_along) against the brute force: every cell's box tested
+// against the ray. The walk must give every cell the ray passes through, with the interval
+// ray_box gives for that cell's box (what the region BVH it replaced gave), front to back.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <vector>
+
+#include "volstream/umesh/macrocells.h"
+
+namespace vs {
+namespace {
+
+struct Crossing {
+  uint64_t cell;
+  float t0, t1;
+};
+
+MacroGrid test_grid() {
+  MacroGrid g;
+  g.bounds = {{-1.f, 0.f, 2.f}, {3.f, 1.5f, 2.9f}};
+  g.dims = {7, 4, 3};
+  for (int a = 0; a < 3; ++a) g.cell_size[a] = g.bounds.size()[a] / float(g.dims[a]);
+  return g;
+}
+
+std::vector<Crossing> walked(const MacroGrid& g, const vec3f& org, const vec3f& dir) {
+  std::vector<Crossing> out;
+  for_each_cell_along(g, org, dir, [&](const vec3i& c, float t0, float t1) {
+    out.push_back({g.index(c), t0, t1});
+    return true;
+  });
+  return out;
+}
+
+// Cells whose box the ray crosses over a positive length after t = 0, by entry.
+std::vector<Crossing> brute_force(const MacroGrid& g, const vec3f& org, const vec3f& dir) {
+  const SlabRay ray(org, dir);
+  std::vector<Crossing> out;
+  for (int z = 0; z < g.dims.z; ++z)
+    for (int y = 0; y < g.dims.y; ++y)
+      for (int x = 0; x < g.dims.x; ++x) {
+        float t0, t1;
+        ray_box(ray, g.cell_box({x, y, z}), t0, t1);
+        t0 = std::max(t0, 0.f);
+        if (t1 - t0 > 1e-5f) out.push_back({g.index({x, y, z}), t0, t1});
+      }
+  std::sort(out.begin(), out.end(), [](const Crossing& a, const Crossing& b) { return a.t0 < b.t0; });
+  return out;
+}
+
+// Returns how many cells the ray crosses.
+size_t expect_same_crossings(const MacroGrid& g, const vec3f& org, const vec3f& dir) {
+  const std::vector<Crossing> walk = walked(g, org, dir), expected = brute_force(g, org, dir);
+  // The walk may add cells it only touches (zero length); it must hold every crossed one, once.
+  std::vector<Crossing> long_ones;
+  for (size_t i = 0; i < walk.size(); ++i) {
+    if (i > 0) {
+      EXPECT_GE(walk[i].t0, walk[i - 1].t1 - 1e-5f) << "not front to back";
+    }
+    if (walk[i].t1 - walk[i].t0 > 1e-5f) long_ones.push_back(walk[i]);
+  }
+  EXPECT_EQ(long_ones.size(), expected.size()) << "org " << org.x << "," << org.y << "," << org.z;
+  for (size_t i = 0; i < std::min(expected.size(), long_ones.size()); ++i) {
+    EXPECT_EQ(long_ones[i].cell, expected[i].cell);
+    EXPECT_EQ(long_ones[i].t0, expected[i].t0);
+    EXPECT_EQ(long_ones[i].t1, expected[i].t1);
+  }
+  return expected.size();
+}
+
+TEST(MacroGridWalk, EqualsEveryCellTestedFromOutsideAndInside) {
+  const MacroGrid g = test_grid();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-3.f, 5.f), inside(0.f, 1.f);
+  size_t crossed = 0;
+  for (int i = 0; i < 2000; ++i) {
+    // From anywhere (in the grid too) towards a point of the grid, some parallel to a grid plane.
+    const vec3f org(u(rng), u(rng) * 0.5f, 2.f + u(rng) * 0.3f);
+    const vec3f target = g.bounds.lower + g.bounds.size() * vec3f(inside(rng), inside(rng), inside(rng));
+    vec3f dir = target - org;
+    if (i % 5 == 0) dir[i % 3] = 0.f;
+    if (length(dir) < 1e-3f) continue;
+    crossed += expect_same_crossings(g, org, normalize(dir));
+  }
+  EXPECT_GT(crossed, 2000u) << "too few rays meet the grid to test the walk";
+}
+
+TEST(MacroGridWalk, AxisRaysAlongCellFacesVisitEveryCellOnce) {
+  const MacroGrid g = test_grid();
+  const vec3f on_face = g.bounds.lower + g.cell_size * vec3f(2.f, 1.f, 1.f);
+  for (int a = 0; a < 3; ++a)
+    for (float sign : {1.f, -1.f}) {
+      vec3f dir(0.f, 0.f, 0.f), org = on_face;
+      dir[a] = sign;
+      org[a] = sign > 0 ? g.bounds.lower[a] - 1.f : g.bounds.upper[a] + 1.f;
+      const std::vector<Crossing> walk = walked(g, org, dir);
+      std::vector<uint64_t> cells;
+      for (const Crossing& c : walk) cells.push_back(c.cell);
+      std::sort(cells.begin(), cells.end());
+      EXPECT_EQ(std::unique(cells.begin(), cells.end()), cells.end()) << "a cell twice";
+      EXPECT_EQ(walk.size(), size_t(g.dims[a])) << "one row of cells along axis " << a;
+    }
+}
+
+TEST(MacroGridWalk, MissesAndStops) {
+  const MacroGrid g = test_grid();
+  EXPECT_TRUE(walked(g, {-5.f, -5.f, -5.f}, normalize(vec3f(-1.f, 0.f, 0.f))).empty());
+  EXPECT_TRUE(walked(g, {10.f, 0.5f, 2.5f}, {1.f, 0.f, 0.f}).empty()) << "the grid lies behind the origin";
+  int visited = 0;
+  for_each_cell_along(g, {-2.f, 0.7f, 2.4f}, {1.f, 0.f, 0.f},
+                      [&](const vec3i&, float, float) { return ++visited < 3; });
+  EXPECT_EQ(visited, 3);
+}
+
+}  // namespace
+}  // namespace vs

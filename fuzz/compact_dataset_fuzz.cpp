@@ -1,7 +1,7 @@
 // The native dataset reader on a mesh stored in the compact encoding (issue 13): a small mixed
 // mesh with one of its files patched, then opened (check_compact_mesh), its macrocells built
 // from the compact leaves, probed (also by brute force) and rendered; and opened deferred, as a
-// data-parallel rank does (the leaf index with the stored macrocells), restricted to a share
+// data-parallel rank does (its mesh index: tree, leaf records, stored macrocells), restricted to a share
 // read part by part, probed and rendered.
 #include "fuzz_util.h"
 #include "volstream/io/dataset.h"

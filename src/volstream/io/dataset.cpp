@@ -545,7 +545,7 @@ void Dataset::load_compact_mesh() {
   count_mesh_bytes();
 }
 
-// The leaf index only: the tree, leaf and sub-mesh records (checked as at a whole read, but for
+// The compact mesh index only: the tree, leaf and sub-mesh records (checked as at a whole read, but for
 // what needs the bytes and vertices: restrict_to checks the part's) and the macrocells.
 void Dataset::load_compact_index() {
   const std::map<std::string, uint64_t>& records = manifest_.mesh.compact_records;

@@ -1,7 +1,5 @@
 // play: stream a time series through the per-frame pipeline (read, upload, ranges, refit,
 // render, output) at a chosen optimisation level, writing PNG frames or a video.
-#include <sys/resource.h>
-
 #include <chrono>
 #include <cstdio>
 
@@ -46,13 +44,6 @@ std::string progress_detail(const Timeline& timeline, int frames, double seconds
   std::snprintf(text, sizeof(text), "%.1f frames/s, slowest: %s %.1f ms", frames / std::max(seconds, 1e-9),
                 slowest ? stage_name(slowest->stage) : "-", slowest ? slowest->mean_ms : 0.0);
   return text;
-}
-
-// The process's peak resident set: what a user compares with host memory for long series.
-double peak_rss_mib() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return double(usage.ru_maxrss) / 1024.0;  // KiB on Linux
 }
 
 void print_report(const Pipeline& p, const Timeline& timeline, const PlayStats& stats, const std::string& level) {
@@ -180,7 +171,7 @@ void run_play_ranks(const PlayArgs& a) {
   std::unique_ptr<mpi::ParallelRenderer> renderer;
   std::unique_ptr<FrameWriter> writer;
   mpi::agreed([&] {
-    ds = std::make_unique<Dataset>(a.dir);
+    ds = std::make_unique<Dataset>(a.dir, TopologyLoad::deferred);  // each rank reads its share
     if (a.loop < 1) throw UsageError("--loop must be at least 1");
     const std::vector<int> once = parse_steps(a.steps, ds->manifest().step_count());
     for (int i = 0; i < a.loop; ++i) steps.insert(steps.end(), once.begin(), once.end());

@@ -95,12 +95,13 @@ struct OpenedRender {
   RenderPlan plan;
 };
 
-OpenedRender open_render(const RenderArgs& a) {
+// `load`: deferred under mpirun, where each rank reads only its share of a mesh's topology.
+OpenedRender open_render(const RenderArgs& a, TopologyLoad load = TopologyLoad::whole) {
   if (a.dir.empty() == a.demo.empty()) throw UsageError("give either a dataset directory or --demo jet|cosmo");
   check_image_output(a.output);  // before the work, not after
   OpenedRender o;
   if (!a.demo.empty()) o.demo = std::make_unique<TempDemo>(a.demo, a.cells);
-  o.dataset = std::make_unique<Dataset>(o.demo ? o.demo->dir.string() : a.dir);
+  o.dataset = std::make_unique<Dataset>(o.demo ? o.demo->dir.string() : a.dir, load);
   const DatasetManifest& m = o.dataset->manifest();
   if (a.step < 0 || a.step >= m.step_count())
     throw UsageError("step " + std::to_string(a.step) + " out of range 0.." + std::to_string(m.step_count() - 1));
@@ -124,7 +125,7 @@ mpi::CompositeScheme composite_scheme(const std::string& name) {
 
 // Rank 0's table: per rank what it holds and read, and its stages (the `composite` stage
 // included), from the values every rank sent.
-constexpr size_t kRankColumns = 12;
+constexpr size_t kRankColumns = 14;
 std::vector<double> rank_row(const mpi::ShareStats& share, uint64_t bytes_read, const FrameTimes& t,
                              const mpi::CompositeStats& c) {
   return {double(share.owned),
@@ -138,7 +139,9 @@ std::vector<double> rank_row(const mpi::ShareStats& share, uint64_t bytes_read, 
           double(c.bytes_sent),
           double(share.mesh ? share.vertices : share.bricks),
           double(share.mesh ? share.items : share.abrs),
-          double(share.topology_bytes)};
+          double(share.topology_bytes),
+          double(share.topology_bytes_read),
+          peak_rss_mib()};
 }
 
 // `total`: the dataset's cells or elements; `values`: its values per (field, step).
@@ -147,16 +150,15 @@ void print_ranks(const std::vector<double>& rows, const mpi::ShareStats& share, 
   const size_t n = rows.size() / kRankColumns;
   double read = 0, held = 0, sent = 0;
   const char* unit = share.mesh ? "elements" : "cells";
-  const char* parts =
-      share.mesh ? (compact ? "vertices, %.0f leaves" : "vertices, %.0f elements") : "bricks, %.0f ABRs";
+  const char* parts = share.mesh ? (compact ? "vertices, %.0f leaves" : "vertices, %.0f chunks") : "bricks, %.0f ABRs";
   for (size_t r = 0; r < n; ++r) {
     const double* v = rows.data() + r * kRankColumns;
     char held_parts[64];
     std::snprintf(held_parts, sizeof(held_parts), parts, v[10]);
     std::printf(
-        "rank %zu: %s %.0f owned, %.0f held (%.0f %s), topology %.0f B, values read %.0f B; read %.4fs ranges "
-        "%.4fs refit %.4fs render %.4fs composite %.4fs (sent %.0f B)\n",
-        r, unit, v[0], v[1], v[9], held_parts, v[11], v[2], v[3], v[4], v[5], v[6], v[7], v[8]);
+        "rank %zu: %s %.0f owned, %.0f held (%.0f %s), topology %.0f B, values read %.0f B, topology read %.0f B, "
+        "peak RSS %.1f MiB; read %.4fs ranges %.4fs refit %.4fs render %.4fs composite %.4fs (sent %.0f B)\n",
+        r, unit, v[0], v[1], v[9], held_parts, v[11], v[2], v[12], v[13], v[3], v[4], v[5], v[6], v[7], v[8]);
     read += v[2];
     held += v[1];
     sent += v[8];
@@ -176,7 +178,7 @@ void run_render_ranks(const RenderArgs& a) {
   FrameReport report;
   uint64_t total = 0, values = 0;
   mpi::agreed([&] {
-    o = open_render(a);
+    o = open_render(a, TopologyLoad::deferred);
     const DatasetManifest& m = o.dataset->manifest();
     total = o.dataset->is_mesh() ? m.mesh.elements : m.cell_count;
     values = m.value_count();

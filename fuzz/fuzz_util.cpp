@@ -12,6 +12,7 @@
 #include "volstream/frame/frame_renderer.h"
 #include "volstream/frame/look.h"
 #include "volstream/io/dataset.h"
+#include "volstream/mpi/mesh_share.h"
 
 namespace vs::fuzz {
 namespace fs = std::filesystem;
@@ -76,9 +77,29 @@ void expect_clean(const std::function<void()>& f) {
   }
 }
 
+namespace {
+// A rank's share, chosen as ParallelRenderer chooses it (rank 0 of 2), before anything renders.
+void restrict_to_a_share(Dataset& ds) {
+  const MeshIndex index = ds.mesh_index();
+  const std::vector<vec3d> points = index.item_points();
+  const Partition p = partition_points(points, 2, index.item_elements);
+  DatasetPart part;
+  part.mesh_items = mesh_share(index, points, p.regions[0], IntegratorSettings{}).items;
+  part.mesh_grid = index.cells.grid;
+  part.owned = p.regions[0];
+  part.world_bounds = world_bounds(ds);
+  ds.restrict_to(std::move(part));
+}
+}  // namespace
+
 void exercise_mesh_dataset(const fs::path& dir) {
+  for (const TopologyLoad load : {TopologyLoad::whole, TopologyLoad::deferred}) exercise_mesh_dataset(dir, load);
+}
+
+void exercise_mesh_dataset(const fs::path& dir, TopologyLoad load) {
   expect_clean([&] {
-    Dataset ds(dir);
+    Dataset ds(dir, load);
+    if (load == TopologyLoad::deferred) restrict_to_a_share(ds);
     FrameRenderer renderer(ds, Device::cpu);
     const std::vector<vec3d> points = {vec3d(0.5, 0.5, 0.5), vec3d(0.1, 0.9, 0.2)};
     (void)renderer.probe(0, 0, points);

@@ -9,6 +9,8 @@
 #include <functional>
 #include <vector>
 
+#include "volstream/io/dataset.h"
+
 namespace vs::fuzz {
 
 std::filesystem::path scratch(const char* name);  // created once per process
@@ -20,7 +22,9 @@ bool apply_patch(const std::vector<std::filesystem::path>& files, const uint8_t*
 // Runs f; InputError and UsageError are the expected outcomes of bad input, anything else aborts.
 void expect_clean(const std::function<void()>& f);
 // Opens the mesh dataset in `dir` (either encoding) and, under expect_clean, probes it (through
-// its point location and by brute force) and renders a tiny frame.
+// its point location and by brute force) and renders a tiny frame: opened whole, then opened
+// deferred and restricted to a data-parallel rank's share (a compact mesh read part by part).
 void exercise_mesh_dataset(const std::filesystem::path& dir);
+void exercise_mesh_dataset(const std::filesystem::path& dir, TopologyLoad load);
 
 }  // namespace vs::fuzz

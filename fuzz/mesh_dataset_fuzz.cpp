@@ -1,5 +1,7 @@
 // The native dataset reader on a mesh dataset (kind umesh): a small mixed mesh with one of its
-// files patched, then opened, its BVH and macrocells built, probed (also by brute force) and rendered.
+// files patched, then opened, its BVH and macrocells built, probed (also by brute force) and rendered;
+// and opened deferred as a data-parallel rank does (chunk boxes, macrocells), restricted to a
+// share read part by part, probed and rendered.
 #include "fuzz_util.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/mesh_convert.h"
@@ -21,13 +23,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const auto base = make_base(dir);
   const auto work = dir / "work";
   fuzz::copy_tree(base, work);
-  const std::vector<std::filesystem::path> files = {work / "manifest.json",
-                                                    work / "mesh_vertices.bin",
-                                                    work / "mesh_elements.bin",
-                                                    work / "mesh_bvh_nodes.bin",
-                                                    work / "mesh_bvh_items.bin",
-                                                    work / "mesh_neighbors.bin",
-                                                    work / "fields/0_density/step_000000.f32"};
+  const std::vector<std::filesystem::path> files = {
+      work / "manifest.json",      work / "mesh_vertices.bin",   work / "mesh_elements.bin",
+      work / "mesh_bvh_nodes.bin", work / "mesh_bvh_items.bin",  work / "mesh_neighbors.bin",
+      work / "mesh_chunks.bin",    work / "mesh_macrocells.bin", work / "fields/0_density/step_000000.f32"};
   if (!fuzz::apply_patch(files, data, size)) return 0;
   fuzz::exercise_mesh_dataset(work);
   return 0;

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+
 namespace vs::test {
 std::filesystem::path scratch_dir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
@@ -10,6 +13,21 @@ std::filesystem::path scratch_dir(const std::string& name) {
   auto dir = std::filesystem::temp_directory_path() / "volstream_tests" / unique;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::filesystem::path damaged_copy(const std::filesystem::path& from, const std::string& name, const std::string& file,
+                                   const std::function<void(std::vector<char>&)>& damage) {
+  namespace fs = std::filesystem;
+  const fs::path dir = scratch_dir(name);
+  fs::copy(from, dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  std::vector<char> bytes;
+  {
+    std::ifstream in(dir / file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  damage(bytes);
+  std::ofstream(dir / file, std::ios::binary | std::ios::trunc).write(bytes.data(), std::streamsize(bytes.size()));
   return dir;
 }
 }  // namespace vs::test

@@ -8,6 +8,15 @@ namespace vs::test {
 std::filesystem::path scratch_dir(const std::string& name);
 }  // namespace vs::test
 
+#include <functional>
+#include <vector>
+
+namespace vs::test {
+// A scratch copy (scratch_dir(name)) of the dataset in `from` with its `file` changed by `damage`.
+std::filesystem::path damaged_copy(const std::filesystem::path& from, const std::string& name, const std::string& file,
+                                   const std::function<void(std::vector<char>&)>& damage);
+}  // namespace vs::test
+
 #include <cstdint>
 #include <vector>
 

@@ -162,15 +162,7 @@ TEST(CompactDatasetCuda, EqualsTheCpu) {
 // A copy of the compact dataset with `file` changed by `damage`; the InputError it gives.
 std::string open_damaged(const std::string& name, const std::string& file,
                          const std::function<void(std::vector<char>&)>& damage) {
-  const fs::path dir = test::scratch_dir("compact_damaged_" + name);
-  fs::copy(compact_dir(), dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
-  std::vector<char> bytes;
-  {
-    std::ifstream in(dir / file, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), {});
-  }
-  damage(bytes);
-  std::ofstream(dir / file, std::ios::binary | std::ios::trunc).write(bytes.data(), std::streamsize(bytes.size()));
+  const fs::path dir = test::damaged_copy(compact_dir(), "compact_damaged_" + name, file, damage);
   try {
     Dataset ds(dir);
   } catch (const InputError& e) {

@@ -5,7 +5,9 @@
   compare A.pfm B.pfm TOL    max |a - b| over the PFM floats; exit 1 above TOL
   ranks LOG FIELDS CELLS     checks a mpirun render's per-rank lines: the regions' cells (a
                              mesh's elements) sum to CELLS and each rank read FIELDS * 4 bytes per
-                             held cell (a mesh's held vertex); prints the ghost overhead"""
+                             held cell (a mesh's held vertex); prints the ghost overhead
+  topology LOG WHOLE         checks that each rank of a mpirun render read less than WHOLE bytes
+                             of topology files (a compact mesh's share); prints the most a rank read"""
 import json
 import random
 import re
@@ -68,6 +70,14 @@ def ranks(log, fields, cells):
     print("ghost overhead %+.1f%%" % (100.0 * (held / cells - 1)))
 
 
+def topology(log, whole):
+    read = [int(m.group(1)) for m in re.finditer(r"^rank \d+: .*topology read (\d+) B", open(log).read(), re.M)]
+    if not read or max(read) >= whole:
+        print("ranks read %s B of topology, the whole files are %d B" % (read, whole))
+        sys.exit(1)
+    print("ranks read %d to %d B of topology (whole: %d B)" % (min(read), max(read), whole))
+
+
 if __name__ == "__main__":
     cmd = sys.argv[1]
     if cmd == "cameras":
@@ -76,3 +86,5 @@ if __name__ == "__main__":
         compare(sys.argv[2], sys.argv[3], float(sys.argv[4]))
     elif cmd == "ranks":
         ranks(sys.argv[2], int(sys.argv[3]), int(sys.argv[4]))
+    elif cmd == "topology":
+        topology(sys.argv[2], int(sys.argv[3]))

@@ -101,44 +101,45 @@ UMesh demo_mesh(const std::string& name, uint64_t elements) {
   return make_umesh(data, mesh_transform(data), name);
 }
 
-// Each element's centroid lies in exactly one region, and that rank holds the element (in the
-// compact encoding: its leaf); the ghosts (held elements beyond the owned ones) are reported.
-TEST(MeshPartition, EveryElementHeldByItsOwner) {
+// The index of either encoding (reference chunks, compact leaves) of a mesh.
+MeshIndex index_of(const UMesh& mesh, bool compact) {
+  if (compact) {
+    const CompactMesh c = build_compact_mesh(mesh);
+    return compact_mesh_index(c, build_macrocells(c));
+  }
+  return reference_mesh_index(reference_chunk_boxes(mesh, build_mesh_accel(mesh).bvh.items), mesh.elements.size(),
+                              build_macrocells(mesh));
+}
+
+// Each item's point (a reference chunk's, a compact leaf's) lies in exactly one region, and that
+// rank holds the item; the ghosts (held elements beyond the owned ones) are reported.
+TEST(MeshPartition, EveryItemHeldByItsOwner) {
   const UMesh mesh = demo_mesh("holes", 3000);
-  const CompactMesh compact = build_compact_mesh(mesh);
-  const std::vector<vec3d> centroids = element_centroids(mesh), compact_centroids = element_centroids(compact);
-  const MacroCells cells = build_macrocells(mesh), compact_cells = build_macrocells(compact);
-  std::vector<uint32_t> leaf_of;  // compact element -> leaf
-  for (uint32_t l = 0; l < compact.leaves.size(); ++l)
-    leaf_of.insert(leaf_of.end(), compact.leaves[l].element_count(), l);
-  for (int ranks : {1, 2, 3, 4, 7}) {
-    const Partition p = partition_points(centroids, ranks), pc = partition_points(compact_centroids, ranks);
-    uint64_t held = 0, held_compact = 0, owned = 0;
-    for (int r = 0; r < ranks; ++r) {
-      const MeshShare share = mesh_share(mesh, cells, centroids, p.regions[size_t(r)], IntegratorSettings{});
-      const MeshShare cshare = mesh_share(compact, compact_cells, compact_centroids, pc.regions[size_t(r)], {});
-      for (uint32_t e = 0; e < centroids.size(); ++e) {
-        if (!in_region(p.regions[size_t(r)], centroids[e])) continue;
-        EXPECT_TRUE(std::binary_search(share.items.begin(), share.items.end(), e)) << "owned element not held";
+  for (const bool compact : {false, true}) {
+    const MeshIndex index = index_of(mesh, compact);
+    const std::vector<vec3d> points = index.item_points();
+    for (int ranks : {1, 2, 3, 4, 7}) {
+      const Partition p = partition_points(points, ranks, index.item_elements);
+      uint64_t held = 0, owned = 0;
+      for (int r = 0; r < ranks; ++r) {
+        const MeshShare share = mesh_share(index, points, p.regions[size_t(r)], IntegratorSettings{});
+        for (uint32_t i = 0; i < points.size(); ++i) {
+          if (!in_region(p.regions[size_t(r)], points[i])) continue;
+          EXPECT_TRUE(std::binary_search(share.items.begin(), share.items.end(), i)) << "owned item not held";
+        }
+        owned += share.owned_elements;
+        held += share.held_elements;
       }
-      for (uint32_t e = 0; e < compact_centroids.size(); ++e) {
-        if (!in_region(pc.regions[size_t(r)], compact_centroids[e])) continue;
-        EXPECT_TRUE(std::binary_search(cshare.items.begin(), cshare.items.end(), leaf_of[e])) << "owned leaf not held";
+      for (const vec3d& c : points) {
+        int owners = 0;
+        for (const Box3<double>& r : p.regions) owners += in_region(r, c);
+        EXPECT_EQ(owners, 1);
       }
-      owned += share.owned_elements;
-      held += share.held_elements;
-      held_compact += cshare.held_elements;
-      EXPECT_EQ(share.owned_elements, cshare.owned_elements);  // the same centroids, in another order
+      EXPECT_EQ(owned, mesh.elements.size());
+      EXPECT_GE(held, owned);
+      std::printf("%d ranks: ghost overhead %+.1f%% (%s)\n", ranks, 100.0 * (double(held) / double(owned) - 1.0),
+                  compact ? "compact" : "reference");
     }
-    for (const vec3d& c : centroids) {
-      int owners = 0;
-      for (const Box3<double>& r : p.regions) owners += in_region(r, c);
-      EXPECT_EQ(owners, 1);
-    }
-    EXPECT_EQ(owned, mesh.elements.size());
-    EXPECT_GE(held, owned);
-    std::printf("%d ranks: ghost overhead %+.1f%% (reference), %+.1f%% (compact)\n", ranks,
-                100.0 * (double(held) / double(owned) - 1.0), 100.0 * (double(held_compact) / double(owned) - 1.0));
   }
 }
 
@@ -160,12 +161,15 @@ TEST(MeshPartition, ElementCountsBalanced) {
 TEST(MeshPartition, PartSamplesAsTheWhole) {
   const UMesh mesh = demo_mesh("mixed", 4000);
   const MacroCells cells = build_macrocells(mesh);
-  const std::vector<vec3d> centroids = element_centroids(mesh);
-  const Partition p = partition_points(centroids, 3);
+  const MeshAccel accel = build_mesh_accel(mesh);
+  const MeshIndex index =
+      reference_mesh_index(reference_chunk_boxes(mesh, accel.bvh.items), mesh.elements.size(), cells);
+  const std::vector<vec3d> points = index.item_points();
+  const Partition p = partition_points(points, 3, index.item_elements);
   const Box3<double>& region = p.regions[1];
-  const MeshShare share = mesh_share(mesh, cells, centroids, region, IntegratorSettings{});
+  const MeshShare share = mesh_share(index, points, region, IntegratorSettings{});
   std::vector<uint32_t> source;
-  const UMesh part = mesh_subset(mesh, share.items, source);
+  const UMesh part = mesh_subset(mesh, chunk_elements(share.items, accel.bvh.items), source);
   const MacroCells part_cells = build_macrocells(part, &cells.grid);
   std::vector<float> values(mesh.vertices.size()), part_values(source.size());
   for (size_t v = 0; v < values.size(); ++v) values[v] = mesh.vertices[v].x + 2 * mesh.vertices[v].y;
@@ -188,7 +192,7 @@ TEST(MeshPartition, PartSamplesAsTheWhole) {
     ++compared;
   }
   EXPECT_GT(compared, 0u);
-  const MeshAccel accel = build_mesh_accel(mesh), part_accel = build_mesh_accel(part);
+  const MeshAccel part_accel = build_mesh_accel(part);
   const UMeshView whole_view{mesh.vertices.data(),
                              mesh.elements.data(),
                              accel.bvh.nodes.data(),

@@ -60,6 +60,18 @@ check_dataset holes_c 2 5 --field density
 check_dataset holes_c 2 11 --field density --iso 0.3 --shade
 check_dataset holes_r 2 11 --field density --iso 0.3 --shade
 COUNTS="2 3 4 8"
+# Each rank reads its share of a mesh's topology (the index, then its items), in both encodings.
+for encoding in compact reference; do
+  ds="tets_$encoding"
+  "$VS" demo tets --elements 20000 --steps 1 --encoding "$encoding" -o "$ds" -q
+  whole=$(cat "$ds"/*.bin | wc -c)
+  ranks 1 render "$ds" --field density --size 40x32 -o "$ds.1.pfm" >/dev/null
+  ranks 4 render "$ds" --field density --size 40x32 -o "$ds.4.pfm" >"$ds.4.log"
+  python3 "$TOOL" compare "$ds.1.pfm" "$ds.4.pfm" 1e-5 >/dev/null || fail "$ds: 4 ranks differ from 1"
+  python3 "$TOOL" ranks "$ds.4.log" 1 "$(python3 -c "import json; print(json.load(open('$ds/manifest.json'))['element_count'])")" \
+    >/dev/null || fail "$ds: owned elements or values read"
+  echo "$ds, 4 ranks: $(python3 "$TOOL" topology "$ds.4.log" "$whole")" || fail "$ds: a rank read the whole topology"
+done
 # Direct send for a power-of-two count gives the binary swap's image.
 ranks 4 render jet --composite direct-send --size 40x32 -o direct.pfm >/dev/null
 ranks 4 render jet --composite binary-swap --size 40x32 -o swap.pfm >/dev/null

@@ -1,5 +1,7 @@
 #include "volstream/backend/memory.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -109,6 +111,12 @@ void CountedBytes::set(int64_t bytes) {
   if (bytes == bytes_) return;
   memory_ledger().add(structure_, space_, bytes - bytes_);
   bytes_ = bytes;
+}
+
+double peak_rss_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;  // KiB on Linux
 }
 
 }  // namespace vs

@@ -27,6 +27,9 @@ MemoryLedger& memory_ledger();
 
 // "device 12.3 MiB (ABRs 4.1, BVH 2.0, ...)": one line per space in use.
 std::string format_memory(const std::vector<MemoryEntry>& entries);
+// The process's peak resident set (MiB): what a user compares with host memory for long series,
+// and what a data-parallel rank's share of a dataset bounds.
+double peak_rss_mib();
 
 // Bytes of one structure counted for as long as this object lives (RAII; movable).
 class CountedBytes {

@@ -116,6 +116,8 @@ struct Box3 {
   VS_HOST_DEVICE constexpr bool contains(const Vec3<T>& p) const {
     return p.x >= lower.x && p.y >= lower.y && p.z >= lower.z && p.x <= upper.x && p.y <= upper.y && p.z <= upper.z;
   }
+  // Every point of b (NaN corners: false).
+  VS_HOST_DEVICE constexpr bool contains(const Box3& b) const { return contains(b.lower) && contains(b.upper); }
   // True when the open interiors of the two boxes intersect.
   VS_HOST_DEVICE constexpr bool overlaps_open(const Box3& b) const {
     return lower.x < b.upper.x && b.lower.x < upper.x && lower.y < b.upper.y && b.lower.y < upper.y &&

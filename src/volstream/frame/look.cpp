@@ -21,7 +21,7 @@ Look default_look(const DatasetManifest& m) {
 
 Box3<double> world_bounds(const Dataset& ds) {
   if (ds.part()) return ds.part()->world_bounds;  // a rank's topology is only its share
-  if (ds.is_mesh()) return world_bounds(ds.mesh_vertices(), ds.manifest().transform);
+  if (ds.is_mesh()) return ds.mesh_world_bounds();
   return world_bounds(ds.topology(), ds.manifest().transform);
 }
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <type_traits>
 
@@ -81,6 +82,7 @@ json manifest_to_json(const DatasetManifest& m) {
     j["vertex_count"] = m.mesh.vertices;
     j["element_count"] = m.mesh.elements;
     for (int t = 0; t < 4; ++t) j["elements_by_type"][kTypeSlotNames[t]] = m.mesh.by_type[t];
+    if (m.mesh.macrocells) j["macrocells"] = m.mesh.macrocells;
     if (m.mesh.compact()) {
       j["mesh_encoding"] = "compact";
       j["compact"] = {{"local_vertices", m.mesh.local_vertices},
@@ -131,6 +133,7 @@ DatasetManifest manifest_from_json(const json& j) {
     m.mesh.vertices = j.at("vertex_count").get<uint64_t>();
     m.mesh.elements = j.at("element_count").get<uint64_t>();
     for (int t = 0; t < 4; ++t) m.mesh.by_type[t] = j.at("elements_by_type").at(kTypeSlotNames[t]).get<uint64_t>();
+    m.mesh.macrocells = j.value("macrocells", uint64_t(0));              // absent before issue 17's mesh index
     const std::string encoding = j.value("mesh_encoding", "reference");  // absent before issue 13
     if (encoding == "compact") {
       const json& c = j.at("compact");
@@ -222,6 +225,7 @@ void validate_manifest(const DatasetManifest& m) {
     } else if (c.bvh_nodes == 0 || c.bvh_nodes > 2 * c.elements) {
       fail("counts out of range");
     }
+    if (c.macrocells > uint64_t(256 * 256 * 256)) fail("macrocell count out of range");
     if (c.by_type[0] + c.by_type[1] + c.by_type[2] + c.by_type[3] != c.elements)
       fail("elements by type do not add up to element_count");
     return;
@@ -291,20 +295,29 @@ void validate_topology(const AmrTopology& t, const std::string& file) {
 
 // Every element's used slots come first (4, 5, 6 or 8), name existing vertices and match the
 // manifest's counts by type; every vertex is finite.
-void validate_mesh(const UMesh& m, const MeshCounts& counts, const std::string& file) {
-  for (size_t i = 0; i < m.vertices.size(); ++i) {
-    const vec3f& v = m.vertices[i];
+void check_finite_vertices(const std::vector<vec3f>& vertices, const std::string& file) {
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    const vec3f& v = vertices[i];
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
       input_error(file, "vertex " + std::to_string(i) + " is not finite");
   }
+}
+
+// Its used slots come first (4, 5, 6 or 8) and name existing vertices.
+bool element_valid(const UElement& el, uint64_t vertex_count) {
+  const int n = el.vertex_count();
+  bool ok = true;
+  for (int k = 0; k < 8; ++k) ok = ok && (k < n ? el.v[k] < vertex_count : el.v[k] == kNoVertex);
+  return ok;
+}
+
+void validate_mesh(const UMesh& m, const MeshCounts& counts, const std::string& file) {
+  check_finite_vertices(m.vertices, file);
   uint64_t by_type[4] = {};
   for (size_t e = 0; e < m.elements.size(); ++e) {
     const UElement& el = m.elements[e];
-    const int n = el.vertex_count();
-    bool ok = true;
-    for (int k = 0; k < 8; ++k) ok = ok && (k < n ? el.v[k] < m.vertices.size() : el.v[k] == kNoVertex);
-    if (!ok) input_error(file, "element " + std::to_string(e) + " is invalid");
-    ++by_type[type_slot(n)];
+    if (!element_valid(el, m.vertices.size())) input_error(file, "element " + std::to_string(e) + " is invalid");
+    ++by_type[type_slot(el.vertex_count())];
   }
   for (int t = 0; t < 4; ++t)
     if (by_type[t] != counts.by_type[t])
@@ -365,6 +378,14 @@ void DatasetWriter::write_mesh(const UMesh& mesh) {
              accel.bvh.nodes.size() * sizeof(ElementBvhNode));
   write_file(dir_ / dataset_files::kMeshBvhItems, accel.bvh.items.data(), accel.bvh.items.size() * sizeof(uint32_t));
   write_file(dir_ / dataset_files::kMeshNeighbors, accel.neighbors.data(), accel.neighbors.size() * sizeof(uint32_t));
+  // The vertices' bounds (those of a vertex of no element too: one process's world bounds),
+  // then the chunk boxes: what a rank chooses its elements by (umesh/mesh_index.h).
+  box3f bounds = box3f::make_empty();
+  for (const vec3f& v : mesh.vertices) bounds.extend(v);
+  std::vector<box3f> chunks = reference_chunk_boxes(mesh, accel.bvh.items);
+  chunks.insert(chunks.begin(), bounds);
+  write_file(dir_ / dataset_files::kMeshChunks, chunks.data(), chunks.size() * sizeof(box3f));
+  write_macrocells(build_macrocells(mesh));
 }
 
 void DatasetWriter::write_compact_mesh(const UMesh& mesh, const CompactMesh& compact) {
@@ -379,6 +400,18 @@ void DatasetWriter::write_compact_mesh(const UMesh& mesh, const CompactMesh& com
     write_file(dir_ / file, array.data(), array.size() * sizeof(array[0]));
     manifest_.mesh.compact_records[file] = array.size();
   });
+  write_macrocells(build_macrocells(compact));
+}
+
+// The grid, then the non-empty cells: what a rank chooses its leaves by (umesh/mesh_index.h).
+void DatasetWriter::write_macrocells(const MacroCells& cells) {
+  const std::vector<StoredMacrocell> stored = stored_macrocells(cells);
+  std::vector<uint8_t> bytes(sizeof(MacroGrid) + stored.size() * sizeof(StoredMacrocell));
+  std::memcpy(bytes.data(), &cells.grid, sizeof(MacroGrid));
+  if (!stored.empty())
+    std::memcpy(bytes.data() + sizeof(MacroGrid), stored.data(), stored.size() * sizeof(StoredMacrocell));
+  write_file(dir_ / dataset_files::kMeshMacrocells, bytes.data(), bytes.size());
+  manifest_.mesh.macrocells = stored.size();
 }
 
 void DatasetWriter::write_values(int field, int step, const std::vector<float>& values) {
@@ -416,7 +449,14 @@ void DatasetWriter::finish() {
 }
 
 // ---------------------------------------------------------------------------------------------
-Dataset::Dataset(const fs::path& dir) : dir_(dir) {
+template <typename T>
+std::vector<T> Dataset::read_topology(const fs::path& path, uint64_t count) {
+  std::vector<T> records = read_records<T>(path, count);
+  topology_bytes_read_ += count * sizeof(T);
+  return records;
+}
+
+Dataset::Dataset(const fs::path& dir, TopologyLoad load) : dir_(dir) {
   const fs::path manifest_path = dir / dataset_files::kManifest;
   try {
     manifest_ = manifest_from_json(json::parse(read_text_file(manifest_path)));
@@ -427,13 +467,14 @@ Dataset::Dataset(const fs::path& dir) : dir_(dir) {
     input_error(manifest_path.string(), std::string("bad manifest: ") + e.what());
   }
   if (manifest_.kind == DatasetKind::umesh) {
+    deferred_ = load == TopologyLoad::deferred && manifest_.mesh.macrocells > 0;
     load_mesh();
     return;
   }
   topology_.cell_count = manifest_.cell_count;
-  topology_.bricks = read_records<Brick>(dir / dataset_files::kBricks, manifest_.brick_count);
-  topology_.abrs = read_records<Abr>(dir / dataset_files::kAbrs, manifest_.abr_count);
-  topology_.abr_bricks = read_records<uint32_t>(dir / dataset_files::kAbrBricks, manifest_.abr_brick_count);
+  topology_.bricks = read_topology<Brick>(dir / dataset_files::kBricks, manifest_.brick_count);
+  topology_.abrs = read_topology<Abr>(dir / dataset_files::kAbrs, manifest_.abr_count);
+  topology_.abr_bricks = read_topology<uint32_t>(dir / dataset_files::kAbrBricks, manifest_.abr_brick_count);
   validate_topology(topology_, (dir / dataset_files::kBricks).string());
   if (manifest_.abr_bvh_node_count) read_abr_bvh();
   count_topology_bytes();
@@ -447,14 +488,15 @@ Dataset::Dataset(const fs::path& dir) : dir_(dir) {
 
 void Dataset::load_mesh() {
   if (manifest_.mesh.compact()) return load_compact_mesh();
-  mesh_.vertices = read_records<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
-  mesh_.elements = read_records<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
+  if (deferred_) return load_reference_index();
+  mesh_.vertices = read_topology<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
+  mesh_.elements = read_topology<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
   for (int t = 0; t < 4; ++t) mesh_.count_by_type[t] = manifest_.mesh.by_type[t];
   validate_mesh(mesh_, manifest_.mesh, (dir_ / dataset_files::kMeshElements).string());
-  mesh_accel_.bvh.nodes = read_records<ElementBvhNode>(dir_ / dataset_files::kMeshBvhNodes, manifest_.mesh.bvh_nodes);
-  mesh_accel_.bvh.items = read_records<uint32_t>(dir_ / dataset_files::kMeshBvhItems, manifest_.mesh.elements);
+  mesh_accel_.bvh.nodes = read_topology<ElementBvhNode>(dir_ / dataset_files::kMeshBvhNodes, manifest_.mesh.bvh_nodes);
+  mesh_accel_.bvh.items = read_topology<uint32_t>(dir_ / dataset_files::kMeshBvhItems, manifest_.mesh.elements);
   mesh_accel_.neighbors =
-      read_records<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
+      read_topology<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
   check_mesh_accel(mesh_, mesh_accel_, (dir_ / dataset_files::kMeshBvhNodes).string());
   count_mesh_bytes();
 }
@@ -473,16 +515,26 @@ void Dataset::count_mesh_bytes() {
 
 // The compact arrays, each of the manifest's record count (a file the manifest does not list, or
 // lists and the table does not know, is a damaged dataset), then checked as a whole.
+namespace {
+// The manifest's record count of each compact array file, checked to name exactly the arrays.
+const std::map<std::string, uint64_t>& compact_records(const DatasetManifest& m, const fs::path& manifest_path) {
+  std::map<std::string, uint64_t> unlisted = m.mesh.compact_records;
+  CompactMesh names;
+  for_each_compact_array(names, [&](const char* file, auto&) {
+    if (!unlisted.erase(file)) input_error(manifest_path.string(), std::string("no record count for ") + file);
+  });
+  if (!unlisted.empty()) input_error(manifest_path.string(), "unknown compact array " + unlisted.begin()->first);
+  return m.mesh.compact_records;
+}
+}  // namespace
+
 void Dataset::load_compact_mesh() {
   const fs::path manifest_path = dir_ / dataset_files::kManifest;
-  std::map<std::string, uint64_t> unread = manifest_.mesh.compact_records;
+  const std::map<std::string, uint64_t>& records = compact_records(manifest_, manifest_path);
+  if (deferred_) return load_compact_index();
   for_each_compact_array(compact_, [&](const char* file, auto& array) {
-    const auto it = unread.find(file);
-    if (it == unread.end()) input_error(manifest_path.string(), std::string("no record count for ") + file);
-    array = read_records<typename std::decay_t<decltype(array)>::value_type>(dir_ / file, it->second);
-    unread.erase(it);
+    array = read_topology<typename std::decay_t<decltype(array)>::value_type>(dir_ / file, records.at(file));
   });
-  if (!unread.empty()) input_error(manifest_path.string(), "unknown compact array " + unread.begin()->first);
   if (compact_.vertices.size() != manifest_.mesh.local_vertices)
     input_error(manifest_path.string(), "local_vertices does not match compact_vertices.bin");
   compact_.elements = manifest_.mesh.elements;
@@ -493,8 +545,73 @@ void Dataset::load_compact_mesh() {
   count_mesh_bytes();
 }
 
+// The compact mesh index only: the tree, leaf and sub-mesh records (checked as at a whole read, but for
+// what needs the bytes and vertices: restrict_to checks the part's) and the macrocells.
+void Dataset::load_compact_index() {
+  const std::map<std::string, uint64_t>& records = manifest_.mesh.compact_records;
+  compact_.nodes = read_topology<CompactNode>(dir_ / "compact_nodes.bin", records.at("compact_nodes.bin"));
+  compact_.leaves = read_topology<CompactLeaf>(dir_ / "compact_leaves.bin", records.at("compact_leaves.bin"));
+  compact_.submeshes =
+      read_topology<CompactSubmesh>(dir_ / "compact_submeshes.bin", records.at("compact_submeshes.bin"));
+  if (records.at("compact_vertices.bin") != manifest_.mesh.local_vertices)
+    input_error((dir_ / dataset_files::kManifest).string(), "local_vertices does not match compact_vertices.bin");
+  compact_.elements = manifest_.mesh.elements;
+  compact_.leaf_parents = uint32_t(manifest_.mesh.leaf_parents);
+  check_submeshes(compact_.submeshes, manifest_.mesh.local_vertices, records.at("compact_bytes.bin"), dir_);
+  check_leaf_records(compact_, manifest_.mesh.by_type, dir_);
+  check_compact_tree(compact_, dir_);
+  read_stored_macrocells();
+  count_mesh_bytes();
+}
+
+// The vertices' bounds and the chunk boxes (finite, ordered), and the macrocells.
+void Dataset::load_reference_index() {
+  const fs::path path = dir_ / dataset_files::kMeshChunks;
+  std::vector<box3f> boxes = read_topology<box3f>(path, 1 + chunk_count(manifest_.mesh.elements));
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const box3f& b = boxes[i];
+    if (!(b.lower.x <= b.upper.x && b.lower.y <= b.upper.y && b.lower.z <= b.upper.z) ||
+        !std::isfinite(b.lower.x + b.lower.y + b.lower.z + b.upper.x + b.upper.y + b.upper.z))
+      input_error(path.string(), i == 0 ? std::string("the vertices' bounds are not a finite box")
+                                        : "chunk " + std::to_string(i - 1) + " has no finite box");
+  }
+  vertex_bounds_ = boxes.front();
+  chunk_boxes_.assign(boxes.begin() + 1, boxes.end());
+  read_stored_macrocells();
+}
+
+void Dataset::read_stored_macrocells() {
+  const fs::path path = dir_ / dataset_files::kMeshMacrocells;
+  const uint64_t count = manifest_.mesh.macrocells;
+  const uint64_t size = file_size_checked(path), bytes = sizeof(MacroGrid) + count * sizeof(StoredMacrocell);
+  if (size != bytes) throw_size_mismatch(path, size, bytes);
+  MacroGrid grid;
+  read_exact(path, 0, &grid, sizeof(grid));
+  std::vector<StoredMacrocell> cells(count);
+  read_exact(path, sizeof(grid), cells.data(), count * sizeof(StoredMacrocell));
+  topology_bytes_read_ += bytes;
+  stored_cells_ = macrocells_from_stored(grid, cells, manifest_.mesh.elements, path.string());
+}
+
+MeshIndex Dataset::mesh_index() const {
+  if (!is_mesh() || part()) throw std::logic_error("Dataset::mesh_index: not a mesh, or already restricted");
+  if (is_compact_mesh()) return compact_mesh_index(compact_, deferred_ ? stored_cells_ : build_macrocells(compact_));
+  if (deferred_) return reference_mesh_index(chunk_boxes_, manifest_.mesh.elements, stored_cells_);
+  return reference_mesh_index(reference_chunk_boxes(mesh_, mesh_accel_.bvh.items), mesh_.elements.size(),
+                              build_macrocells(mesh_));
+}
+
+Box3<double> Dataset::mesh_world_bounds() const {
+  if (!deferred_) return world_bounds(mesh_vertices(), manifest_.transform);
+  // Every local vertex of a compact mesh is a corner of an element, so the grid's bounds are the
+  // vertices'; the reference encoding stores them (a vertex of no element counts).
+  const box3f& b = is_compact_mesh() ? stored_cells_.grid.bounds : vertex_bounds_;
+  return {manifest_.transform.to_world(vec3d(b.lower)), manifest_.transform.to_world(vec3d(b.upper))};
+}
+
 const UMesh& Dataset::mesh() const {
   if (is_compact_mesh()) throw std::logic_error("Dataset::mesh: the dataset stores the compact encoding");
+  if (deferred_) throw std::logic_error("Dataset::mesh: the topology is deferred (restrict_to first)");
   return mesh_;
 }
 
@@ -505,6 +622,7 @@ const MeshAccel& Dataset::mesh_accel() const {
 
 const CompactMesh& Dataset::compact_mesh() const {
   if (!is_compact_mesh()) throw std::logic_error("Dataset::compact_mesh: the dataset stores no compact encoding");
+  if (deferred_) throw std::logic_error("Dataset::compact_mesh: the topology is deferred (restrict_to first)");
   return compact_;
 }
 
@@ -542,7 +660,7 @@ std::vector<float> Dataset::load_file_order_values(int field, int step) const {
 
 void Dataset::read_abr_bvh() {
   const fs::path path = dir_ / dataset_files::kAbrBvh;
-  const std::vector<uint32_t> links = read_records<uint32_t>(path, 2 * manifest_.abr_bvh_node_count);
+  const std::vector<uint32_t> links = read_topology<uint32_t>(path, 2 * manifest_.abr_bvh_node_count);
   std::vector<BvhNode>& nodes = topology_.abr_bvh;
   nodes.resize(manifest_.abr_bvh_node_count);
   for (size_t i = 0; i < nodes.size(); ++i) nodes[i] = {box3f::make_empty(), links[2 * i], links[2 * i + 1]};
@@ -640,13 +758,133 @@ void Dataset::restrict_bricks(const DatasetPart& part) {
 void Dataset::restrict_mesh(const std::vector<uint32_t>& items) {
   std::vector<uint32_t> source;
   if (is_compact_mesh()) {
-    compact_ = compact_subset(compact_, items, source);
+    if (deferred_)
+      read_compact_part(items, source);
+    else
+      compact_ = compact_subset(compact_, items, source);
   } else {
-    mesh_ = mesh_subset(mesh_, items, source);
+    if (deferred_)
+      read_reference_part(items, source);
+    else
+      mesh_ = mesh_subset(mesh_, chunk_elements(items, mesh_accel_.bvh.items), source);
     mesh_accel_ = mesh_.elements.empty() ? MeshAccel{} : build_mesh_accel(mesh_);
   }
+  deferred_ = false;
   count_mesh_bytes();
   for (uint32_t v : source) append_run(part_runs_, {uint64_t(v) * sizeof(float), sizeof(float)});
+}
+
+namespace {
+// A file of exactly `count` records of `record` bytes (as read_records checks it), of which only
+// runs are read.
+void check_record_file(const fs::path& path, uint64_t count, uint64_t record) {
+  const uint64_t size = file_size_checked(path);
+  if (size != count * record) throw_size_mismatch(path, size, count * record);
+}
+}  // namespace
+
+// The chunks' items, then the elements they name and the vertices those use, each as runs of the
+// files, checked before they are used as at a whole read (items distinct elements, elements'
+// slots, finite vertices), and each element inside the box its chunk was chosen by.
+void Dataset::read_reference_part(const std::vector<uint32_t>& chunks, std::vector<uint32_t>& source_vertex) {
+  const fs::path items_path = dir_ / dataset_files::kMeshBvhItems, elements_path = dir_ / dataset_files::kMeshElements,
+                 vertices_path = dir_ / dataset_files::kMeshVertices;
+  const uint64_t elements = manifest_.mesh.elements, vertex_count = manifest_.mesh.vertices;
+  check_record_file(items_path, elements, sizeof(uint32_t));
+  check_record_file(elements_path, elements, sizeof(UElement));
+  check_record_file(vertices_path, vertex_count, sizeof(vec3f));
+  std::vector<ByteRun> runs;
+  std::vector<uint32_t> chunk_of;  // of each item read
+  for (uint32_t c : chunks) {
+    append_run(runs, {chunk_first(c) * sizeof(uint32_t), chunk_size(c, elements) * sizeof(uint32_t)});
+    chunk_of.insert(chunk_of.end(), chunk_size(c, elements), c);
+  }
+  std::vector<uint32_t> items(chunk_of.size());
+  read_runs(items_path, runs, items.data());
+  topology_bytes_read_ += items.size() * sizeof(uint32_t);
+  std::vector<std::pair<uint32_t, uint32_t>> held;  // (element, chunk), by element
+  for (size_t i = 0; i < items.size(); ++i) {
+    if (items[i] >= elements) input_error(items_path.string(), "BVH items are not a permutation of the elements");
+    held.push_back({items[i], chunk_of[i]});
+  }
+  std::sort(held.begin(), held.end());
+  runs.clear();
+  for (size_t i = 0; i < held.size(); ++i) {
+    if (i > 0 && held[i].first == held[i - 1].first)
+      input_error(items_path.string(), "BVH items are not a permutation of the elements");
+    append_run(runs, {uint64_t(held[i].first) * sizeof(UElement), sizeof(UElement)});
+  }
+  std::vector<UElement> records(held.size());
+  read_runs(elements_path, runs, records.data());
+  topology_bytes_read_ += records.size() * sizeof(UElement);
+  for (size_t i = 0; i < held.size(); ++i)
+    if (!element_valid(records[i], vertex_count))
+      input_error(elements_path.string(), "element " + std::to_string(held[i].first) + " is invalid");
+  mesh_ = mesh_part(std::move(records), source_vertex);
+  runs.clear();
+  for (uint32_t v : source_vertex) append_run(runs, {uint64_t(v) * sizeof(vec3f), sizeof(vec3f)});
+  mesh_.vertices.resize(source_vertex.size());
+  read_runs(vertices_path, runs, mesh_.vertices.data());
+  topology_bytes_read_ += mesh_.vertices.size() * sizeof(vec3f);
+  check_finite_vertices(mesh_.vertices, vertices_path.string());
+  for (size_t i = 0; i < held.size(); ++i)
+    if (!chunk_boxes_[held[i].second].contains(element_box(mesh_.vertices.data(), mesh_.elements[i])))
+      input_error((dir_ / dataset_files::kMeshChunks).string(),
+                  "element " + std::to_string(held[i].first) + " lies outside its chunk's box");
+}
+
+// The leaves' bytes and then the vertices their tables name, each as runs of the files (leaves
+// and vertices ascend), checked before they are used as at a whole read; then the part as a whole
+// (check_compact_mesh), and each leaf inside the index box it was chosen by.
+void Dataset::read_compact_part(const std::vector<uint32_t>& leaves, std::vector<uint32_t>& source_vertex) {
+  const fs::path bytes_path = dir_ / "compact_bytes.bin", vertices_path = dir_ / "compact_vertices.bin";
+  const uint64_t vertex_count = manifest_.mesh.local_vertices;
+  const uint64_t byte_count = manifest_.mesh.compact_records.at("compact_bytes.bin");
+  check_record_file(bytes_path, byte_count, 1);
+  check_record_file(vertices_path, vertex_count, sizeof(vec3f));
+  std::vector<ByteRun> runs;
+  std::vector<uint64_t> offsets;  // of each leaf's bytes in `bytes`
+  uint64_t total = 0;
+  for (uint32_t l : leaves) {
+    const CompactLeaf& leaf = compact_.leaves.at(l);
+    const SubmeshRuns in = submesh_runs(compact_.submeshes, leaf.submesh, vertex_count, byte_count);
+    const uint64_t begin = in.bytes_begin + leaf.first_byte, size = leaf_byte_count(leaf);
+    if (begin + size > in.bytes_end)
+      input_error((dir_ / "compact_leaves.bin").string(),
+                  "leaf " + std::to_string(l) + " has bytes beyond its sub-mesh's");
+    append_run(runs, {begin, size});
+    offsets.push_back(total);
+    total += size;
+  }
+  std::vector<uint8_t> bytes(total);
+  read_runs(bytes_path, runs, bytes.data());
+  topology_bytes_read_ += total;
+  CompactPieces pieces;
+  for (size_t i = 0; i < leaves.size(); ++i) {
+    const CompactLeaf& leaf = compact_.leaves[leaves[i]];
+    const uint64_t submesh_vertices = submesh_runs(compact_.submeshes, leaf.submesh, vertex_count, byte_count).vertices;
+    if (const std::string problem = leaf_bytes_problem(leaf, bytes.data() + offsets[i], submesh_vertices);
+        !problem.empty())
+      input_error(bytes_path.string(), "leaf " + std::to_string(leaves[i]) + " " + problem);
+    pieces.leaves.push_back(leaf);
+    pieces.bytes.push_back(bytes.data() + offsets[i]);
+  }
+  const MeshIndex index = mesh_index();  // before compact_ is replaced
+  CompactMesh part = compact_part(pieces, compact_.submeshes, source_vertex);
+  runs.clear();
+  for (uint32_t v : source_vertex) append_run(runs, {uint64_t(v) * sizeof(vec3f), sizeof(vec3f)});
+  std::vector<vec3f> vertices(source_vertex.size());
+  read_runs(vertices_path, runs, vertices.data());
+  topology_bytes_read_ += vertices.size() * sizeof(vec3f);
+  const std::vector<box3f> boxes = finish_compact_part(part, std::move(vertices));
+  uint64_t by_type[4] = {};
+  for (size_t i = 0; i < leaves.size(); ++i) {
+    for (int t = 0; t < 4; ++t) by_type[t] += part.leaves[i].counts[t];
+    if (!index.item_boxes[leaves[i]].contains(boxes[i]))
+      input_error((dir_ / "compact_nodes.bin").string(), "leaf " + std::to_string(leaves[i]) + " lies outside its box");
+  }
+  if (!leaves.empty()) check_compact_mesh(part, by_type, dir_);
+  compact_ = std::move(part);
 }
 
 // ---------------------------------------------------------------------------------------------

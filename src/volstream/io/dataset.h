@@ -18,6 +18,7 @@
 #include "volstream/umesh/compact.h"
 #include "volstream/umesh/macrocells.h"
 #include "volstream/umesh/mesh_accel.h"
+#include "volstream/umesh/mesh_index.h"
 #include "volstream/umesh/umesh.h"
 
 namespace vs {
@@ -58,6 +59,9 @@ struct MeshCounts {
   // values per (field, step)) and the first node whose children are leaves.
   std::map<std::string, uint64_t> compact_records;
   uint64_t local_vertices = 0, leaf_parents = 0;
+  // The non-empty macrocells in mesh_macrocells.bin (manifest key "macrocells"; absent in older
+  // datasets: 0, no mesh index stored, and every rank reads the whole mesh).
+  uint64_t macrocells = 0;
   bool compact() const { return encoding == MeshEncoding::compact; }
 };
 
@@ -107,9 +111,13 @@ inline constexpr const char* kMeshElements = "mesh_elements.bin";    // umesh: U
 inline constexpr const char* kMeshBvhNodes = "mesh_bvh_nodes.bin";   // umesh: ElementBvhNode per node
 inline constexpr const char* kMeshBvhItems = "mesh_bvh_items.bin";   // umesh: uint32 per element
 inline constexpr const char* kMeshNeighbors = "mesh_neighbors.bin";  // umesh: 6 uint32 per element
-std::string field_values(const FieldInfo& f, int step);              // relative path
-std::string field_file_order_values(const FieldInfo& f, int step);   // relative path (file-order copy)
-std::string field_ranges(const FieldInfo& f, int step);              // relative path
+// umesh: the macrocell grid (MacroGrid), then StoredMacrocell per non-empty macrocell
+inline constexpr const char* kMeshMacrocells = "mesh_macrocells.bin";
+// umesh, reference: box3f of the vertices' bounds, then one per chunk of the BVH's item order
+inline constexpr const char* kMeshChunks = "mesh_chunks.bin";
+std::string field_values(const FieldInfo& f, int step);             // relative path
+std::string field_file_order_values(const FieldInfo& f, int step);  // relative path (file-order copy)
+std::string field_ranges(const FieldInfo& f, int step);             // relative path
 }  // namespace dataset_files
 
 // Writes a dataset: topology first, then values step by step (any order), manifest last.
@@ -140,13 +148,15 @@ class DatasetWriter {
   DatasetManifest manifest_;
   const AmrTopology* topology_ = nullptr;
   void write_abr_bvh(const AmrTopology& topology);
+  void write_macrocells(const MacroCells& cells);
 };
 
 // One data-parallel rank's share of a dataset (mpi/partition.h): global indices, ascending.
 struct DatasetPart {
   std::vector<uint32_t> bricks, abrs;  // AMR
-  // Meshes (mpi/mesh_share.h): the elements held (reference encoding) or leaves (compact), and
-  // the whole mesh's macrocell grid, which the part is rendered on.
+  // Meshes (mpi/mesh_share.h): the items of the mesh index held (compact leaves, reference
+  // chunks of the BVH's item order), and the whole mesh's macrocell grid, which the part is
+  // rendered on.
   std::vector<uint32_t> mesh_items;
   MacroGrid mesh_grid;
   Box3<double> owned;         // the rank's region (grid units, half-open)
@@ -154,14 +164,30 @@ struct DatasetPart {
   uint64_t owned_cells = 0;   // cells in `owned` (the rest of the bricks' cells are ghosts)
 };
 
-// A dataset opened for reading. Topology is loaded on open; values on request.
+// How much topology a Dataset reads at open. `deferred` (a data-parallel rank): a mesh that
+// stores its index (umesh/mesh_index.h; datasets written since issue 17) is opened with only
+// that (compact: the tree, leaf and sub-mesh records; reference: the chunk boxes; both: the
+// macrocells), and restrict_to reads only the part's items (compact: leaf bytes and vertices;
+// reference: BVH items, elements and vertices); any other dataset is read whole as with `whole`.
+enum class TopologyLoad { whole, deferred };
+
+// A dataset opened for reading. Topology is loaded on open (or, deferred, at restrict_to);
+// values on request.
 class Dataset {
  public:
-  explicit Dataset(const std::filesystem::path& dir);  // throws InputError
+  explicit Dataset(const std::filesystem::path& dir, TopologyLoad load = TopologyLoad::whole);  // throws InputError
   const DatasetManifest& manifest() const { return manifest_; }
   const AmrTopology& topology() const { return topology_; }  // AMR (empty for a mesh)
   DatasetKind kind() const { return manifest_.kind; }
   bool is_mesh() const { return manifest_.kind == DatasetKind::umesh; }
+  // The mesh's topology is still to be read (opened deferred and not yet restricted): mesh() and
+  // compact_mesh() are not available (logic_error) and mesh_vertices() is empty; mesh_index() is.
+  bool topology_deferred() const { return deferred_; }
+  // A mesh's index (before restrict_to; logic_error otherwise): read at open when deferred, else
+  // made from the mesh (the same index).
+  MeshIndex mesh_index() const;
+  // The world box of the mesh's vertices (also deferred: stored in the index).
+  Box3<double> mesh_world_bounds() const;
   // A mesh in the reference encoding (logic_error for a compact one: it is never built at load).
   const UMesh& mesh() const;
   const MeshAccel& mesh_accel() const;  // the reference encoding's stored BVH and adjacency
@@ -175,12 +201,15 @@ class Dataset {
   std::vector<float> load_values(int field, int step) const;
   // Keeps only `part` of the topology. AMR: bricks renumbered in its order, their values packed
   // (value_offset into the part's arrays), ABRs and their brick lists renumbered alike. Meshes:
-  // the part's elements or leaves with only their vertices (umesh/subset.h; the reference
-  // encoding's BVH and adjacency rebuilt over them). From now on load_values and
-  // load_abr_ranges read only the part's bytes. The topology files are read whole at open.
+  // the part's leaves or the elements of its chunks with only their vertices (umesh/subset.h;
+  // the reference encoding's BVH and adjacency rebuilt over them). From now on load_values and
+  // load_abr_ranges read only the part's bytes. The topology files are read whole at open, but
+  // for a deferred mesh, of which only the part's items are read now (checked as at open:
+  // InputError).
   void restrict_to(DatasetPart part);
   const DatasetPart* part() const { return restricted_ ? &part_ : nullptr; }
-  uint64_t value_bytes_read() const { return value_bytes_read_; }  // by load_values, so far
+  uint64_t value_bytes_read() const { return value_bytes_read_; }        // by load_values, so far
+  uint64_t topology_bytes_read() const { return topology_bytes_read_; }  // of topology files, so far
   // Host bytes of the topology held (the mesh in its encoding, or bricks, ABRs and their lists).
   uint64_t topology_bytes() const {
     return uint64_t(mesh_bytes_.bytes() + brick_bytes_.bytes() + abr_bytes_.bytes() + abr_list_bytes_.bytes());
@@ -200,6 +229,14 @@ class Dataset {
  private:
   void load_mesh();
   void load_compact_mesh();
+  void load_compact_index();
+  void load_reference_index();
+  void read_reference_part(const std::vector<uint32_t>& chunks, std::vector<uint32_t>& source_vertex);
+  void read_stored_macrocells();
+  void read_compact_part(const std::vector<uint32_t>& leaves, std::vector<uint32_t>& source_vertex);
+  // read_records, counted in topology_bytes_read.
+  template <typename T>
+  std::vector<T> read_topology(const std::filesystem::path& path, uint64_t count);
   void restrict_bricks(const DatasetPart& part);
   void restrict_mesh(const std::vector<uint32_t>& items);
   std::filesystem::path dir_;
@@ -214,6 +251,11 @@ class Dataset {
   bool restricted_ = false;
   std::vector<ByteRun> part_runs_;  // the part's values in a (field, step) file
   mutable std::atomic<uint64_t> value_bytes_read_{0};
+  uint64_t topology_bytes_read_ = 0;
+  bool deferred_ = false;
+  MacroCells stored_cells_;         // deferred: the whole mesh's, from mesh_macrocells.bin
+  std::vector<box3f> chunk_boxes_;  // deferred reference encoding: from mesh_chunks.bin
+  box3f vertex_bounds_;
   void read_abr_bvh();  // and checks it (InputError)
   void count_topology_bytes();
   void count_mesh_bytes();

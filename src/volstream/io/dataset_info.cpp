@@ -39,7 +39,7 @@ json mesh_summary(const Dataset& ds) {
   j["kind"] = "umesh";
   j["path"] = ds.dir().string();
   j["source"] = m.source;
-  const Box3<double> b = world_bounds(ds.mesh_vertices(), m.transform);
+  const Box3<double> b = ds.mesh_world_bounds();
   j["domain"] = {{"lower", {b.lower.x, b.lower.y, b.lower.z}}, {"upper", {b.upper.x, b.upper.y, b.upper.z}}};
   j["vertices"] = m.mesh.vertices;
   j["elements"] = m.mesh.elements;

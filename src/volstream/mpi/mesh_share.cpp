@@ -20,32 +20,20 @@ std::vector<uint8_t> held_cells(const MacroCells& cells, const Box3<double>& reg
   return marked;
 }
 
-template <typename Mesh, typename ElementsOf>
-MeshShare share_of(const Mesh& mesh, const MacroCells& cells, const std::vector<vec3d>& centroids,
-                   const Box3<double>& region, const IntegratorSettings& settings, ElementsOf&& elements_of) {
-  MeshShare share;
-  const std::vector<uint8_t> touching =
-      items_touching(mesh, cells.grid, held_cells(cells, region, settings, share.margin));
-  for (uint32_t i = 0; i < touching.size(); ++i)
-    if (touching[i]) {
-      share.items.push_back(i);
-      share.held_elements += elements_of(i);
-    }
-  for (const vec3d& c : centroids) share.owned_elements += in_region(region, c);
-  return share;
-}
-
 }  // namespace
 
-MeshShare mesh_share(const UMesh& mesh, const MacroCells& cells, const std::vector<vec3d>& centroids,
-                     const Box3<double>& region, const IntegratorSettings& settings) {
-  return share_of(mesh, cells, centroids, region, settings, [](uint32_t) { return 1u; });
-}
-
-MeshShare mesh_share(const CompactMesh& mesh, const MacroCells& cells, const std::vector<vec3d>& centroids,
-                     const Box3<double>& region, const IntegratorSettings& settings) {
-  return share_of(mesh, cells, centroids, region, settings,
-                  [&](uint32_t leaf) { return mesh.leaves[leaf].element_count(); });
+MeshShare mesh_share(const MeshIndex& index, const std::vector<vec3d>& item_points, const Box3<double>& region,
+                     const IntegratorSettings& settings) {
+  MeshShare share;
+  const std::vector<uint8_t> marked = held_cells(index.cells, region, settings, share.margin);
+  for (uint32_t l = 0; l < index.item_boxes.size(); ++l) {
+    if (box_touches(index.cells.grid, index.item_boxes[l], marked)) {
+      share.items.push_back(l);
+      share.held_elements += index.item_elements[l];
+    }
+    if (in_region(region, item_points[l])) share.owned_elements += index.item_elements[l];
+  }
+  return share;
 }
 
 }  // namespace vs

@@ -28,6 +28,7 @@ ParallelRenderer::ParallelRenderer(Dataset& dataset, Device device, const FrameR
   dataset.restrict_to(std::move(part));
   if (dataset.is_mesh()) share_.vertices = dataset.mesh_vertices().size();
   share_.topology_bytes = dataset.topology_bytes();
+  share_.topology_bytes_read = dataset.topology_bytes_read();
   if (!empty) renderer_ = std::make_unique<FrameRenderer>(dataset, device);
 }
 
@@ -46,25 +47,15 @@ void ParallelRenderer::share_bricks(DatasetPart& part, const IntegratorSettings&
   part.abrs = std::move(mine.abrs);
 }
 
-namespace {
-// The mesh's partition by element centroids and this rank's share, on the whole mesh's
-// macrocells (kept for the part: its regions are theirs).
-template <typename Mesh>
-MeshShare split_mesh(const Mesh& mesh, const IntegratorSettings& settings, int rank, int ranks, Partition& partition,
-                     MacroGrid& grid) {
-  const std::vector<vec3d> centroids = element_centroids(mesh);
-  partition = partition_points(centroids, ranks);
-  const MacroCells cells = build_macrocells(mesh);
-  grid = cells.grid;
-  return mesh_share(mesh, cells, centroids, partition.regions[size_t(rank)], settings);
-}
-}  // namespace
-
+// The partition of the mesh's index items by their points, weighted by their elements, and this
+// rank's share; the part is rendered on the whole mesh's macrocell grid.
 void ParallelRenderer::share_mesh(DatasetPart& part, const IntegratorSettings& settings, int rank, int ranks) {
-  MeshShare mine = dataset_.is_compact_mesh()
-                       ? split_mesh(dataset_.compact_mesh(), settings, rank, ranks, partition_, part.mesh_grid)
-                       : split_mesh(dataset_.mesh(), settings, rank, ranks, partition_, part.mesh_grid);
+  const MeshIndex index = dataset_.mesh_index();
+  const std::vector<vec3d> points = index.item_points();
+  partition_ = partition_points(points, ranks, index.item_elements);
   part.owned = partition_.regions[size_t(rank)];
+  part.mesh_grid = index.cells.grid;
+  MeshShare mine = mesh_share(index, points, part.owned, settings);
   share_.mesh = true;
   share_.ghost_margin = mine.margin;
   share_.owned = mine.owned_elements;

@@ -23,6 +23,7 @@ struct ShareStats {
   uint64_t bricks = 0, abrs = 0;     // AMR
   uint64_t vertices = 0, items = 0;  // meshes: vertices (compact: local ones) and elements or leaves
   uint64_t topology_bytes = 0;       // host bytes of the share's topology (Dataset::topology_bytes)
+  uint64_t topology_bytes_read = 0;  // bytes of topology files read (Dataset::topology_bytes_read)
   double ghost_margin = 0;           // grid units
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "volstream/core/error.h"
 
@@ -105,17 +106,20 @@ class BrickCost : public SplitCost {
   Box3<double> data_ = Box3<double>::make_empty();
 };
 
-// Meshes: one unit per element, at its centroid; cut halfway between neighbouring centroids, so
-// that no centroid lies on a plane.
+// Meshes: one unit per element, at its centroid (or a compact leaf's elements at its point); cut
+// halfway between neighbouring points, so that no point lies on a plane.
 class PointCost : public SplitCost {
  public:
-  explicit PointCost(const std::vector<vec3d>& points) : points_(points) {
+  PointCost(const std::vector<vec3d>& points, const std::vector<uint32_t>& weights)
+      : points_(points), weights_(weights) {
+    if (!weights.empty() && weights.size() != points.size()) throw std::logic_error("a weight per point");
     for (const vec3d& p : points) data_.extend(p);
   }
   Box3<double> data_bounds() const override { return data_; }
   double cost(const Box3<double>& region) const override {
     uint64_t n = 0;
-    for (const vec3d& p : points_) n += in_region(region, p);
+    for (size_t i = 0; i < points_.size(); ++i)
+      if (in_region(region, points_[i])) n += weights_.empty() ? 1 : weights_[i];
     return double(n);
   }
   std::vector<double> planes(const Box3<double>& region, int axis) const override {
@@ -131,6 +135,7 @@ class PointCost : public SplitCost {
 
  private:
   const std::vector<vec3d>& points_;
+  const std::vector<uint32_t>& weights_;  // empty: one each
   Box3<double> data_ = Box3<double>::make_empty();
 };
 
@@ -178,8 +183,8 @@ Partition partition_bricks(const std::vector<Brick>& bricks, int ranks) {
   return partition_by_cost(BrickCost(bricks), ranks);
 }
 
-Partition partition_points(const std::vector<vec3d>& points, int ranks) {
-  return partition_by_cost(PointCost(points), ranks);
+Partition partition_points(const std::vector<vec3d>& points, int ranks, const std::vector<uint32_t>& weights) {
+  return partition_by_cost(PointCost(points, weights), ranks);
 }
 
 std::vector<int> Partition::visibility_order(const vec3d& eye, const vec3d& dir, bool ortho) const {

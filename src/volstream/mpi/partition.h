@@ -49,9 +49,10 @@ Partition partition_by_cost(const SplitCost& model, int ranks);
 
 // Splits the bricks' cells among `ranks` regions (ranks >= 1).
 Partition partition_bricks(const std::vector<Brick>& bricks, int ranks);
-// Splits points (a mesh's element centroids, grid units) among `ranks` regions, equal counts as
-// far as distinct coordinates allow.
-Partition partition_points(const std::vector<vec3d>& points, int ranks);
+// Splits points (a mesh's element centroids, or compact leaves' points, grid units) among `ranks`
+// regions, equal counts (sums of `weights`, one per point; empty: one each) as far as distinct
+// coordinates allow.
+Partition partition_points(const std::vector<vec3d>& points, int ranks, const std::vector<uint32_t>& weights = {});
 // p lies in the half-open region.
 bool in_region(const Box3<double>& region, const vec3d& p);
 

@@ -19,68 +19,84 @@ constexpr int kMaxInnerDepth = 8;
 
 std::string in(const fs::path& dir, const char* file) { return (dir / file).string(); }
 
-bool box_holds(const box3f& outer, const box3f& inner) {
-  return outer.lower.x <= inner.lower.x && outer.lower.y <= inner.lower.y && outer.lower.z <= inner.lower.z &&
-         outer.upper.x >= inner.upper.x && outer.upper.y >= inner.upper.y && outer.upper.z >= inner.upper.z;
-}
-
-void check_vertices_and_submeshes(const CompactMesh& c, const fs::path& dir) {
+void check_vertices(const CompactMesh& c, const fs::path& dir) {
   for (size_t i = 0; i < c.vertices.size(); ++i) {
     const vec3f& v = c.vertices[i];
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
       input_error(in(dir, "compact_vertices.bin"), "vertex " + std::to_string(i) + " is not finite");
   }
+}
+
+}  // namespace
+
+SubmeshRuns submesh_runs(const std::vector<CompactSubmesh>& submeshes, uint32_t s, uint64_t vertex_count,
+                         uint64_t byte_count) {
+  const bool last = s + 1 >= submeshes.size();
+  return {(last ? vertex_count : submeshes[s + 1].first_vertex) - submeshes[s].first_vertex, submeshes[s].first_byte,
+          last ? byte_count : submeshes[s + 1].first_byte};
+}
+
+std::string leaf_record_problem(const CompactLeaf& leaf, uint64_t submesh_count) {
+  const uint32_t elements = leaf.element_count();
+  if (elements == 0 || elements > kMultiLeafSize) return "holds " + std::to_string(elements) + " elements";
+  if (2u * leaf.tet_pairs > leaf.counts[0]) return "pairs more tets than it holds";
+  if (leaf.submesh >= submesh_count) return "names a sub-mesh that does not exist";
+  return {};
+}
+
+void check_submeshes(const std::vector<CompactSubmesh>& submeshes, uint64_t vertex_count, uint64_t byte_count,
+                     const fs::path& dir) {
   const std::string file = in(dir, "compact_submeshes.bin");
-  input_check(!c.submeshes.empty() && c.submeshes[0].first_vertex == 0 && c.submeshes[0].first_byte == 0, file,
+  input_check(!submeshes.empty() && submeshes[0].first_vertex == 0 && submeshes[0].first_byte == 0, file,
               "the first sub-mesh must start at 0");
-  for (size_t s = 0; s < c.submeshes.size(); ++s) {
-    const uint64_t begin = c.submeshes[s].first_vertex;
-    const uint64_t end = s + 1 < c.submeshes.size() ? c.submeshes[s + 1].first_vertex : c.vertices.size();
-    if (!(begin < end && end <= c.vertices.size() && end - begin <= kMaxSubmeshVertices))
+  for (uint32_t s = 0; s < submeshes.size(); ++s) {
+    const uint64_t begin = submeshes[s].first_vertex;
+    const uint64_t end = s + 1 < submeshes.size() ? submeshes[s + 1].first_vertex : vertex_count;
+    if (!(begin < end && end <= vertex_count && end - begin <= kMaxSubmeshVertices))
       input_error(file, "sub-mesh " + std::to_string(s) + " has a bad vertex range");
-    const uint64_t bytes_end = s + 1 < c.submeshes.size() ? c.submeshes[s + 1].first_byte : c.bytes.size();
-    if (!(c.submeshes[s].first_byte <= bytes_end && bytes_end <= c.bytes.size()))
+    const uint64_t bytes_end = s + 1 < submeshes.size() ? submeshes[s + 1].first_byte : byte_count;
+    if (!(submeshes[s].first_byte <= bytes_end && bytes_end <= byte_count))
       input_error(file, "sub-mesh " + std::to_string(s) + " has a bad byte range");
   }
 }
 
-// The [begin, end) of sub-mesh s's vertices and of its bytes.
-struct SubmeshRuns {
-  uint64_t vertices, bytes_begin, bytes_end;
-};
-SubmeshRuns submesh_runs(const CompactMesh& c, uint32_t s) {
-  const bool last = s + 1 >= c.submeshes.size();
-  return {(last ? c.vertices.size() : c.submeshes[s + 1].first_vertex) - c.submeshes[s].first_vertex,
-          c.submeshes[s].first_byte, last ? c.bytes.size() : c.submeshes[s + 1].first_byte};
-}
-
-// Leaves: counts, byte runs, table entries and corners in range; the element counts by type.
-void check_leaves(const CompactMesh& c, const uint64_t by_type[4], const fs::path& dir) {
-  const std::string file = in(dir, "compact_leaves.bin"), bytes_file = in(dir, "compact_bytes.bin");
+void check_leaf_records(const CompactMesh& c, const uint64_t by_type[4], const fs::path& dir) {
+  const std::string file = in(dir, "compact_leaves.bin");
   uint64_t counted[4] = {};
   for (size_t l = 0; l < c.leaves.size(); ++l) {
-    const CompactLeaf& leaf = c.leaves[l];
-    auto fail = [&](const std::string& what) { input_error(file, "leaf " + std::to_string(l) + " " + what); };
-    const uint32_t elements = leaf.element_count();
-    if (elements == 0 || elements > kMultiLeafSize) fail("holds " + std::to_string(elements) + " elements");
-    if (2u * leaf.tet_pairs > leaf.counts[0]) fail("pairs more tets than it holds");
-    if (leaf.submesh >= c.submeshes.size()) fail("names a sub-mesh that does not exist");
-    for (int t = 0; t < 4; ++t) counted[t] += leaf.counts[t];
-    const SubmeshRuns runs = submesh_runs(c, leaf.submesh);
-    const uint64_t begin = runs.bytes_begin + leaf.first_byte;
-    const uint64_t end = begin + 2u * leaf.table_size() + leaf.corner_count();
-    if (end > runs.bytes_end) fail("has bytes beyond its sub-mesh's");
-    const uint8_t* table = c.bytes.data() + begin;
-    for (uint32_t t = 0; t < leaf.table_size(); ++t)
-      if (uint32_t(table[2 * t] | table[2 * t + 1] << 8) >= runs.vertices)
-        input_error(bytes_file, "leaf " + std::to_string(l) + " names a vertex outside its sub-mesh");
-    for (uint64_t i = begin + 2u * leaf.table_size(); i < end; ++i)
-      if (c.bytes[i] >= leaf.table_size())
-        input_error(bytes_file, "leaf " + std::to_string(l) + " has a corner outside its vertex table");
+    if (const std::string problem = leaf_record_problem(c.leaves[l], c.submeshes.size()); !problem.empty())
+      input_error(file, "leaf " + std::to_string(l) + " " + problem);
+    for (int t = 0; t < 4; ++t) counted[t] += c.leaves[l].counts[t];
   }
   for (int t = 0; t < 4; ++t)
     if (counted[t] != by_type[t])
       input_error(file, std::string("the manifest's ") + kTypeSlotNames[t] + " count does not match the leaves");
+}
+
+uint64_t leaf_byte_count(const CompactLeaf& leaf) { return 2u * leaf.table_size() + leaf.corner_count(); }
+
+std::string leaf_bytes_problem(const CompactLeaf& leaf, const uint8_t* bytes, uint64_t submesh_vertices) {
+  for (uint32_t t = 0; t < leaf.table_size(); ++t)
+    if (uint32_t(bytes[2 * t] | bytes[2 * t + 1] << 8) >= submesh_vertices)
+      return "names a vertex outside its sub-mesh";
+  for (uint64_t i = 2u * leaf.table_size(); i < leaf_byte_count(leaf); ++i)
+    if (bytes[i] >= leaf.table_size()) return "has a corner outside its vertex table";
+  return {};
+}
+
+namespace {
+
+// Leaves: byte runs inside their sub-mesh's, table entries and corners in range.
+void check_leaf_bytes(const CompactMesh& c, const fs::path& dir) {
+  for (size_t l = 0; l < c.leaves.size(); ++l) {
+    const CompactLeaf& leaf = c.leaves[l];
+    const SubmeshRuns runs = submesh_runs(c.submeshes, leaf.submesh, c.vertices.size(), c.bytes.size());
+    const uint64_t begin = runs.bytes_begin + leaf.first_byte;
+    if (begin + leaf_byte_count(leaf) > runs.bytes_end)
+      input_error(in(dir, "compact_leaves.bin"), "leaf " + std::to_string(l) + " has bytes beyond its sub-mesh's");
+    if (const std::string problem = leaf_bytes_problem(leaf, c.bytes.data() + begin, runs.vertices); !problem.empty())
+      input_error(in(dir, "compact_bytes.bin"), "leaf " + std::to_string(l) + " " + problem);
+  }
 }
 
 // Every node reached once from the root by forward links, within the depth the search handles,
@@ -160,7 +176,7 @@ void check_boxes(const CompactMesh& c, const fs::path& dir) {
     const CompactNode& node = c.nodes[i];
     for (int k = 0; k < node.count; ++k) {
       const box3f& child = node.leaf_children ? leaf_box[node.first + uint32_t(k)] : content[node.first + uint32_t(k)];
-      if (!box_holds(node.child_box(k), child))
+      if (!node.child_box(k).contains(child))
         input_error(in(dir, "compact_nodes.bin"),
                     "node " + std::to_string(i) + " has a box that does not hold child " + std::to_string(k));
       content[i].extend(child);
@@ -170,11 +186,17 @@ void check_boxes(const CompactMesh& c, const fs::path& dir) {
 
 }  // namespace
 
-void check_compact_mesh(const CompactMesh& c, const uint64_t by_type[4], const fs::path& dir) {
-  check_vertices_and_submeshes(c, dir);
-  check_leaves(c, by_type, dir);
+void check_compact_tree(const CompactMesh& c, const fs::path& dir) {
   check_tree(c, dir);
   check_levels(c, dir);
+}
+
+void check_compact_mesh(const CompactMesh& c, const uint64_t by_type[4], const fs::path& dir) {
+  check_vertices(c, dir);
+  check_submeshes(c.submeshes, c.vertices.size(), c.bytes.size(), dir);
+  check_leaf_records(c, by_type, dir);
+  check_leaf_bytes(c, dir);
+  check_compact_tree(c, dir);
   check_boxes(c, dir);
 }
 

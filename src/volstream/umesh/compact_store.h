@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "volstream/core/math.h"
@@ -62,5 +63,28 @@ void for_each_element_of_leaf(const CompactMesh& c, const CompactMeshView& view,
 // the next); leaf_parents the nodes whose children are the leaves in order; every quantized
 // child box holding its child.
 void check_compact_mesh(const CompactMesh& c, const uint64_t by_type[4], const std::filesystem::path& dir);
+
+// The parts of those checks that a reader of only some leaves (Dataset::restrict_to on a dataset
+// opened with its topology deferred) makes on what it reads, each naming the file at fault:
+// the tree over the leaf records (nodes and leaves only: links, levels, leaf_parents); the
+// sub-mesh records against the vertex and byte counts; the leaf records (element counts, tet
+// pairs, sub-mesh; the counts by type the manifest's); one leaf record (empty string: sound);
+// one leaf's bytes (table entries inside its sub-mesh of `submesh_vertices`, corners inside
+// its table).
+void check_compact_tree(const CompactMesh& c, const std::filesystem::path& dir);
+void check_submeshes(const std::vector<CompactSubmesh>& submeshes, uint64_t vertex_count, uint64_t byte_count,
+                     const std::filesystem::path& dir);
+void check_leaf_records(const CompactMesh& c, const uint64_t by_type[4], const std::filesystem::path& dir);
+std::string leaf_record_problem(const CompactLeaf& leaf, uint64_t submesh_count);
+std::string leaf_bytes_problem(const CompactLeaf& leaf, const uint8_t* bytes, uint64_t submesh_vertices);
+// A leaf's bytes: its vertex table and corners.
+uint64_t leaf_byte_count(const CompactLeaf& leaf);
+// Sub-mesh s's vertex count and the [begin, end) of its bytes, in a mesh of vertex_count local
+// vertices and byte_count bytes.
+struct SubmeshRuns {
+  uint64_t vertices, bytes_begin, bytes_end;
+};
+SubmeshRuns submesh_runs(const std::vector<CompactSubmesh>& submeshes, uint32_t s, uint64_t vertex_count,
+                         uint64_t byte_count);
 
 }  // namespace vs

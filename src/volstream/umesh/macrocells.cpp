@@ -42,7 +42,9 @@ void for_each_cell(const MacroGrid& g, const box3f& b, F&& f) {
       for (int x = lo.x; x <= hi.x; ++x) f(g.index({x, y, z}));
 }
 
-MacroGrid make_grid(const box3f& bounds, uint64_t elements) {
+}  // namespace
+
+MacroGrid macro_grid(const box3f& bounds, uint64_t elements) {
   MacroGrid g;
   g.bounds = bounds;
   const vec3f size = vmax(g.bounds.size(), vec3f(1e-30f));
@@ -57,7 +59,11 @@ MacroGrid make_grid(const box3f& bounds, uint64_t elements) {
   return g;
 }
 
-}  // namespace
+bool box_touches(const MacroGrid& grid, const box3f& box, const std::vector<uint8_t>& cells) {
+  uint8_t hit = 0;
+  for_each_cell(grid, box, [&](uint64_t c) { hit |= cells[c]; });
+  return hit != 0;
+}
 
 box3f MacroCells::box(size_t region) const {
   const uint64_t c = cell_of_region[region], row = uint64_t(grid.dims.x);
@@ -95,7 +101,7 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, ElementsOf&& visit_e
       },
       1024);
   MacroCells m;
-  m.grid = grid ? *grid : make_grid(bounds, elements);
+  m.grid = grid ? *grid : macro_grid(bounds, elements);
   const uint64_t n = m.grid.cell_count();
   std::vector<uint32_t> finest(n, ordered(INFINITY));
   parallel_for("macrocell sizes", items, [&](int64_t item) {
@@ -178,20 +184,6 @@ std::vector<vec3d> centroids_of(const Mesh& mesh, const std::vector<vec3f>& vert
   return out;
 }
 
-template <typename Mesh>
-std::vector<uint8_t> touching(const Mesh& mesh, int64_t items, const MacroGrid& grid,
-                              const std::vector<uint8_t>& cells) {
-  std::vector<uint8_t> out(size_t(items), 0);
-  const auto visit = elements_of(mesh);
-  parallel_for("items touching cells", items, [&](int64_t item) {
-    uint8_t hit = 0;
-    visit(item, [&](const box3f& box, const uint32_t*, int) {
-      for_each_cell(grid, box, [&](uint64_t c) { hit |= cells[c]; });
-    });
-    out[size_t(item)] = hit;
-  });
-  return out;
-}
 }  // namespace
 
 std::vector<vec3d> element_centroids(const UMesh& mesh) {
@@ -199,13 +191,6 @@ std::vector<vec3d> element_centroids(const UMesh& mesh) {
 }
 std::vector<vec3d> element_centroids(const CompactMesh& mesh) {
   return centroids_of(mesh, mesh.vertices, int64_t(mesh.leaves.size()));
-}
-
-std::vector<uint8_t> items_touching(const UMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells) {
-  return touching(mesh, int64_t(mesh.elements.size()), grid, cells);
-}
-std::vector<uint8_t> items_touching(const CompactMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells) {
-  return touching(mesh, int64_t(mesh.leaves.size()), grid, cells);
 }
 
 std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& m, const float* values) {

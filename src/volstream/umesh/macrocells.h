@@ -112,10 +112,12 @@ MacroCells build_macrocells(const CompactMesh& mesh, const MacroGrid* grid = nul
 std::vector<vec3d> element_centroids(const UMesh& mesh);
 std::vector<vec3d> element_centroids(const CompactMesh& mesh);
 
-// Per item (an element; a compact mesh's leaf): 1 where an element of it overlaps a grid cell
-// marked in `cells` (one byte per cell of `grid`), by the same overlap test as the macrocells.
-std::vector<uint8_t> items_touching(const UMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells);
-std::vector<uint8_t> items_touching(const CompactMesh& mesh, const MacroGrid& grid, const std::vector<uint8_t>& cells);
+// The grid build_macrocells makes over elements with these bounds (of their boxes): cubic cells,
+// about kElementsPerMacrocell elements each, at most 256 per axis.
+MacroGrid macro_grid(const box3f& bounds, uint64_t elements);
+// The box overlaps a grid cell marked in `cells` (one byte per cell of `grid`), by the overlap
+// test of the macrocells.
+bool box_touches(const MacroGrid& grid, const box3f& box, const std::vector<uint8_t>& cells);
 
 // Per region: the range of the finite values at the vertices of the elements overlapping it
 // (shape functions are convex combinations, so no value inside an element leaves its vertices'

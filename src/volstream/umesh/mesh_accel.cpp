@@ -26,11 +26,6 @@ MeshAccel build_mesh_accel(const UMesh& mesh) {
 
 namespace {
 
-bool box_holds(const box3f& outer, const box3f& inner) {
-  return outer.lower.x <= inner.lower.x && outer.lower.y <= inner.lower.y && outer.lower.z <= inner.lower.z &&
-         outer.upper.x >= inner.upper.x && outer.upper.y >= inner.upper.y && outer.upper.z >= inner.upper.z;
-}
-
 void check_nodes(const UMesh& mesh, const ElementBvh& bvh, const std::string& file) {
   const auto& nodes = bvh.nodes;
   input_check(!nodes.empty() && bvh.items.size() == mesh.elements.size(), file, "BVH sizes do not match the mesh");
@@ -46,7 +41,7 @@ void check_nodes(const UMesh& mesh, const ElementBvh& bvh, const std::string& fi
       if (depth[i] >= 60) fail(i, "is too deep");
       for (uint32_t c = n.first; c <= n.first + 1; ++c) {
         depth[c] = uint8_t(depth[i] + 1);
-        if (!box_holds(n.box, nodes[c].box)) fail(i, "has a box that does not hold its children");
+        if (!n.box.contains(nodes[c].box)) fail(i, "has a box that does not hold its children");
       }
       continue;
     }
@@ -56,7 +51,7 @@ void check_nodes(const UMesh& mesh, const ElementBvh& bvh, const std::string& fi
       if (!(e < seen.size() && !seen[e])) input_error(file, "BVH items are not a permutation of the elements");
       seen[e] = 1;
       // Each element's box made where it is checked: no second array of all of them at load.
-      if (!box_holds(n.box, element_box(mesh.vertices.data(), mesh.elements[e])))
+      if (!n.box.contains(element_box(mesh.vertices.data(), mesh.elements[e])))
         fail(i, "has a box that does not hold its elements");
     }
   }

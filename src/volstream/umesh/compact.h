@@ -459,6 +459,27 @@ struct CompactMeshView {
   }
   static constexpr uint32_t kNoSkip = 0xffffffffu;
 
+  // The face of the element with corners x whose centre lies most in p's direction from the
+  // element's centre: the way on where Newton gave none (it diverged or did not converge, far from
+  // a curved element), so that the walk goes on instead of ending in a search of leaves.
+  VS_HOST_DEVICE static int face_towards(int n, const vec3f* x, const vec3f& p) {
+    vec3f centre(0.f);
+    for (int i = 0; i < n; ++i) centre = centre + x[i];
+    centre = centre * (1.f / float(n));
+    int best = -1;
+    float best_reach = -INFINITY;
+    for (int face = 0; face < shape::face_count(n); ++face) {
+      const shape::LocalFace f = shape::local_face(n, face);
+      vec3f c(0.f);
+      for (int i = 0; i < f.count; ++i) c = c + x[f.v[i]];
+      const vec3f out = c * (1.f / float(f.count)) - centre;
+      // p's distance along the face's direction, in units of the face's distance.
+      const float reach = dot(p - centre, out) / dot(out, out);
+      if (reach > best_reach) best = face, best_reach = reach;
+    }
+    return best_reach > 0.f ? best : -1;
+  }
+
   // Walks from element k of leaf l towards p across the faces p lies beyond (as
   // UMeshView::walk, with neighbours found by face_neighbour): true with the hit when an element
   // holds p strictly within kMaxWalk steps.
@@ -478,7 +499,7 @@ struct CompactMeshView {
         for (int i = 0; i < n; ++i) hit.v[i] = v[i];
         return true;
       }
-      if (face < 0) face = shape::face_towards(n, x, p);
+      if (face < 0) face = face_towards(n, x, p);
       if (face < 0 || !face_neighbour(l, k, corner, v, n, face)) return false;
     }
     return false;

@@ -112,7 +112,6 @@ struct UMeshView {
         hit.element = e;
         return true;
       }
-      if (face < 0) face = shape::face_towards(n, x, p);
       if (face < 0) return false;
       e = neighbors[uint64_t(e) * shape::kMaxFaces + uint64_t(face)];
       if (e == kNoNeighborIndex) return false;

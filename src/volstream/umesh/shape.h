@@ -100,27 +100,6 @@ VS_HOST_DEVICE inline float params_outside(int n, float r, float s, float t, int
   return v[worst];
 }
 
-// The face of the element with corners x whose centre lies most in p's direction from the
-// element's centre, or -1: the way on where Newton gave none (it diverged or did not converge, far
-// from a curved element), so that a walk goes on instead of ending in a search.
-VS_HOST_DEVICE inline int face_towards(int n, const vec3f* x, const vec3f& p) {
-  vec3f centre(0.f);
-  for (int i = 0; i < n; ++i) centre = centre + x[i];
-  centre = centre * (1.f / float(n));
-  int best = -1;
-  float best_reach = -INFINITY;
-  for (int face = 0; face < face_count(n); ++face) {
-    const LocalFace f = local_face(n, face);
-    vec3f c(0.f);
-    for (int i = 0; i < f.count; ++i) c = c + x[f.v[i]];
-    const vec3f out = c * (1.f / float(f.count)) - centre;
-    // p's distance along the face's direction, in units of the face's distance.
-    const float reach = dot(p - centre, out) / dot(out, out);
-    if (reach > best_reach) best = face, best_reach = reach;
-  }
-  return best_reach > 0.f ? best : -1;
-}
-
 // Solves J x = b for a 3x3 J given by its columns; false when J is (nearly) singular.
 VS_HOST_DEVICE inline bool solve3(const vec3f& c0, const vec3f& c1, const vec3f& c2, const vec3f& b, vec3f& x) {
   const vec3f r0 = cross(c1, c2), r1 = cross(c2, c0), r2 = cross(c0, c1);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 namespace vs {
@@ -84,6 +85,73 @@ TEST_P(ShapeTest, WeightsPartitionUnityAndHitTheirCorner) {
     EXPECT_NEAR(sum, 1.f, 1e-5f);
     EXPECT_NEAR(w[c], 1.f, 1e-4f) << "corner " << c;
   }
+}
+
+// The polynomial form Newton iterates on (shape::iso_map) is VTK's map: the same position as
+// the weighted corners, and the same derivatives, at random parametric points of distorted and
+// twisted elements.
+TEST_P(ShapeTest, PolynomialFormEqualsTheWeightedCorners) {
+  const int n = GetParam();
+  if (n == 4) GTEST_SKIP() << "tets are located by one affine solve";
+  std::mt19937 rng(300 + n);
+  for (int trial = 0; trial < 100; ++trial) {
+    const std::vector<vec3f> x = element(n, rng, 0.12f);
+    const shape::IsoMap map = shape::iso_map(n, x.data());
+    const vec3f pc = random_params(n, rng);
+    float w[8];
+    vec3f d[8];
+    shape::weights(n, pc.x, pc.y, pc.z, w, d);
+    vec3f pos(0.f), jr(0.f), js(0.f), jt(0.f);
+    for (int i = 0; i < n; ++i) {
+      pos = pos + x[size_t(i)] * w[i];
+      jr = jr + x[size_t(i)] * d[i].x, js = js + x[size_t(i)] * d[i].y, jt = jt + x[size_t(i)] * d[i].z;
+    }
+    // One Newton step towards the point the weights give is zero: position and Jacobian agree.
+    vec3f delta;
+    ASSERT_TRUE(shape::newton_step(map, pos, pc, delta));
+    EXPECT_LT(std::fabs(delta.x) + std::fabs(delta.y) + std::fabs(delta.z), 1e-5f) << "trial " << trial;
+    // A step towards a point moved along one axis of the map is that axis' derivative solved.
+    const vec3f moved = pos + jr * 1e-3f + js * 2e-3f - jt * 1e-3f;
+    ASSERT_TRUE(shape::newton_step(map, moved, pc, delta));
+    EXPECT_NEAR(delta.x, 1e-3f, 2e-5f) << "trial " << trial;
+    EXPECT_NEAR(delta.y, 2e-3f, 2e-5f) << "trial " << trial;
+    EXPECT_NEAR(delta.z, -1e-3f, 2e-5f) << "trial " << trial;
+  }
+}
+
+// A walk's early exit (locate_in_element with early_out) never changes the answer: at random
+// points in and around distorted and twisted elements it finds the same points inside, with the
+// same weights and outside distance, as the iteration run to convergence, and a face for every
+// point it refuses.
+TEST_P(ShapeTest, EarlyOutGivesTheSameAnswerAsFullConvergence) {
+  const int n = GetParam();
+  std::mt19937 rng(500 + n);
+  std::uniform_real_distribution<float> around(-0.3f, 1.3f);
+  int inside = 0, refused = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const std::vector<vec3f> x = element(n, rng, 0.12f);
+    // The map extended beyond the parameter domain: points inside and near every face.
+    float wp[8];
+    vec3f dp[8];
+    shape::weights(n, around(rng), around(rng), around(rng), wp, dp);
+    vec3f p(0.f);
+    for (int i = 0; i < n; ++i) p = p + x[size_t(i)] * wp[i];
+    float w_full[8], w_early[8], out_full = -1.f, out_early = -1.f;
+    int face_full = -1, face_early = -1;
+    const bool full = shape::locate_in_element(n, x.data(), p, w_full, &out_full, &face_full, false);
+    const bool early = shape::locate_in_element(n, x.data(), p, w_early, &out_early, &face_early, true);
+    ASSERT_EQ(full, early) << "trial " << trial;
+    if (full) {
+      ++inside;
+      EXPECT_EQ(out_full, out_early);
+      for (int i = 0; i < n; ++i) EXPECT_EQ(w_full[i], w_early[i]) << "trial " << trial << " weight " << i;
+    } else if (face_early >= 0) {
+      ++refused;
+      EXPECT_LT(face_early, shape::face_count(n));
+    }
+  }
+  EXPECT_GT(inside, 100);
+  EXPECT_GT(refused, 1000);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllTypes, ShapeTest, ::testing::Values(4, 5, 6, 8),

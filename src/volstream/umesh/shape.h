@@ -132,14 +132,69 @@ VS_HOST_DEVICE inline bool locate_in_tet(const vec3f* x, const vec3f& p, float* 
   return -w[worst] <= kParamTolerance;
 }
 
+// The map of a hex, wedge or pyramid as a polynomial in r, s, t: x = c[0] + c[1] r + c[2] s +
+// c[3] t + c[4] rs + c[5] rt + c[6] st + c[7] rst, expanded from VTK's weights once per element,
+// so that each Newton step costs a few products instead of every corner's weights and
+// derivatives (the same map: the root and the final weights are VTK's).
+struct IsoMap {
+  vec3f c[8];
+};
+VS_HOST_DEVICE inline IsoMap iso_map(int n, const vec3f* x) {
+  const vec3f o = x[0];
+  if (n == 8) {
+    const vec3f r = x[1] - o, s = x[3] - o, t = x[4] - o;
+    return {
+        {o, r, s, t, x[2] - x[3] - r, x[5] - x[4] - r, x[7] - x[4] - s, x[6] - x[7] - x[5] + x[4] - (x[2] - x[3] - r)}};
+  }
+  if (n == 6) {  // bilinear in (r, t) and (s, t): no rs or rst terms
+    const vec3f r = x[1] - o, s = x[2] - o, t = x[3] - o;
+    return {{o, r, s, t, vec3f(0.f), x[4] - x[3] - r, x[5] - x[3] - s, vec3f(0.f)}};
+  }
+  // pyramid: the bilinear base times (1 - t), plus the apex times t
+  const vec3f r = x[1] - o, s = x[3] - o, rs = x[2] - x[3] - r;
+  return {{o, r, s, x[4] - o, rs, vec3f(0.f) - r, vec3f(0.f) - s, vec3f(0.f) - rs}};
+}
+
+// One Newton step of the map towards p from the parametric point pc; false when its Jacobian is
+// (nearly) singular there.
+VS_HOST_DEVICE inline bool newton_step(const IsoMap& m, const vec3f& p, const vec3f& pc, vec3f& delta) {
+  const float r = pc.x, s = pc.y, t = pc.z;
+  const vec3f* c = m.c;
+  const vec3f dr = c[1] + c[4] * s + (c[5] + c[7] * s) * t;  // dx/dr
+  const vec3f ds = c[2] + c[4] * r + (c[6] + c[7] * r) * t;
+  const vec3f dt = c[3] + c[5] * r + (c[6] + c[7] * r) * s;
+  const vec3f pos = c[0] + c[2] * s + (c[1] + c[4] * s) * r + (c[3] + c[6] * s) * t + (c[5] + c[7] * s) * (r * t);
+  return solve3(dr, ds, dt, p - pos, delta);
+}
+
+// Newton's steps shrink quadratically near the root (each about C times the previous squared),
+// so after steps `previous` then `step` the next would be about step * (step / previous)^2; once
+// that is below float noise, the point just reached is the root (this saves the step that only
+// measured noise), given a step already small (a large one says nothing of the root). Where the iteration converges
+// only linearly (ratio r), the estimate is step * r^2: accepted only when the step itself is tiny, so the answer is as
+// exact. The first step (previous = 0) has no estimate.
+VS_HOST_DEVICE inline bool newton_converged(float step, float previous) {
+  const float ratio = step / previous;
+  return step < 1e-6f || (step < 1e-4f && step * ratio * ratio < 1e-7f);
+}
+
+// After a step of size `step`, Newton's parametric point is off the root by less than the step
+// (the iteration contracts), so a point further outside than that (and than kParamTolerance) is
+// outside: a walk can move on without converging (the face to cross is known well enough).
+// Two steps in, a point a quarter of the element away is outside whatever the step.
+VS_HOST_DEVICE inline bool newton_shows_outside(int n, const vec3f& pc, float step, int* face) {
+  const float margin = kParamTolerance + step;
+  return params_outside(n, pc.x, pc.y, pc.z, face) > (margin < 0.25f ? margin : 0.25f);
+}
+
 // Interpolation weights of the element with corners x[0..n) at point p; false if p is outside
 // (beyond kParamTolerance). `outside` (optional) gets how far outside the parameter domain p is
 // (<= 0: strictly inside), so that callers can prefer the element that holds p strictly over a
 // neighbour that only takes it within the tolerance (and extrapolates a little).
 // `face` (optional) gets the face p lies beyond most, or -1 when p is too far to tell (Newton
 // diverged or did not converge), also when false is returned.
-// `early_out`: give up as soon as the iteration shows p well outside (a walk only needs the
-// face to cross then; the answer for a point inside is the same either way).
+// `early_out`: give up as soon as the iteration shows p outside (a walk only needs the face to
+// cross then; the answer for a point inside is the same either way).
 VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f& p, float* w, float* outside = nullptr,
                                              int* face = nullptr, bool early_out = false) {
   if (face) *face = -1;
@@ -148,35 +203,25 @@ VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f&
   // the Newton tolerance however far the element is from the grid's origin.
   vec3f local[8];
   for (int i = 0; i < n; ++i) local[i] = x[i] - x[0];
+  const IsoMap map = iso_map(n, local);
   const vec3f target = p - x[0];
-  vec3f d[8];
   vec3f pc = centre_params(n);
-  const int iterations = n == 4 ? 1 : kNewtonIterations;  // the tet's map is linear: one step is exact
-  float step = 0.f;
-  for (int it = 0; it < iterations; ++it) {
-    weights(n, pc.x, pc.y, pc.z, w, d);
-    vec3f pos{0.f, 0.f, 0.f}, jr{0.f, 0.f, 0.f}, js{0.f, 0.f, 0.f}, jt{0.f, 0.f, 0.f};
-    for (int i = 0; i < n; ++i) {
-      pos = pos + local[i] * w[i];
-      jr = jr + local[i] * d[i].x;
-      js = js + local[i] * d[i].y;
-      jt = jt + local[i] * d[i].z;
-    }
+  float step = 0.f, previous = 0.f;
+  for (int it = 0; it < kNewtonIterations; ++it, previous = step) {
     vec3f delta;
-    if (!solve3(jr, js, jt, target - pos, delta)) return false;
+    if (!newton_step(map, target, pc, delta)) return false;
     pc = pc + delta;
     step = fabsf(delta.x) + fabsf(delta.y) + fabsf(delta.z);
-    if (step < 1e-6f) break;
-    // Two steps in, Newton is near enough to tell a point a quarter of the element away.
-    if (early_out && it >= 1 && params_outside(n, pc.x, pc.y, pc.z, face) > 0.25f) return false;
+    if (newton_converged(step, previous)) break;
+    if (early_out && it >= 1 && newton_shows_outside(n, pc, step, face)) return false;
     if (!(fabsf(pc.x) < 4.f && fabsf(pc.y) < 4.f && fabsf(pc.z) < 4.f)) return false;  // diverging: far outside
   }
   // Newton converges quadratically: a last step this small is float noise, not a slow approach.
-  const bool converged = n == 4 || step < 1e-4f;
-  if (!converged) return false;
+  if (!(step < 1e-4f)) return false;
   const float o = params_outside(n, pc.x, pc.y, pc.z, face);
   if (!(o <= kParamTolerance)) return false;
   if (outside) *outside = o;
+  vec3f d[8];
   weights(n, pc.x, pc.y, pc.z, w, d);
   return true;
 }

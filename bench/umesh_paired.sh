@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Two volstream binaries rendering one mesh dataset, paired: REPEATS rounds, each round both
+# encodings (reference and compact; a reference dataset renders compact too, built at load) and
+# in each both binaries one after the other, so they see the same machine load. The view and
+# transfer function are the haze look of bench/umesh_compact.py and bench/umesh_vs_vtk.sh.
+# Prints one line per render, then per encoding the median [min..max] of the render's wall and
+# CPU seconds (as volstream prints them) for each binary and of the per-round ratio base/new.
+#
+# usage: bench/umesh_paired.sh BASE NEW DATASET [REPEATS=5] [SIZE=512x512]
+set -euo pipefail
+BASE="$1" NEW="$2" DATASET="$3" REPEATS="${4:-5}" SIZE="${5:-512x512}"
+OUT="$(mktemp -d)"
+VIEW=(--field density --range 0.02,1.1 --unit-distance 0.01 --camera-pos 2.3,1.6,2.9 --camera-at 0.5,0.5,0.5
+  --camera-up 0,1,0 --fov 35 --background 0.06,0.06,0.08 --tf viridis --device cpu
+  --opacity 0.02:0.004,0.15:0.004,0.5:0.03,1.1:0.12 --size "$SIZE")
+
+echo "# $(date -u +%FT%TZ) $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "# base $BASE, new $NEW, dataset $DATASET, $REPEATS rounds"
+echo "round binary encoding wall_s cpu_s M_samples"
+for round in $(seq "$REPEATS"); do
+  for encoding in reference compact; do
+    for which in base new; do
+      vs="$BASE"
+      [ "$which" = new ] && vs="$NEW"
+      line="$("$vs" render "$DATASET" -o "$OUT/$which.png" --encoding "$encoding" "${VIEW[@]}" | grep "^render $SIZE")"
+      # "render WxH: 1.23s (2.34s CPU time), 9.1 M samples, ..."
+      echo "$round $which $encoding $(sed -E 's/.*: ([0-9.]+)s \(([0-9.]+)s CPU time\), ([0-9.]+) M samples.*/\1 \2 \3/' <<<"$line")"
+    done
+  done
+done | tee "$OUT/runs.txt"
+
+stats() { sort -g | awk '{ v[NR] = $1 } END {
+  m = (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2
+  printf "%.3f [%.3f..%.3f]", m, v[1], v[NR] }'; }
+echo
+echo "| encoding | base wall s | new wall s | base CPU s | new CPU s | CPU base/new per round |"
+echo "|---|---|---|---|---|---|"
+for encoding in reference compact; do
+  col() { awk -v w="$1" -v e="$encoding" -v c="$2" '$2 == w && $3 == e { print $c }' "$OUT/runs.txt" | stats; }
+  ratio="$(awk -v e="$encoding" '$3 == e { cpu[$1 " " $2] = $5 } END {
+    for (k in cpu) { split(k, p, " "); if (p[2] == "base") print cpu[k] / cpu[p[1] " new"] } }' "$OUT/runs.txt" | stats)"
+  echo "| $encoding | $(col base 4) | $(col new 4) | $(col base 5) | $(col new 5) | ${ratio}x |"
+done
+rm -rf "$OUT"

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "volstream/core/error.h"
+
 namespace vs::test {
 std::filesystem::path scratch_dir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
@@ -29,6 +31,17 @@ std::filesystem::path damaged_copy(const std::filesystem::path& from, const std:
   damage(bytes);
   std::ofstream(dir / file, std::ios::binary | std::ios::trunc).write(bytes.data(), std::streamsize(bytes.size()));
   return dir;
+}
+
+std::string input_error_line(const std::function<void()>& open) {
+  try {
+    open();
+  } catch (const InputError& e) {
+    const std::string line = e.file() + ": " + e.what();
+    EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+    return line;
+  }
+  return "accepted";
 }
 }  // namespace vs::test
 

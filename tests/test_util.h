@@ -15,6 +15,9 @@ namespace vs::test {
 // A scratch copy (scratch_dir(name)) of the dataset in `from` with its `file` changed by `damage`.
 std::filesystem::path damaged_copy(const std::filesystem::path& from, const std::string& name, const std::string& file,
                                    const std::function<void(std::vector<char>&)>& damage);
+// Runs `open`: the InputError it throws as one line "file: message" (checked to be one line), or
+// "accepted" when it throws none.
+std::string input_error_line(const std::function<void()>& open);
 }  // namespace vs::test
 
 #include <cstdint>

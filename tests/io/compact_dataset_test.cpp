@@ -163,14 +163,7 @@ TEST(CompactDatasetCuda, EqualsTheCpu) {
 std::string open_damaged(const std::string& name, const std::string& file,
                          const std::function<void(std::vector<char>&)>& damage) {
   const fs::path dir = test::damaged_copy(compact_dir(), "compact_damaged_" + name, file, damage);
-  try {
-    Dataset ds(dir);
-  } catch (const InputError& e) {
-    const std::string line = e.file() + ": " + e.what();
-    EXPECT_EQ(line.find('\n'), std::string::npos) << line;
-    return line;
-  }
-  return "accepted";
+  return test::input_error_line([&] { Dataset ds(dir); });
 }
 
 template <typename T>

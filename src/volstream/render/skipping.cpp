@@ -20,6 +20,15 @@ std::vector<uint8_t> classify_regions(const std::vector<Range>& ranges, const Tr
   return visible;
 }
 
+std::vector<uint8_t> regions_to_keep(const std::vector<Range>& ranges, size_t region_count, const TransferTable& tf,
+                                     const IntegratorSettings& iso, bool skip, SkipStats* stats) {
+  if (ranges.size() != region_count) throw std::invalid_argument("one value range per region expected");
+  Stopwatch watch;
+  std::vector<uint8_t> keep = skip ? classify_regions(ranges, tf, iso) : std::vector<uint8_t>{};
+  if (stats) stats->classify_seconds = watch.seconds();
+  return keep;
+}
+
 RegionBvh::RegionBvh(std::vector<box3f> region_boxes) : RegionBvh(region_boxes, build_bvh_sah(region_boxes)) {}
 
 RegionBvh::RegionBvh(std::vector<box3f> region_boxes, Bvh template_bvh, bool wide_walk)
@@ -36,13 +45,7 @@ RegionBvh::RegionBvh(std::vector<box3f> region_boxes, Bvh template_bvh, bool wid
 
 uint64_t RegionBvh::classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso,
                              bool skip, SkipStats* stats) {
-  if (ranges.size() != boxes_.size()) throw std::invalid_argument("one value range per region expected");
-  Stopwatch watch;
-  const std::vector<uint8_t> keep = skip ? classify_regions(ranges, tf, iso) : std::vector<uint8_t>{};
-  const double classify_s = watch.seconds();
-  const uint64_t visible = refit(keep, stats);
-  if (stats) stats->classify_seconds = classify_s;
-  return visible;
+  return refit(regions_to_keep(ranges, boxes_.size(), tf, iso, skip, stats), stats);
 }
 
 uint64_t RegionBvh::refit(const std::vector<uint8_t>& keep, SkipStats* stats) {

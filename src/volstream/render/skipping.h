@@ -25,6 +25,10 @@ struct SkipStats {
 // opacity, or its range contains one of the iso values. Empty ranges (no finite value) are not.
 std::vector<uint8_t> classify_regions(const std::vector<Range>& ranges, const TransferTable& tf,
                                       const IntegratorSettings& iso);
+// The flags a `refit` keeps: classify_regions with skip, none (keep all) without; one range per
+// region expected. Times itself into stats->classify_seconds.
+std::vector<uint8_t> regions_to_keep(const std::vector<Range>& ranges, size_t region_count, const TransferTable& tf,
+                                     const IntegratorSettings& iso, bool skip, SkipStats* stats);
 
 class RegionBvh {
  public:

@@ -45,13 +45,7 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
 
 uint64_t UMeshRenderer::classify(const std::vector<Range>& ranges, const TransferTable& tf,
                                  const IntegratorSettings& iso, bool skip, SkipStats* stats) {
-  if (ranges.size() != region_count()) throw std::invalid_argument("one value range per macrocell expected");
-  Stopwatch watch;
-  const std::vector<uint8_t> keep = skip ? classify_regions(ranges, tf, iso) : std::vector<uint8_t>{};
-  const double classify_s = watch.seconds();
-  const uint64_t visible = refit(keep, stats);
-  if (stats) stats->classify_seconds = classify_s;
-  return visible;
+  return refit(regions_to_keep(ranges, region_count(), tf, iso, skip, stats), stats);
 }
 
 uint64_t UMeshRenderer::refit(const std::vector<uint8_t>& keep, SkipStats* stats) {

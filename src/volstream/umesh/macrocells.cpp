@@ -52,7 +52,9 @@ MacroGrid macro_grid(const box3f& bounds, uint64_t elements) {
   const double cells = std::max(1.0, double(elements) / kElementsPerMacrocell);
   const double edge = std::cbrt(double(size.x) * size.y * size.z / cells);
   for (int a = 0; a < 3; ++a) {
-    g.dims[a] = std::clamp(int(std::ceil(size[a] / edge)), 1, 256);
+    // Clamped as a double: a stored grid's hostile bounds may ask for more cells than an int holds.
+    const double n = std::ceil(double(size[a]) / edge);
+    g.dims[a] = n >= 1.0 ? (n < 256.0 ? int(n) : 256) : 1;  // NaN (a degenerate box): one cell
     g.cell_size[a] = size[a] / float(g.dims[a]);
     if (!(g.cell_size[a] > 0.f)) g.cell_size[a] = 1.f;  // a flat mesh: one layer of cells
   }

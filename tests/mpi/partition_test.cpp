@@ -193,18 +193,7 @@ TEST(MeshPartition, PartSamplesAsTheWhole) {
   }
   EXPECT_GT(compared, 0u);
   const MeshAccel part_accel = build_mesh_accel(part);
-  const UMeshView whole_view{mesh.vertices.data(),
-                             mesh.elements.data(),
-                             accel.bvh.nodes.data(),
-                             accel.bvh.items.data(),
-                             uint32_t(accel.bvh.nodes.size()),
-                             accel.neighbors.data()};
-  const UMeshView part_view{part.vertices.data(),
-                            part.elements.data(),
-                            part_accel.bvh.nodes.data(),
-                            part_accel.bvh.items.data(),
-                            uint32_t(part_accel.bvh.nodes.size()),
-                            part_accel.neighbors.data()};
+  const UMeshView whole_view = view_of(mesh, accel), part_view = view_of(part, part_accel);
   box3f bounds = box3f::make_empty();
   for (const vec3f& v : mesh.vertices) bounds.extend(v);
   std::mt19937 rng(5);

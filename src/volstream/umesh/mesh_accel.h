@@ -24,6 +24,16 @@ inline Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transf
 }
 MeshAccel build_mesh_accel(const UMesh& mesh);
 
+// The sampler's view of a mesh and its structures (host pointers; both must outlive it).
+inline UMeshView view_of(const UMesh& mesh, const MeshAccel& accel) {
+  return {mesh.vertices.data(),
+          mesh.elements.data(),
+          accel.bvh.nodes.data(),
+          accel.bvh.items.data(),
+          uint32_t(accel.bvh.nodes.size()),
+          accel.neighbors.data()};
+}
+
 // InputError naming `file` unless `accel` is a sound structure over `mesh`: node links in range
 // and pointing forward (so searches end), depth within the search stack, the items a
 // permutation of the elements, every box holding its children or elements, every neighbour a

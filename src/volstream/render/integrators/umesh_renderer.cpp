@@ -70,9 +70,8 @@ const MeshAccel& UMeshRenderer::reference_accel() const {
 }
 
 UMeshView UMeshRenderer::mesh_view() const {
-  const MeshAccel& accel = reference_accel();
-  return {mesh_->vertices.data(), mesh_->elements.data(),           accel.bvh.nodes.data(),
-          accel.bvh.items.data(), uint32_t(accel.bvh.nodes.size()), accel.neighbors.data()};
+  const MeshAccel& accel = reference_accel();  // refuses a stored compact mesh before mesh_ is read
+  return view_of(*mesh_, accel);
 }
 
 template <typename Locator>

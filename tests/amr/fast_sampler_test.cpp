@@ -112,16 +112,23 @@ TEST_P(FastSampler, BatchesEqualPointByPointOnEveryBuild) {
     for (uint32_t abr = 0; abr < t.abrs.size(); ++abr) {
       const Abr& a = t.abrs[abr];
       if (a.brick_count != 1) continue;
-      vec3f p[8];
-      float out[8];
+      // A ray from a point of the box grown a little (some points beyond the support), through
+      // another, with n parameters along it.
+      vec3f org, through;
+      for (int axis = 0; axis < 3; ++axis) {
+        const float lo = a.box.lower[axis], size = a.box.upper[axis] - a.box.lower[axis];
+        org[axis] = lo + (1.2f * unit(rng) - 0.1f) * size;
+        through[axis] = lo + (1.2f * unit(rng) - 0.1f) * size;
+      }
+      const vec3f dir = through - org;
+      float ts[8], out[8];
       const uint32_t n = 1 + abr % 8;  // short batches too
-      for (uint32_t i = 0; i < n; ++i)
-        for (int axis = 0; axis < 3; ++axis)  // the box grown a little: some points beyond the support
-          p[i][axis] = a.box.lower[axis] + (1.2f * unit(rng) - 0.1f) * (a.box.upper[axis] - a.box.lower[axis]);
-      sample_one_brick_batch(records[t.abr_bricks[a.first_brick]], values.data(), p, n, out);
-      for (uint32_t i = 0; i < n; ++i) {
-        const float one = sample_abr_fast(t.abrs.data(), t.abr_bricks.data(), records.data(), values.data(), abr, p[i]);
-        const float ref = sample_abr(view, abr, p[i]);
+      for (uint32_t i = 0; i < n; ++i) ts[i] = unit(rng);
+      sample_one_brick_batch(records[t.abr_bricks[a.first_brick]], values.data(), org, dir, ts, n, out);
+      for (uint32_t i = 0; i < 8; ++i) {  // entries from n on repeat entry n - 1
+        const vec3f p = org + dir * ts[std::min(i, n - 1)];
+        const float one = sample_abr_fast(t.abrs.data(), t.abr_bricks.data(), records.data(), values.data(), abr, p);
+        const float ref = sample_abr(view, abr, p);
         ASSERT_EQ(std::isnan(out[i]), std::isnan(ref)) << simd::isa();
         ASSERT_TRUE(same_bits(out[i], one)) << simd::isa() << ": " << out[i] << " vs " << one;
         if (!std::isnan(ref)) {

@@ -210,11 +210,13 @@ VS_HOST_DEVICE VS_FORCE_INLINE float sample_abr_fast(const Abr* abrs, const uint
   return sum.value();
 }
 
-// CPU only: the one-brick case for n <= 8 points at once (a batch of samples along a ray, all
-// in one ABR), in 8 SIMD lanes. Compiled twice (sampler_batch.cpp), for baseline x86-64 and
-// with AVX2, chosen by the CPU it runs on (core/simd.h); both give sample_abr_fast's floats bit for bit
-// (no FMA: nothing is contracted).
-void sample_one_brick_batch(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out);
+// CPU only: the one-brick case for n <= 8 points at once, a batch of samples along a ray all in
+// one ABR: out[k] at org + dir * t[k] (Ray::at), in 8 SIMD lanes. Compiled twice
+// (sampler_batch.cpp), for baseline x86-64 and with AVX2, chosen by the CPU it runs on
+// (core/simd.h); both give sample_abr_fast's floats bit for bit (no FMA: nothing is contracted).
+// All 8 entries of out are written; those from n on repeat entry n-1.
+void sample_one_brick_batch(const SampleBrick& b, const float* values, const vec3f& org, const vec3f& dir,
+                            const float* t, uint32_t n, float* out);
 // (core/simd.h says which build runs and forces the baseline.)
 
 }  // namespace vs

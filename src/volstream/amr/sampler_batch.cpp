@@ -28,23 +28,15 @@ VS_FORCE_INLINE LaneAxis lane_axis(const f8& q, int32_t n) {
   return {i0, i0 + (n > 1 ? 1 : 0), qc - __builtin_convertvector(i0, f8)};
 }
 
-VS_FORCE_INLINE f8 gather(const float* v, const i8& index) {
-  f8 out;
-  for (uint32_t k = 0; k < kLanes; ++k) out[k] = v[index[k]];
-  return out;
-}
-
 VS_FORCE_INLINE f8 lerp(const f8& a, const f8& c, const f8& t) { return a + t * (c - a); }
 
-// detail::sample_one_brick for 8 points; lanes n..7 repeat the last point and are not written.
-VS_FORCE_INLINE void batch_body(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out) {
-  f8 px, py, pz;
-  for (uint32_t k = 0; k < kLanes; ++k) {
-    const vec3f& pk = p[k < n ? k : n - 1];
-    px[k] = pk.x;
-    py[k] = pk.y;
-    pz[k] = pk.z;
-  }
+// detail::sample_one_brick at the 8 points org + dir * t[k]; lanes n..7 repeat the last point.
+template <simd::Isa kIsa>
+VS_FORCE_INLINE void batch_body(const SampleBrick& b, const float* values, const vec3f& org, const vec3f& dir,
+                                const float* t, uint32_t n, float* out) {
+  const f8 tl = simd::load_lanes(t, n);
+  // Ray::at in lanes, operation for operation.
+  const f8 px = org.x + dir.x * tl, py = org.y + dir.y * tl, pz = org.z + dir.z * tl;
   const f8 half = f8{} + 0.5f, inv_w = f8{} + b.inv_width;
   // As detail::brick_cell_coords, operation for operation.
   const f8 qx = (px - b.lower.x) * inv_w - half, qy = (py - b.lower.y) * inv_w - half,
@@ -56,32 +48,36 @@ VS_FORCE_INLINE void batch_body(const SampleBrick& b, const float* values, const
   const float* v = values + b.value_offset;
   const int32_t nx = b.dims.x, nxy = b.dims.x * b.dims.y;
   const i8 z0 = z.i0 * nxy, z1 = z.i1 * nxy, y0 = y.i0 * nx, y1 = y.i1 * nx;
-  const f8 c00 = lerp(gather(v, z0 + y0 + x.i0), gather(v, z0 + y0 + x.i1), x.t);
-  const f8 c10 = lerp(gather(v, z0 + y1 + x.i0), gather(v, z0 + y1 + x.i1), x.t);
-  const f8 c01 = lerp(gather(v, z1 + y0 + x.i0), gather(v, z1 + y0 + x.i1), x.t);
-  const f8 c11 = lerp(gather(v, z1 + y1 + x.i0), gather(v, z1 + y1 + x.i1), x.t);
+  const f8 c00 = lerp(simd::gather<kIsa>(v, z0 + y0 + x.i0), simd::gather<kIsa>(v, z0 + y0 + x.i1), x.t);
+  const f8 c10 = lerp(simd::gather<kIsa>(v, z0 + y1 + x.i0), simd::gather<kIsa>(v, z0 + y1 + x.i1), x.t);
+  const f8 c01 = lerp(simd::gather<kIsa>(v, z1 + y0 + x.i0), simd::gather<kIsa>(v, z1 + y0 + x.i1), x.t);
+  const f8 c11 = lerp(simd::gather<kIsa>(v, z1 + y1 + x.i0), simd::gather<kIsa>(v, z1 + y1 + x.i1), x.t);
   const f8 r = lerp(lerp(c00, c10, y.t), lerp(c01, c11, y.t), z.t);
   const f8 result = inside != 0 ? r : f8{} + NAN;
-  for (uint32_t k = 0; k < n; ++k) {
-    const float value = result[k];
-    // Outside the support (NaN, as the scalar form) or a NaN value read: the scalar form decides.
-    out[k] = value == value || !inside[k] ? value : detail::sample_one_brick(b, values, p[k]);
-  }
+  simd::store(out, result);
+  // A NaN value read inside the support: the scalar form decides (as sample_abr_fast).
+  const i8 nan_inside = (result != result) & inside;
+  if (!simd::any(nan_inside)) return;
+  for (uint32_t k = 0; k < kLanes; ++k)
+    if (nan_inside[k]) out[k] = detail::sample_one_brick(b, values, {px[k], py[k], pz[k]});
 }
 
-void batch_baseline(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out) {
-  batch_body(b, values, p, n, out);
+void batch_baseline(const SampleBrick& b, const float* values, const vec3f& org, const vec3f& dir, const float* t,
+                    uint32_t n, float* out) {
+  batch_body<simd::Isa::baseline>(b, values, org, dir, t, n, out);
 }
 
-VS_TARGET_AVX2 void batch_avx2(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out) {
-  batch_body(b, values, p, n, out);
+VS_TARGET_AVX2 void batch_avx2(const SampleBrick& b, const float* values, const vec3f& org, const vec3f& dir,
+                               const float* t, uint32_t n, float* out) {
+  batch_body<simd::Isa::avx2>(b, values, org, dir, t, n, out);
 }
 
 }  // namespace
 
-void sample_one_brick_batch(const SampleBrick& b, const float* values, const vec3f* p, uint32_t n, float* out) {
+void sample_one_brick_batch(const SampleBrick& b, const float* values, const vec3f& org, const vec3f& dir,
+                            const float* t, uint32_t n, float* out) {
   if (n == 0) return;
-  (simd::use_avx2() ? batch_avx2 : batch_baseline)(b, values, p, n, out);
+  (simd::use_avx2() ? batch_avx2 : batch_baseline)(b, values, org, dir, t, n, out);
 }
 
 }  // namespace vs

@@ -11,6 +11,8 @@
 #pragma once
 #include <cstdint>
 
+#include "volstream/core/math.h"
+
 #if defined(__clang__)
 #pragma clang diagnostic ignored "-Wpsabi"
 #elif defined(__GNUC__)
@@ -31,6 +33,48 @@ typedef uint32_t u8 __attribute__((vector_size(kLanes * sizeof(uint32_t))));
 #define VS_HAVE_AVX2_BUILD 0
 #define VS_TARGET_AVX2
 #endif
+
+// The instruction set a kernel body is instantiated for: a body templated on it uses AVX2's
+// instructions (gathers) only in the build that runs where the CPU has them.
+enum class Isa { baseline, avx2 };
+
+// base[index[k]] for each lane: one AVX2 gather instruction, or eight loads in the baseline build
+// (the same values either way).
+template <Isa kIsa>
+VS_FORCE_INLINE f8 gather(const float* base, const i8& index) {
+#if VS_HAVE_AVX2_BUILD
+  if constexpr (kIsa == Isa::avx2) {
+    f8 out, mask;
+    __asm__("vpcmpeqd %[m], %[m], %[m]\n\tvgatherdps %[m], (%[b],%[i],4), %[d]"
+            : [d] "=&x"(out), [m] "=&x"(mask)
+            : [b] "r"(base), [i] "x"(index)
+            : "memory");
+    return out;
+  }
+#endif
+  f8 out;
+  for (uint32_t k = 0; k < kLanes; ++k) out[k] = base[index[k]];
+  return out;
+}
+
+// p[0..n) into lanes (1 <= n <= 8); lanes n..7 repeat p[n - 1], so that they hold a value of
+// the batch (valid indices and no spurious special values).
+VS_FORCE_INLINE f8 load_lanes(const float* p, uint32_t n) {
+  f8 out;
+  if (n == kLanes) {
+    __builtin_memcpy(&out, p, sizeof out);
+    return out;
+  }
+  for (uint32_t k = 0; k < kLanes; ++k) out[k] = p[k < n ? k : n - 1];
+  return out;
+}
+VS_FORCE_INLINE void store(float* out, const f8& lanes) { __builtin_memcpy(out, &lanes, sizeof lanes); }
+// Is any lane of a comparison's mask set?
+VS_FORCE_INLINE bool any(const i8& mask) {
+  int32_t acc = 0;
+  for (uint32_t k = 0; k < kLanes; ++k) acc |= mask[k];
+  return acc != 0;
+}
 
 // True where the AVX2 builds should run: the CPU has AVX2 and the baseline is not forced.
 bool use_avx2();

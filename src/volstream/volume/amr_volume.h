@@ -33,14 +33,16 @@ struct AmrVolume {
     return sample_abr(v, abr, p);
   }
 #if !defined(__CUDA_ARCH__)
-  // The CPU's batches (integrator.h): n <= 8 points of one ABR; the same values as sample() per
-  // point, in SIMD lanes on one-brick ABRs (amr/sampler.h).
-  void sample_batch(int field, uint32_t abr, const vec3f* p, uint32_t n, float* out) const {
+  // The CPU's batches (integrator.h): n <= 8 points org + dir * t[i] of one ABR; the same values
+  // as sample() per point, in SIMD lanes on one-brick ABRs (amr/sampler.h).
+  void sample_batch(int field, uint32_t abr, const vec3f& org, const vec3f& dir, const float* t, uint32_t n,
+                    float* out) const {
     if (sample_bricks && amr.abrs[abr].brick_count == 1) {
-      sample_one_brick_batch(sample_bricks[amr.abr_bricks[amr.abrs[abr].first_brick]], fields[field], p, n, out);
+      const SampleBrick& b = sample_bricks[amr.abr_bricks[amr.abrs[abr].first_brick]];
+      sample_one_brick_batch(b, fields[field], org, dir, t, n, out);
       return;
     }
-    for (uint32_t i = 0; i < n; ++i) out[i] = sample(field, abr, p[i]);
+    for (uint32_t i = 0; i < n; ++i) out[i] = sample(field, abr, org + dir * t[i]);
   }
 #endif
   VS_HOST_DEVICE int64_t locate(const vec3f& p) const {

@@ -317,26 +317,19 @@ inline void march_interval_batched(const FrameView<V>& v, const Ray& ray, const 
                                    float jitter, RayState& s) {
   for (uint32_t k0 = 0; k0 < steps.n; k0 += kSampleBatch) {
     const uint32_t m = steps.n - k0 < kSampleBatch ? steps.n - k0 : kSampleBatch;
-    float t[kSampleBatch], len_ref[kSampleBatch], f[kSampleBatch], alpha[kSampleBatch];
-    Rgba c[kSampleBatch];
-    if constexpr (requires(const vec3f* p, float* out) { v.volume.sample_batch(0, iv.region, p, m, out); }) {
-      vec3f p[kSampleBatch];  // a volume that samples a batch at once (AmrVolume: SIMD lanes)
-      for (uint32_t i = 0; i < m; ++i) {
-        steps.at(k0 + i, jitter, t[i], len_ref[i]);
-        p[i] = ray.at(t[i]);
-      }
-      v.volume.sample_batch(0, iv.region, p, m, f);
+    float t[kSampleBatch], len_ref[kSampleBatch], f[kSampleBatch];
+    for (uint32_t i = 0; i < m; ++i) steps.at(k0 + i, jitter, t[i], len_ref[i]);
+    if constexpr (requires(float* out) { v.volume.sample_batch(0, iv.region, ray.org, ray.dir, t, m, out); }) {
+      v.volume.sample_batch(0, iv.region, ray.org, ray.dir, t, m, f);  // AmrVolume: SIMD lanes
     } else {
-      for (uint32_t i = 0; i < m; ++i) {
-        steps.at(k0 + i, jitter, t[i], len_ref[i]);
-        f[i] = sample(v.volume, 0, iv.region, ray.at(t[i]), s);
-      }
+      for (uint32_t i = 0; i < m; ++i) f[i] = sample(v.volume, 0, iv.region, ray.at(t[i]), s);
     }
-    tf_lookup_batch(v.optics.tf, f, len_ref, m, c, alpha);  // a NaN f (no data) is skipped below
+    TfBatch c;
+    tf_lookup_batch(v.optics.tf, f, len_ref, m, c);  // a NaN f (no data) is skipped below
     for (uint32_t i = 0; i < m; ++i) {
       ++s.samples;
-      if (is_nan(f[i]) || !(c[i].a > 0.f) || !owns(v, ray.at(t[i]))) continue;
-      s.acc.blend_gray(c[i].r, c[i].g, c[i].b, alpha[i]);
+      if (is_nan(f[i]) || !(c.a[i] > 0.f) || !owns(v, ray.at(t[i]))) continue;
+      s.acc.blend_gray(c.r[i], c.g[i], c.b[i], c.alpha[i]);
       if (finished(v, s)) return;
     }
   }

@@ -56,11 +56,18 @@ VS_HOST_DEVICE inline float corrected_alpha(float alpha, float len_ref) {
   return alpha >= 1.f ? 1.f : 1.f - fast_exp2_nonpositive(len_ref * fast_log2(1.f - alpha));
 }
 
+// tf_lookup_batch's results, one array per channel, as the lanes hold them (no transposition).
+struct TfBatch {
+  float r[8], g[8], b[8];  // the transfer function's colour where a > 0 (else not written)
+  float a[8];              // the transfer function's opacity
+  float alpha[8];          // the corrected opacity
+};
+
 // CPU only: for n <= 8 samples f with step lengths len_ref (in reference steps), the transfer
 // function's colour (tf.lookup) and the corrected opacity (corrected_alpha where the colour's
 // alpha > 0, else 0), in SIMD lanes (tf_batch.cpp, core/simd.h): the same floats as those
-// functions on either build.
-void tf_lookup_batch(const TfView& tf, const float* f, const float* len_ref, uint32_t n, Rgba* color, float* alpha);
+// functions on either build. All 8 entries of out are written; those from n on repeat entry n-1.
+void tf_lookup_batch(const TfView& tf, const float* f, const float* len_ref, uint32_t n, TfBatch& out);
 
 // What a kernel reads of the optics: the transfer function (also used by the blackbody model's
 // isosurfaces and classification) and the blackbody tables.

@@ -53,13 +53,9 @@ VS_FORCE_INLINE f8 exp2_lanes(const f8& y) {
   return y >= -126.f ? value : (y != y ? y : splat(0.f));
 }
 
-VS_FORCE_INLINE void batch_body(const TfView& tf, const float* f, const float* len_ref, uint32_t n, Rgba* color,
-                                float* alpha) {
-  f8 v, len;
-  for (uint32_t k = 0; k < kLanes; ++k) {
-    v[k] = f[k < n ? k : n - 1];
-    len[k] = len_ref[k < n ? k : n - 1];
-  }
+template <simd::Isa kIsa>
+VS_FORCE_INLINE void batch_body(const TfView& tf, const float* f, const float* len_ref, uint32_t n, TfBatch& out) {
+  const f8 v = simd::load_lanes(f, n), len = simd::load_lanes(len_ref, n);
   constexpr float kMinNormal = 1.17549435e-38f, kMaxFloat = 3.40282347e38f, kLog10Of2 = 0.30102999566f;
   // TfView::scaled and position.
   f8 scaled = v;
@@ -77,43 +73,51 @@ VS_FORCE_INLINE void batch_body(const TfView& tf, const float* f, const float* l
   const i8 i0 = i < last ? i : last, i1 = i + 1 < last ? i + 1 : last;
   const f8 frac = x - __builtin_convertvector(i, f8);
   const i8 at_top = i + 1 >= int32_t(tf.size);
-  f8 e0[4], e1[4];
+  static_assert(sizeof(Rgba) == 4 * sizeof(float));
+  const float* table = &tf.table[0].r;
+  const i8 row0 = i0 * 4, row1 = i1 * 4;
+  const auto entry = [&](int channel) {  // TfView::lookup's interpolation of one channel
+    const f8 e0 = simd::gather<kIsa>(table, row0 + channel), e1 = simd::gather<kIsa>(table, row1 + channel);
+    return at_top ? e0 : e0 + (e1 - e0) * frac;
+  };
+  // The opacity first: a batch wholly in the transfer function's transparent stretches (common
+  // between narrow layers) needs no colour, logarithm or exponential.
+  const f8 a = entry(3);
+  const i8 visible = a > 0.f;
+  simd::store(out.a, a);
+  if (!simd::any(visible)) {
+    simd::store(out.alpha, splat(0.f));
+  } else {
+    simd::store(out.r, entry(0));
+    simd::store(out.g, entry(1));
+    simd::store(out.b, entry(2));
+    // corrected_alpha where the colour's alpha > 0.
+    const f8 corrected = a >= 1.f ? splat(1.f) : 1.f - exp2_lanes(len * log2_lanes(1.f - a));
+    simd::store(out.alpha, visible ? corrected : splat(0.f));
+  }
+  if (!simd::any(scalar_lanes)) return;
   for (uint32_t k = 0; k < kLanes; ++k) {
-    const Rgba& a = tf.table[i0[k]];
-    const Rgba& b = tf.table[i1[k]];
-    e0[0][k] = a.r, e0[1][k] = a.g, e0[2][k] = a.b, e0[3][k] = a.a;
-    e1[0][k] = b.r, e1[1][k] = b.g, e1[2][k] = b.b, e1[3][k] = b.a;
-  }
-  f8 c[4];
-  for (int ch = 0; ch < 4; ++ch) c[ch] = at_top ? e0[ch] : e0[ch] + (e1[ch] - e0[ch]) * frac;
-  // corrected_alpha where the colour's alpha > 0.
-  const f8 corrected = c[3] >= 1.f ? splat(1.f) : 1.f - exp2_lanes(len * log2_lanes(1.f - c[3]));
-  const f8 opacity = c[3] > 0.f ? corrected : splat(0.f);
-  for (uint32_t k = 0; k < n; ++k) {
-    if (scalar_lanes[k]) {
-      color[k] = tf.lookup(f[k]);
-      alpha[k] = color[k].a > 0.f ? corrected_alpha(color[k].a, len_ref[k]) : 0.f;
-      continue;
-    }
-    color[k] = {c[0][k], c[1][k], c[2][k], c[3][k]};
-    alpha[k] = opacity[k];
+    if (!scalar_lanes[k]) continue;
+    const uint32_t from = k < n ? k : n - 1;
+    const Rgba color = tf.lookup(f[from]);
+    out.r[k] = color.r, out.g[k] = color.g, out.b[k] = color.b, out.a[k] = color.a;
+    out.alpha[k] = color.a > 0.f ? corrected_alpha(color.a, len_ref[from]) : 0.f;
   }
 }
 
-void batch_baseline(const TfView& tf, const float* f, const float* len_ref, uint32_t n, Rgba* color, float* alpha) {
-  batch_body(tf, f, len_ref, n, color, alpha);
+void batch_baseline(const TfView& tf, const float* f, const float* len_ref, uint32_t n, TfBatch& out) {
+  batch_body<simd::Isa::baseline>(tf, f, len_ref, n, out);
 }
 
-VS_TARGET_AVX2 void batch_avx2(const TfView& tf, const float* f, const float* len_ref, uint32_t n, Rgba* color,
-                               float* alpha) {
-  batch_body(tf, f, len_ref, n, color, alpha);
+VS_TARGET_AVX2 void batch_avx2(const TfView& tf, const float* f, const float* len_ref, uint32_t n, TfBatch& out) {
+  batch_body<simd::Isa::avx2>(tf, f, len_ref, n, out);
 }
 
 }  // namespace
 
-void tf_lookup_batch(const TfView& tf, const float* f, const float* len_ref, uint32_t n, Rgba* color, float* alpha) {
+void tf_lookup_batch(const TfView& tf, const float* f, const float* len_ref, uint32_t n, TfBatch& out) {
   if (n == 0) return;
-  (simd::use_avx2() ? batch_avx2 : batch_baseline)(tf, f, len_ref, n, color, alpha);
+  (simd::use_avx2() ? batch_avx2 : batch_baseline)(tf, f, len_ref, n, out);
 }
 
 }  // namespace vs

@@ -39,12 +39,15 @@ typedef uint32_t u8 __attribute__((vector_size(kLanes * sizeof(uint32_t))));
 enum class Isa { baseline, avx2 };
 
 // base[index[k]] for each lane: one AVX2 gather instruction, or eight loads in the baseline build
-// (the same values either way).
+// (the same values either way). The gather is written as assembly: its intrinsic may not be
+// inlined into this body, which is not itself marked for AVX2 (only the entry points are), and
+// GCC checks an assembly operand's register size only where the body lands, in an AVX2 entry
+// point. Clang checks it in the body, so Clang's builds (the sanitizer build) take the loads.
 template <Isa kIsa>
 VS_FORCE_INLINE f8 gather(const float* base, const i8& index) {
-#if VS_HAVE_AVX2_BUILD
+#if VS_HAVE_AVX2_BUILD && !defined(__clang__)
   if constexpr (kIsa == Isa::avx2) {
-    f8 out, mask;
+    f8 out, mask;  // mask: all lanes (the instruction clears it as it loads)
     __asm__("vpcmpeqd %[m], %[m], %[m]\n\tvgatherdps %[m], (%[b],%[i],4), %[d]"
             : [d] "=&x"(out), [m] "=&x"(mask)
             : [b] "r"(base), [i] "x"(index)

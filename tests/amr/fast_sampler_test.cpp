@@ -95,8 +95,8 @@ TEST_P(FastSampler, EqualsTheReferencePerSample) {
               (unsigned long long)one_brick, (unsigned long long)several, worst_relative);
 }
 
-// The batch form on one-brick ABRs: both builds (the baseline forced, as on a CPU without AVX2,
-// and the AVX2 one where the CPU has it) give sample_abr_fast's floats.
+// The batch forms, on ABRs of one brick and of several: both builds (the baseline forced, as on a
+// CPU without AVX2, and the AVX2 one where the CPU has it) give sample_abr_fast's floats.
 TEST_P(FastSampler, BatchesEqualPointByPointOnEveryBuild) {
   const auto [seed, levels, refine] = GetParam();
   const AmrTopology t = build_topology(test::random_octree_cells(seed, vec3i(3, 2, 2), levels, refine));
@@ -106,12 +106,11 @@ TEST_P(FastSampler, BatchesEqualPointByPointOnEveryBuild) {
   std::vector<float> values(t.cell_count);
   for (float& v : values) v = unit(rng) < 0.01f ? NAN : value(rng);
   const AmrView view = make_view(t, values.data());
-  uint64_t checked = 0;
+  uint64_t checked = 0, one_brick = 0, several = 0;
   for (bool baseline : {true, false}) {
     simd::force_baseline(baseline);
     for (uint32_t abr = 0; abr < t.abrs.size(); ++abr) {
       const Abr& a = t.abrs[abr];
-      if (a.brick_count != 1) continue;
       // A ray from a point of the box grown a little (some points beyond the support), through
       // another, with n parameters along it.
       vec3f org, through;
@@ -124,7 +123,14 @@ TEST_P(FastSampler, BatchesEqualPointByPointOnEveryBuild) {
       float ts[8], out[8];
       const uint32_t n = 1 + abr % 8;  // short batches too
       for (uint32_t i = 0; i < n; ++i) ts[i] = unit(rng);
-      sample_one_brick_batch(records[t.abr_bricks[a.first_brick]], values.data(), org, dir, ts, n, out);
+      const uint32_t* ids = t.abr_bricks.data() + a.first_brick;
+      if (a.brick_count == 1) {
+        sample_one_brick_batch(records[ids[0]], values.data(), org, dir, ts, n, out);
+        ++one_brick;
+      } else {
+        sample_bricks_batch(records.data(), ids, a.brick_count, values.data(), org, dir, ts, n, out);
+        ++several;
+      }
       for (uint32_t i = 0; i < 8; ++i) {  // entries from n on repeat entry n - 1
         const vec3f p = org + dir * ts[std::min(i, n - 1)];
         const float one = sample_abr_fast(t.abrs.data(), t.abr_bricks.data(), records.data(), values.data(), abr, p);
@@ -139,7 +145,8 @@ TEST_P(FastSampler, BatchesEqualPointByPointOnEveryBuild) {
     }
   }
   simd::force_baseline(false);
-  EXPECT_GT(checked, 0u);
+  EXPECT_GT(one_brick, 0u);
+  EXPECT_GT(several, 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(RandomOctrees, FastSampler,

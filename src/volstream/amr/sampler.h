@@ -217,6 +217,10 @@ VS_HOST_DEVICE VS_FORCE_INLINE float sample_abr_fast(const Abr* abrs, const uint
 // All 8 entries of out are written; those from n on repeat entry n-1.
 void sample_one_brick_batch(const SampleBrick& b, const float* values, const vec3f& org, const vec3f& dir,
                             const float* t, uint32_t n, float* out);
+// CPU only: the same for an ABR of several bricks, ids[0..count) into records: the tent sum
+// over them, as sample_abr_fast adds it, in each lane.
+void sample_bricks_batch(const SampleBrick* records, const uint32_t* ids, uint32_t count, const float* values,
+                         const vec3f& org, const vec3f& dir, const float* t, uint32_t n, float* out);
 // (core/simd.h says which build runs and forces the baseline.)
 
 }  // namespace vs

@@ -34,15 +34,17 @@ struct AmrVolume {
   }
 #if !defined(__CUDA_ARCH__)
   // The CPU's batches (integrator.h): n <= 8 points org + dir * t[i] of one ABR; the same values
-  // as sample() per point, in SIMD lanes on one-brick ABRs (amr/sampler.h).
+  // as sample() per point, in SIMD lanes (amr/sampler.h).
   void sample_batch(int field, uint32_t abr, const vec3f& org, const vec3f& dir, const float* t, uint32_t n,
                     float* out) const {
-    if (sample_bricks && amr.abrs[abr].brick_count == 1) {
-      const SampleBrick& b = sample_bricks[amr.abr_bricks[amr.abrs[abr].first_brick]];
-      sample_one_brick_batch(b, fields[field], org, dir, t, n, out);
+    if (!sample_bricks) {
+      for (uint32_t i = 0; i < n; ++i) out[i] = sample(field, abr, org + dir * t[i]);
       return;
     }
-    for (uint32_t i = 0; i < n; ++i) out[i] = sample(field, abr, org + dir * t[i]);
+    const Abr& a = amr.abrs[abr];
+    const uint32_t* ids = amr.abr_bricks + a.first_brick;
+    if (a.brick_count == 1) return sample_one_brick_batch(sample_bricks[ids[0]], fields[field], org, dir, t, n, out);
+    sample_bricks_batch(sample_bricks, ids, a.brick_count, fields[field], org, dir, t, n, out);
   }
 #endif
   VS_HOST_DEVICE int64_t locate(const vec3f& p) const {

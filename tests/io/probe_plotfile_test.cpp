@@ -55,9 +55,9 @@ TEST_P(PlotfileProbe, AbrProbeEqualsBruteForce) {
   const auto cells = ds.load_cells();
   const Bvh bvh = build_abr_bvh(ds.topology());
   // The BVH stored at convert, refit at load, is the tree a build at load gives, node for node.
-  ASSERT_EQ(ds.topology().abr_bvh.size(), 2 * ds.topology().abrs.size() - 1);
+  ASSERT_EQ(ds.topology().abr_bvh.nodes.size(), 2 * ds.topology().abrs.size() - 1);
   AmrTopology unstored = ds.topology();
-  unstored.abr_bvh.clear();
+  unstored.abr_bvh.nodes.clear();
   ASSERT_EQ(test::bvh_difference(bvh.nodes, build_abr_bvh(unstored).nodes), "");
   std::mt19937 rng(GetParam());
   std::uniform_real_distribution<double> ux(-1.05, 1.05), uy(-0.05, 1.05), uz(1.95, 3.05);

@@ -211,14 +211,16 @@ void build_abrs(AmrTopology& topology, const std::string& source_name) {
   }
 }
 
-Bvh build_abr_bvh(const AmrTopology& topology) {
+std::vector<box3f> abr_boxes(const AmrTopology& topology) {
   std::vector<box3f> boxes;
   boxes.reserve(topology.abrs.size());
   for (const Abr& a : topology.abrs) boxes.push_back(a.box);
-  if (topology.abr_bvh.empty()) return build_bvh_sah(boxes);
-  Bvh stored{topology.abr_bvh};
-  refit_bvh(stored.nodes, boxes, {});
-  return stored;
+  return boxes;
+}
+
+Bvh build_abr_bvh(const AmrTopology& topology) {
+  if (!topology.abr_bvh.nodes.empty()) return topology.abr_bvh;
+  return build_bvh_sah(abr_boxes(topology));
 }
 
 }  // namespace vs

@@ -12,8 +12,11 @@ namespace vs {
 // when two bricks overlap (cells given twice at different levels).
 void build_abrs(AmrTopology& topology, const std::string& source_name);
 
-// The BVH over the ABR boxes with its boxes set: topology.abr_bvh refit to the ABRs when the
-// dataset stores it (checked at load), else a binned SAH build (a quarter of a whole `render`
+// The ABRs' boxes, in ABR order.
+std::vector<box3f> abr_boxes(const AmrTopology& topology);
+
+// The BVH over the ABR boxes with its boxes set: a copy of topology.abr_bvh when the dataset
+// stores it (checked and refit at load), else a binned SAH build (a quarter of a whole `render`
 // of the 486k-ABR jet, hence stored at convert).
 Bvh build_abr_bvh(const AmrTopology& topology);
 

@@ -61,9 +61,10 @@ struct AmrTopology {
   std::vector<Brick> bricks;  // in device order (sorted by value_offset)
   std::vector<Abr> abrs;
   std::vector<uint32_t> abr_bricks;  // concatenated brick lists of all ABRs
-  // The BVH over the ABR boxes as a dataset stores it (made at convert): its topology only, boxes
-  // unset. Empty when not stored (older datasets, a rank's part): build_abr_bvh builds it then.
-  std::vector<BvhNode> abr_bvh;
+  // The BVH over the ABR boxes as a dataset stores it (its topology, made at convert), refit to
+  // the ABR boxes at load. Empty when not stored (older datasets, a rank's part): build_abr_bvh
+  // builds one then. A renderer of this topology uses it as it is (no copy).
+  Bvh abr_bvh;
   uint64_t cell_count = 0;
 };
 

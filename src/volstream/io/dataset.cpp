@@ -661,11 +661,12 @@ std::vector<float> Dataset::load_file_order_values(int field, int step) const {
 void Dataset::read_abr_bvh() {
   const fs::path path = dir_ / dataset_files::kAbrBvh;
   const std::vector<uint32_t> links = read_topology<uint32_t>(path, 2 * manifest_.abr_bvh_node_count);
-  std::vector<BvhNode>& nodes = topology_.abr_bvh;
+  std::vector<BvhNode>& nodes = topology_.abr_bvh.nodes;
   nodes.resize(manifest_.abr_bvh_node_count);
   for (size_t i = 0; i < nodes.size(); ++i) nodes[i] = {box3f::make_empty(), links[2 * i], links[2 * i + 1]};
   if (const std::string problem = bvh_tree_problem(nodes, topology_.abrs.size()); !problem.empty())
     input_error(path.string(), "bad ABR BVH: " + problem);
+  refit_bvh(nodes, abr_boxes(topology_), {});
 }
 
 void Dataset::count_topology_bytes() {

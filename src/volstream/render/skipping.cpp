@@ -32,15 +32,26 @@ std::vector<uint8_t> regions_to_keep(const std::vector<Range>& ranges, size_t re
 RegionBvh::RegionBvh(std::vector<box3f> region_boxes) : RegionBvh(region_boxes, build_bvh_sah(region_boxes)) {}
 
 RegionBvh::RegionBvh(std::vector<box3f> region_boxes, Bvh template_bvh, bool wide_walk)
-    : boxes_(std::move(region_boxes)), template_(std::move(template_bvh)), nodes_(template_.nodes) {
+    : boxes_(std::move(region_boxes)), owned_template_(std::move(template_bvh)) {
+  set_up(wide_walk);
+}
+
+RegionBvh::RegionBvh(std::vector<box3f> region_boxes, const Bvh* stored_template, bool wide_walk)
+    : boxes_(std::move(region_boxes)), stored_template_(stored_template) {
+  set_up(wide_walk);
+}
+
+void RegionBvh::set_up(bool wide_walk) {
   // Built by build_bvh_sah or read and checked (bvh_tree_problem) by the dataset reader.
-  if (template_.nodes.size() != (boxes_.empty() ? 0 : 2 * boxes_.size() - 1))
+  const std::vector<BvhNode>& all = template_bvh().nodes;
+  if (all.size() != (boxes_.empty() ? 0 : 2 * boxes_.size() - 1))
     throw std::logic_error("region BVH: not a tree over the regions");
+  nodes_ = all;
   if (wide_walk) wide_ = collapse_to_bvh4(nodes_);
-  bytes_ =
-      CountedBytes("BVH", MemorySpace::host,
-                   int64_t((template_.nodes.size() + nodes_.size()) * sizeof(BvhNode) + boxes_.size() * sizeof(box3f) +
-                           wide_.nodes.size() * sizeof(Bvh4Node) + wide_.source.size() * sizeof(uint32_t)));
+  // The template counts here also when stored: the dataset's topology bytes leave it out.
+  bytes_ = CountedBytes("BVH", MemorySpace::host,
+                        int64_t((all.size() + nodes_.size()) * sizeof(BvhNode) + boxes_.size() * sizeof(box3f) +
+                                wide_.nodes.size() * sizeof(Bvh4Node) + wide_.source.size() * sizeof(uint32_t)));
 }
 
 uint64_t RegionBvh::classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso,

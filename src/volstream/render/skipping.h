@@ -37,22 +37,28 @@ class RegionBvh {
   // wide_walk: also keep the refit tree's 4-wide form for the CPU walk (bvh_wide.h; the ABRs,
   // where traversal is a quarter of a render).
   RegionBvh(std::vector<box3f> region_boxes, Bvh template_bvh, bool wide_walk = false);
+  // The same over a template that someone else keeps (a dataset's stored tree), for as long as
+  // this lives.
+  RegionBvh(std::vector<box3f> region_boxes, const Bvh* stored_template, bool wide_walk = false);
   // Classifies the regions and refits; skip = false keeps every region. Returns visible ones.
   uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso, bool skip,
                     SkipStats* stats = nullptr);
   // Refits to the regions with keep[i] != 0 (empty: all). Returns the visible ones.
   uint64_t refit(const std::vector<uint8_t>& keep, SkipStats* stats = nullptr);
-  const Bvh& template_bvh() const { return template_; }
+  const Bvh& template_bvh() const { return stored_template_ ? *stored_template_ : owned_template_; }
   const std::vector<BvhNode>& refit_nodes() const { return nodes_; }
   const Bvh4& wide_nodes() const { return wide_; }  // the refit tree's 4-wide form, or empty
   size_t region_count() const { return boxes_.size(); }
 
  private:
+  void set_up(bool wide_walk);  // checks the template, copies it for refits, collapses
+
   std::vector<box3f> boxes_;
-  Bvh template_;                // every region, never changes
-  std::vector<BvhNode> nodes_;  // same topology, boxes refit to the visible regions
-  Bvh4 wide_;                   // nodes_ collapsed to 4-wide nodes (wide_walk), refit with them
-  CountedBytes bytes_;          // template, refit copy and boxes (host)
+  Bvh owned_template_;                    // every region, never changes (when built here)
+  const Bvh* stored_template_ = nullptr;  // or someone else's
+  std::vector<BvhNode> nodes_;            // same topology, boxes refit to the visible regions
+  Bvh4 wide_;                             // nodes_ collapsed to 4-wide nodes (wide_walk), refit with them
+  CountedBytes bytes_;                    // template, refit copy and boxes (host)
 };
 
 }  // namespace vs

@@ -128,6 +128,23 @@ VS_HOST_DEVICE VS_FORCE_INLINE vec3f brick_cell_coords(const SampleBrick& b, con
   return (p - b.lower) * b.inv_width - vec3f(0.5f);  // as accumulate_brick: cell i's centre at i
 }
 
+// Adds the 8 cells around a point to the sums in accumulate_brick's order, given per axis the
+// two cells' offsets and weights: for one point (F = float, I = int32_t) or for SIMD lanes, one
+// point per lane (sampler_batch.cpp). load(offset) reads a value.
+template <typename F, typename I, typename Load>
+VS_HOST_DEVICE VS_FORCE_INLINE void add_cell_corners(const I (&zs)[2], const I (&ys)[2], const I (&xs)[2],
+                                                     const F (&wz)[2], const F (&wy)[2], const F (&wx)[2], Load&& load,
+                                                     F& weight, F& weighted_value) {
+  for (int dz = 0; dz < 2; ++dz)
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx) {
+        const F w = wx[dx] * wy[dy] * wz[dz];
+        const F value = load(zs[dz] + ys[dy] + xs[dx]);
+        weight += w;
+        weighted_value += w > 0.f ? w * value : F{};
+      }
+}
+
 // sum (w v) and sum w over the brick's 8 cells around p, in accumulate_brick's order.
 VS_HOST_DEVICE VS_FORCE_INLINE void accumulate_brick_fast(const SampleBrick& b, const float* values, const vec3f& p,
                                                           TentSum& sum) {
@@ -137,14 +154,8 @@ VS_HOST_DEVICE VS_FORCE_INLINE void accumulate_brick_fast(const SampleBrick& b, 
   const int32_t nx = b.dims.x, nxy = b.dims.x * b.dims.y;
   const int32_t zs[2] = {z.i0 * nxy, z.i1 * nxy}, ys[2] = {y.i0 * nx, y.i1 * nx}, xs[2] = {x.i0, x.i1};
   const float wz[2] = {z.w0, z.w1}, wy[2] = {y.w0, y.w1}, wx[2] = {x.w0, x.w1};
-  for (int dz = 0; dz < 2; ++dz)
-    for (int dy = 0; dy < 2; ++dy)
-      for (int dx = 0; dx < 2; ++dx) {
-        const float w = wx[dx] * wy[dy] * wz[dz];
-        const float value = v[zs[dz] + ys[dy] + xs[dx]];
-        sum.weight += w;
-        sum.weighted_value += w > 0.f ? w * value : 0.f;
-      }
+  add_cell_corners(
+      zs, ys, xs, wz, wy, wx, [v](int32_t offset) { return v[offset]; }, sum.weight, sum.weighted_value);
 }
 
 // One axis of the one-brick form: q clamped into [0, n - 1], the lower cell (at most n - 2, so

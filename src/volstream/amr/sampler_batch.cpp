@@ -4,8 +4,11 @@
 // form does, in its order).
 #include <cmath>
 
-#include "volstream/amr/sampler.h"
+// First: its silencing of the AVX calling-convention note must precede the templates of
+// sampler.h that are instantiated here over lanes (add_cell_corners).
 #include "volstream/core/simd.h"
+// (the rest)
+#include "volstream/amr/sampler.h"
 
 namespace vs {
 namespace {
@@ -99,14 +102,10 @@ VS_FORCE_INLINE void accumulate_lanes(const SampleBrick& b, const float* values,
   const int32_t nx = b.dims.x, nxy = b.dims.x * b.dims.y;
   const i8 zs[2] = {z.i0 * nxy, z.i1 * nxy}, ys[2] = {y.i0 * nx, y.i1 * nx}, xs[2] = {x.i0, x.i1};
   const f8 wz[2] = {z.w0, z.w1}, wy[2] = {y.w0, y.w1}, wx[2] = {x.w0, x.w1};
-  for (int dz = 0; dz < 2; ++dz)
-    for (int dy = 0; dy < 2; ++dy)
-      for (int dx = 0; dx < 2; ++dx) {
-        const f8 w = wx[dx] * wy[dy] * wz[dz];
-        const f8 value = simd::gather<kIsa>(v, zs[dz] + ys[dy] + xs[dx]);
-        weight += w;
-        weighted_value += w > 0.f ? w * value : f8{};
-      }
+  detail::add_cell_corners(
+      zs, ys, xs, wz, wy,
+      wx, [v](const i8& offset) __attribute__((always_inline)) { return simd::gather<kIsa>(v, offset); }, weight,
+      weighted_value);
 }
 
 // sample_abr_fast's sum over an ABR's bricks (ids[0..count)) at org + dir * t[k].

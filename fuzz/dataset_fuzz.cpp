@@ -1,9 +1,11 @@
-// The native dataset reader: a valid small dataset with one of its files patched.
+// The native dataset reader: a valid small dataset with one of its files patched, read whole and
+// as a data-parallel rank reads it (ABRs deferred, then its share's chunks; mpi/amr_share.h).
 #include "fuzz_util.h"
 #include "volstream/amr/abrs.h"
 #include "volstream/amr/probe.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/raw_grid.h"
+#include "volstream/mpi/amr_share.h"
 
 #include <fstream>
 #include <vector>
@@ -21,6 +23,17 @@ std::filesystem::path make_base(const std::filesystem::path& dir) {
   convert_to_dataset(*source, dir / "base", ConvertOptions::silent());
   return dir / "base";
 }
+
+// Rank 0 of 2's share, read as ParallelRenderer reads it.
+void restrict_to_a_share(vs::Dataset& ds) {
+  using namespace vs;
+  DatasetPart part;
+  part.owned = partition_bricks(ds.topology().bricks, 2).regions[0];
+  RankShare share = read_rank_share(ds, part.owned, IntegratorSettings{});
+  part.abrs = std::move(share.abrs);
+  part.bricks = std::move(share.bricks);
+  ds.restrict_to(std::move(part));
+}
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -35,13 +48,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                                                     work / "abr_bricks.bin",
                                                     work / "cells.bin",
                                                     work / "abr_bvh.bin",
+                                                    work / "abr_chunks.bin",
                                                     work / "fields/0_scalar/step_000000.f32"};
   if (!fuzz::apply_patch(files, data, size)) return 0;
-  fuzz::expect_clean([&] {
-    Dataset ds(work);
-    const auto values = ds.load_values(0, 0);
-    const Bvh bvh = build_abr_bvh(ds.topology());
-    (void)probe_points(ds.topology(), bvh, values.data(), {vec3f(1.f, 1.f, 1.f), vec3f(3.5f, 2.5f, 1.5f)});
-  });
+  for (const TopologyLoad load : {TopologyLoad::whole, TopologyLoad::deferred})
+    fuzz::expect_clean([&] {
+      Dataset ds(work, load);
+      if (load == TopologyLoad::deferred) restrict_to_a_share(ds);
+      const auto values = ds.load_values(0, 0);
+      const Bvh bvh = build_abr_bvh(ds.topology());
+      (void)probe_points(ds.topology(), bvh, values.data(), {vec3f(1.f, 1.f, 1.f), vec3f(3.5f, 2.5f, 1.5f)});
+    });
   return 0;
 }

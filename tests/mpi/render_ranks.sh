@@ -4,8 +4,9 @@
 # with isosurfaces and shading, and those of 1 to 4 ranks on a small mesh demo in both encodings
 # (a shaded isosurface in both, volume light in the compact one); the ranks' regions hold every
 # cell (mesh element) once and each rank reads exactly its held bricks' (vertices') values; a
-# bad input ends every rank with one line and status 2; mpirun play writes the frames of one
-# rank with any count (AMR and a mesh), and a trace with every rank's stages, composite included.
+# bad input ends every rank with one line and status 2; a rank reads less topology at 4 ranks
+# than at 1 (AMR) or than the whole (meshes); mpirun play writes the frames of one rank with any
+# count (AMR and a mesh), and a trace with every rank's stages, composite included.
 # Usage: render_ranks.sh VOLSTREAM MPIEXEC WORKDIR (oversubscribed: CI has 2 cores).
 set -euo pipefail
 VS="$1"
@@ -72,6 +73,12 @@ for encoding in compact reference; do
     >/dev/null || fail "$ds: owned elements or values read"
   echo "$ds, 4 ranks: $(python3 "$TOOL" topology "$ds.4.log" "$whole")" || fail "$ds: a rank read the whole topology"
 done
+# An AMR rank reads the bricks and the ABR chunk index, then only its chunks' ABRs and lists:
+# less than the whole topology (abr_bvh.bin is never read), and less at 4 ranks than at 1.
+whole=$(cat jet/abr*.bin jet/bricks.bin | wc -c)
+one=$(python3 "$TOOL" topology jet.1.1.log "$whole" | sed -nE 's/.* to ([0-9]+) B .*/\1/p') ||
+  fail "jet, 1 rank: it read the whole topology"
+echo "jet, 4 ranks: $(python3 "$TOOL" topology jet.1.4.log "$one")" || fail "jet: 4 ranks read no less than 1"
 # Direct send for a power-of-two count gives the binary swap's image.
 ranks 4 render jet --composite direct-send --size 40x32 -o direct.pfm >/dev/null
 ranks 4 render jet --composite binary-swap --size 40x32 -o swap.pfm >/dev/null

@@ -19,4 +19,4 @@ libs=$(ldd "$BUILD/volstream")
 grep -q 'libmpich' <<<"$libs" || { echo "FAIL: $BUILD/volstream does not link MPICH" >&2; exit 1; }
 if grep -q 'libmpi\.so' <<<"$libs"; then echo "FAIL: $BUILD/volstream links Open MPI" >&2; exit 1; fi
 echo "$BUILD/volstream links $(grep -o 'libmpich[^ ]*' <<<"$libs" | head -1) ($(mpiexec.mpich --version | sed -nE 's/ *Version: *//p' | head -1))"
-ctest --test-dir "$BUILD" --output-on-failure -R '^mpi\.' --timeout 900
+ctest --test-dir "$BUILD" -V -R '^mpi\.' --timeout 900

@@ -780,7 +780,7 @@ void Dataset::restrict_to(DatasetPart part) {
 }
 
 uint32_t Dataset::local_abr(uint32_t global) const {
-  if (abr_ids_.empty()) return global;  // all ABRs were read
+  if (!abr_subset_) return global;  // all ABRs were read
   const auto it = std::lower_bound(abr_ids_.begin(), abr_ids_.end(), global);
   if (it == abr_ids_.end() || *it != global)
     throw std::logic_error("Dataset::restrict_to: ABR " + std::to_string(global) + " was not read (read_abr_chunks)");
@@ -816,6 +816,7 @@ void Dataset::restrict_bricks(const DatasetPart& part) {
   local.cell_count = offset;
   topology_ = std::move(local);
   abr_ids_.clear();  // the part's ABRs are numbered in its order now
+  abr_subset_ = false;
   count_topology_bytes();
 }
 
@@ -952,43 +953,55 @@ void Dataset::read_compact_part(const std::vector<uint32_t>& leaves, std::vector
   compact_ = std::move(part);
 }
 
-// The chunks' ABRs, then their brick lists, each as runs of the files. The lists must follow one
-// another in ABR order, as convert writes them (so what is read is at most the file), and are
-// checked as at a whole read (validate_abrs); each ABR must lie within the box and width its
-// chunk was chosen by.
+// The chunks' ABRs, then their brick lists, each as runs of the files, checked as at a whole read
+// (validate_abrs); each ABR must lie within the box and width its chunk was chosen by.
 void Dataset::read_abr_chunks(const std::vector<uint32_t>& chunks) {
   if (!deferred_ || is_mesh()) throw std::logic_error("Dataset::read_abr_chunks: the ABRs are not deferred");
-  const fs::path abrs_path = dir_ / dataset_files::kAbrs, lists_path = dir_ / dataset_files::kAbrBricks;
-  check_record_file(abrs_path, manifest_.abr_count, sizeof(Abr));
-  check_record_file(lists_path, manifest_.abr_brick_count, sizeof(uint32_t));
+  read_chunk_abrs(chunks);
+  read_abr_lists();
+  validate_abrs(topology_, (dir_ / dataset_files::kBricks).string(), abr_ids_);
+  check_abrs_in_chunks();
+  deferred_ = false;
+  count_topology_bytes();
+}
+
+void Dataset::read_chunk_abrs(const std::vector<uint32_t>& chunks) {
+  const fs::path path = dir_ / dataset_files::kAbrs;
+  check_record_file(path, manifest_.abr_count, sizeof(Abr));
   std::vector<ByteRun> runs;
   for (uint32_t c : chunks) {
     if (c >= stored_abr_chunks_.size() || (!abr_ids_.empty() && chunk_first(c) <= abr_ids_.back()))
       throw std::logic_error("Dataset::read_abr_chunks: chunks out of range or not ascending");
-    append_run(runs, {chunk_first(c) * sizeof(Abr), chunk_size(c, manifest_.abr_count) * sizeof(Abr)});
-    for (uint32_t k = 0; k < chunk_size(c, manifest_.abr_count); ++k) abr_ids_.push_back(uint32_t(chunk_first(c) + k));
+    const uint32_t size = chunk_size(c, manifest_.abr_count);
+    append_run(runs, {chunk_first(c) * sizeof(Abr), size * sizeof(Abr)});
+    for (uint32_t k = 0; k < size; ++k) abr_ids_.push_back(uint32_t(chunk_first(c) + k));
   }
   topology_.abrs.resize(abr_ids_.size());
-  read_runs(abrs_path, runs, topology_.abrs.data());
+  read_runs(path, runs, topology_.abrs.data());
   topology_bytes_read_ += topology_.abrs.size() * sizeof(Abr);
-  runs.clear();
-  uint64_t end = 0, local = 0;  // of the last list read in the file; of the lists read
+  abr_subset_ = true;
+}
+
+// The lists of the ABRs read, rebased onto the lists read. They must follow one another in ABR
+// order, as convert writes them, so that what is read is at most the file.
+void Dataset::read_abr_lists() {
+  std::vector<ByteRun> runs;
+  uint64_t end = 0, local = 0;  // of the last list in the file; of the lists read
   for (size_t i = 0; i < topology_.abrs.size(); ++i) {
     Abr& a = topology_.abrs[i];
     if (a.first_brick < end || uint64_t(a.first_brick) + a.brick_count > manifest_.abr_brick_count)
-      input_error(abrs_path.string(), "ABR " + std::to_string(abr_ids_[i]) + "'s brick list is out of order or range");
+      input_error((dir_ / dataset_files::kAbrs).string(),
+                  "ABR " + std::to_string(abr_ids_[i]) + "'s brick list is out of order or range");
     end = uint64_t(a.first_brick) + a.brick_count;
     append_run(runs, {uint64_t(a.first_brick) * sizeof(uint32_t), uint64_t(a.brick_count) * sizeof(uint32_t)});
     a.first_brick = uint32_t(local);
     local += a.brick_count;
   }
+  const fs::path path = dir_ / dataset_files::kAbrBricks;
+  check_record_file(path, manifest_.abr_brick_count, sizeof(uint32_t));
   topology_.abr_bricks.resize(local);
-  read_runs(lists_path, runs, topology_.abr_bricks.data());
+  read_runs(path, runs, topology_.abr_bricks.data());
   topology_bytes_read_ += local * sizeof(uint32_t);
-  validate_abrs(topology_, (dir_ / dataset_files::kBricks).string(), abr_ids_);
-  check_abrs_in_chunks();
-  deferred_ = false;
-  count_topology_bytes();
 }
 
 // A rank chose the chunks by their boxes and widths: an ABR beyond them would be missed by the

@@ -202,7 +202,7 @@ class Dataset {
   // topology then holds those ABRs (abr_id gives their global indices) with every brick.
   void read_abr_chunks(const std::vector<uint32_t>& chunks);
   // The global index of topology().abrs[i] (before restrict_to).
-  uint32_t abr_id(uint32_t i) const { return abr_ids_.empty() ? i : abr_ids_.at(i); }
+  uint32_t abr_id(uint32_t i) const { return abr_subset_ ? abr_ids_.at(i) : i; }
   // A mesh's index (before restrict_to; logic_error otherwise): read at open when deferred, else
   // made from the mesh (the same index).
   MeshIndex mesh_index() const;
@@ -261,6 +261,8 @@ class Dataset {
   void restrict_bricks(const DatasetPart& part);
   uint32_t local_abr(uint32_t global) const;  // its position in topology_.abrs
   void read_stored_abr_chunks();
+  void read_chunk_abrs(const std::vector<uint32_t>& chunks);
+  void read_abr_lists();
   void check_abrs_in_chunks() const;
   void restrict_mesh(const std::vector<uint32_t>& items);
   std::filesystem::path dir_;
@@ -282,6 +284,7 @@ class Dataset {
   box3f vertex_bounds_;
   std::vector<AbrChunk> stored_abr_chunks_;  // deferred AMR: from abr_chunks.bin
   std::vector<uint32_t> abr_ids_;            // after read_abr_chunks: global index of each ABR held
+  bool abr_subset_ = false;                  // topology_.abrs are abr_ids_ (read_abr_chunks)
   void read_abr_bvh();                       // and checks it (InputError)
   void count_topology_bytes();
   void count_mesh_bytes();

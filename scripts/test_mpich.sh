@@ -4,8 +4,8 @@
 # libmpich-dev install beside Open MPI as mpicxx.mpich and mpiexec.mpich, and leave `mpicxx` and
 # `mpirun` to Open MPI), checks that the binary links MPICH and not Open MPI, and runs the MPI
 # test (tests/mpi/render_ranks.sh) with mpiexec.mpich. Builds only the command line (no CUDA, no
-# Python module): the MPI test needs nothing else. Not part of scripts/test.sh: on 2 cores the
-# build and the test take about 10 minutes (bench/logs/test_mpich.txt).
+# Python module): the MPI test needs nothing else. scripts/test.sh runs it after the Release
+# suite: on 2 cores the build and the test take about 3 minutes (bench/logs/test_mpich.txt).
 # Usage: scripts/test_mpich.sh [BUILD_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -100,6 +100,15 @@ expect_bad_ranks() {
 cp -r jet broken
 truncate -s 100 broken/fields/0_pressure/step_000000.f32
 expect_bad_ranks "truncated values" render broken --field pressure -o x.png --size 16x16
+# A damaged ABR chunk index: refused at open by every rank, or (chunk 0 finer than its ABRs) by
+# the ranks that read chunk 0.
+cp -r jet broken_chunks
+truncate -s 100 broken_chunks/abr_chunks.bin
+expect_bad_ranks "ABR chunk index truncated" render broken_chunks -o x.png --size 16x16
+cp -r jet finer_chunk
+python3 -c "import struct, sys; f = open(sys.argv[1], 'r+b'); f.seek(24); f.write(struct.pack('<f', 0.5))" \
+  finer_chunk/abr_chunks.bin
+expect_bad_ranks "ABR chunk finer than its ABRs" render finer_chunk -o x.png --size 16x16
 expect_bad_ranks "unknown field" render jet --field nope -o x.png
 expect_bad_ranks "blocks integrator" render jet --integrator blocks -o x.png
 expect_bad_ranks "several rays a pixel" render jet --spp 2 -o x.png

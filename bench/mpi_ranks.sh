@@ -8,6 +8,8 @@
 #   OTHER: meshes, another volstream binary (e.g. main's) to compare per rank on the same dataset
 #     (COUNTS 1 2 4): each binary's peak RSS per rank (/usr/bin/time -f %M) and the bytes its
 #     read calls returned from the dataset's topology files (strace), ranks in one line each.
+# MPIRUN (environment): the launcher, default mpirun (Open MPI); e.g. MPIRUN=mpiexec.mpich with a
+#   binary built against MPICH (scripts/test_mpich.sh).
 set -euo pipefail
 VS="${1:-build/volstream}"
 CELLS="${2:-2000000}"
@@ -18,6 +20,9 @@ OTHER="${6:-}"
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+MPIRUN="${MPIRUN:-mpirun}"
+OVERSUBSCRIBE=()  # Open MPI needs it for more ranks than cores; MPICH's Hydra does not know it
+if "$MPIRUN" --version 2>&1 | grep -q "Open MPI"; then OVERSUBSCRIBE=(--oversubscribe); fi
 TOOL="$(dirname "$0")/../tests/mpi/mpi_tool.py"
 if [ "$DEMO" = jet ]; then
   "$VS" demo jet --cells "$CELLS" --steps 1 -o "$WORK/ds" -q
@@ -32,17 +37,18 @@ echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -
 echo "commit: $(git -C "$(dirname "$0")" rev-parse --short HEAD)"
 echo "load before: $(cut -d' ' -f1-3 /proc/loadavg)"
 for n in $COUNTS; do
-  echo "== mpirun --oversubscribe -np $n $VS render $DEMO ${OPTIONS[*]} --size $SIZE"
-  mpirun --oversubscribe -np "$n" "$VS" render "$WORK/ds" "${OPTIONS[@]}" --size "$SIZE" -o "$WORK/$n.pfm"
+  echo "== $MPIRUN ${OVERSUBSCRIBE[*]} -np $n $VS render $DEMO ${OPTIONS[*]} --size $SIZE"
+  "$MPIRUN" "${OVERSUBSCRIBE[@]}" -np "$n" "$VS" render "$WORK/ds" "${OPTIONS[@]}" --size "$SIZE" -o "$WORK/$n.pfm"
   [ "$n" = 1 ] || echo "max |difference| to 1 rank: $(python3 "$TOOL" compare "$WORK/1.pfm" "$WORK/$n.pfm" 1)"
 done
 # Per rank: peak RSS (KiB) and topology bytes read (read syscalls on the dataset's *.bin files).
 per_rank() {
   local bin="$1" n="$2" tag="$3"
-  mpirun --oversubscribe -np "$n" bash -c 'exec /usr/bin/time -f %M -o "$0.$OMPI_COMM_WORLD_RANK" "$@"' \
+  # The rank: Open MPI's variable, or the PMI one of MPICH's Hydra.
+  "$MPIRUN" "${OVERSUBSCRIBE[@]}" -np "$n" bash -c 'exec /usr/bin/time -f %M -o "$0.${OMPI_COMM_WORLD_RANK:-$PMI_RANK}" "$@"' \
     "$WORK/$tag.rss" "$bin" render "$WORK/ds" "${OPTIONS[@]}" --size "$SIZE" -o "$WORK/$tag.pfm" >/dev/null
-  mpirun --oversubscribe -np "$n" bash -c \
-    'exec strace -f -qq -y -e trace=read,pread64,readv,preadv,preadv2 -o "$0.$OMPI_COMM_WORLD_RANK" "$@"' \
+  "$MPIRUN" "${OVERSUBSCRIBE[@]}" -np "$n" bash -c \
+    'exec strace -f -qq -y -e trace=read,pread64,readv,preadv,preadv2 -o "$0.${OMPI_COMM_WORLD_RANK:-$PMI_RANK}" "$@"' \
     "$WORK/$tag.trace" "$bin" render "$WORK/ds" "${OPTIONS[@]}" --size "$SIZE" -o "$WORK/$tag.pfm" >/dev/null
   python3 - "$WORK" "$tag" "$n" <<'PY'
 import re, sys

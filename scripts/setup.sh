@@ -16,6 +16,8 @@ PACKAGES=(
   ffmpeg                           # video output
   python3 pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
   openmpi-bin libopenmpi-dev       # data-parallel rendering under mpirun (src/volstream/mpi/)
+  mpich libmpich-dev               # the same against MPICH (scripts/test_mpich.sh; beside Open MPI,
+                                   # which keeps mpicxx and mpirun)
   libcivetweb-dev libturbojpeg0-dev  # `volstream view`: HTTP/WebSocket server, JPEG frames
   chromium chromium-driver python3-selenium  # the viewer's browser test (headless)
 )

@@ -7,7 +7,7 @@
                              mesh's elements) sum to CELLS and each rank read FIELDS * 4 bytes per
                              held cell (a mesh's held vertex); prints the ghost overhead
   topology LOG WHOLE         checks that each rank of a mpirun render read less than WHOLE bytes
-                             of topology files (a compact mesh's share); prints the most a rank read"""
+                             of topology files (its share of a mesh or AMR); prints the most a rank read"""
 import json
 import random
 import re

@@ -4,8 +4,9 @@
 # with isosurfaces and shading, and those of 1 to 4 ranks on a small mesh demo in both encodings
 # (a shaded isosurface in both, volume light in the compact one); the ranks' regions hold every
 # cell (mesh element) once and each rank reads exactly its held bricks' (vertices') values; a
-# bad input ends every rank with one line and status 2; mpirun play writes the frames of one
-# rank with any count (AMR and a mesh), and a trace with every rank's stages, composite included.
+# bad input ends every rank with one line and status 2; a rank reads less topology at 4 ranks
+# than at 1 (AMR) or than the whole (meshes); mpirun play writes the frames of one rank with any
+# count (AMR and a mesh), and a trace with every rank's stages, composite included.
 # Usage: render_ranks.sh VOLSTREAM MPIEXEC WORKDIR (oversubscribed: CI has 2 cores).
 set -euo pipefail
 VS="$1"
@@ -14,9 +15,13 @@ WORK="$3"
 HERE="$(cd "$(dirname "$0")" && pwd)"
 TOOL="$HERE/mpi_tool.py"
 rm -rf "$WORK" && mkdir -p "$WORK" && cd "$WORK"
+# Open MPI refuses root and more ranks than cores unless told; MPICH's Hydra allows both and
+# knows no --oversubscribe.
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+OVERSUBSCRIBE=()
+if "$MPIRUN" --version 2>&1 | grep -q "Open MPI"; then OVERSUBSCRIBE=(--oversubscribe); fi
 fail() { echo "FAIL: $*" >&2; exit 1; }
-ranks() { local n="$1"; shift; timeout 120 "$MPIRUN" --oversubscribe -np "$n" "$VS" "$@" </dev/null; }
+ranks() { local n="$1"; shift; timeout 120 "$MPIRUN" "${OVERSUBSCRIBE[@]}" -np "$n" "$VS" "$@" </dev/null; }
 
 "$VS" demo jet --cells 20000 --steps 1 -o jet -q
 python3 "$HERE/../golden/make_plotfile.py" plt >/dev/null
@@ -72,6 +77,12 @@ for encoding in compact reference; do
     >/dev/null || fail "$ds: owned elements or values read"
   echo "$ds, 4 ranks: $(python3 "$TOOL" topology "$ds.4.log" "$whole")" || fail "$ds: a rank read the whole topology"
 done
+# An AMR rank reads the bricks and the ABR chunk index, then only its chunks' ABRs and lists:
+# less than the whole topology (abr_bvh.bin is never read), and less at 4 ranks than at 1.
+whole=$(cat jet/abr*.bin jet/bricks.bin | wc -c)
+one=$(python3 "$TOOL" topology jet.1.1.log "$whole" | sed -nE 's/.* to ([0-9]+) B .*/\1/p') ||
+  fail "jet, 1 rank: it read the whole topology"
+echo "jet, 4 ranks: $(python3 "$TOOL" topology jet.1.4.log "$one")" || fail "jet: 4 ranks read no less than 1"
 # Direct send for a power-of-two count gives the binary swap's image.
 ranks 4 render jet --composite direct-send --size 40x32 -o direct.pfm >/dev/null
 ranks 4 render jet --composite binary-swap --size 40x32 -o swap.pfm >/dev/null
@@ -89,6 +100,15 @@ expect_bad_ranks() {
 cp -r jet broken
 truncate -s 100 broken/fields/0_pressure/step_000000.f32
 expect_bad_ranks "truncated values" render broken --field pressure -o x.png --size 16x16
+# A damaged ABR chunk index: refused at open by every rank, or (chunk 0 finer than its ABRs) by
+# the ranks that read chunk 0.
+cp -r jet broken_chunks
+truncate -s 100 broken_chunks/abr_chunks.bin
+expect_bad_ranks "ABR chunk index truncated" render broken_chunks -o x.png --size 16x16
+cp -r jet finer_chunk
+python3 -c "import struct, sys; f = open(sys.argv[1], 'r+b'); f.seek(24); f.write(struct.pack('<f', 0.5))" \
+  finer_chunk/abr_chunks.bin
+expect_bad_ranks "ABR chunk finer than its ABRs" render finer_chunk -o x.png --size 16x16
 expect_bad_ranks "unknown field" render jet --field nope -o x.png
 expect_bad_ranks "blocks integrator" render jet --integrator blocks -o x.png
 expect_bad_ranks "several rays a pixel" render jet --spp 2 -o x.png

@@ -223,4 +223,14 @@ Bvh build_abr_bvh(const AmrTopology& topology) {
   return build_bvh_sah(abr_boxes(topology));
 }
 
+std::vector<AbrChunk> abr_chunks(const std::vector<Abr>& abrs) {
+  std::vector<AbrChunk> chunks(chunk_count(abrs.size()), AbrChunk{box3f::make_empty(), 0.f});
+  for (uint32_t c = 0; c < chunks.size(); ++c)
+    for (uint64_t i = chunk_first(c); i < chunk_first(c) + chunk_size(c, abrs.size()); ++i) {
+      chunks[c].box.extend(abrs[i].box);
+      chunks[c].finest_width = std::max(chunks[c].finest_width, abrs[i].finest_width);
+    }
+  return chunks;
+}
+
 }  // namespace vs

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "volstream/amr/model.h"
+#include "volstream/core/chunks.h"
 
 namespace vs {
 
@@ -19,5 +20,16 @@ std::vector<box3f> abr_boxes(const AmrTopology& topology);
 // stores it (checked and refit at load), else a binned SAH build (a quarter of a whole `render`
 // of the 486k-ABR jet, hence stored at convert).
 Bvh build_abr_bvh(const AmrTopology& topology);
+
+// What a data-parallel rank chooses ABRs by without reading them (mpi/amr_share.h): per chunk of
+// kIndexChunk consecutive ABRs (core/chunks.h; the builder emits them subtree by subtree, so a
+// chunk is compact) the box holding them and the largest of their finest widths (the margin
+// rule's widths grow with it). Stored at convert (abr_chunks.bin, docs/formats.md).
+struct AbrChunk {
+  box3f box;
+  float finest_width;
+};
+static_assert(sizeof(AbrChunk) == 28);
+std::vector<AbrChunk> abr_chunks(const std::vector<Abr>& abrs);
 
 }  // namespace vs

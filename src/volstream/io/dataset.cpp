@@ -100,6 +100,7 @@ json manifest_to_json(const DatasetManifest& m) {
     j["abr_count"] = m.abr_count;
     j["abr_brick_count"] = m.abr_brick_count;
     if (m.abr_bvh_node_count) j["abr_bvh_node_count"] = m.abr_bvh_node_count;
+    if (m.abr_chunk_count) j["abr_chunk_count"] = m.abr_chunk_count;
     j["file_order"] = m.file_order;
     for (const auto& l : m.levels) j["levels"].push_back({{"level", l.level}, {"cells", l.cell_count}});
   }
@@ -154,7 +155,8 @@ DatasetManifest manifest_from_json(const json& j) {
     m.abr_count = j.at("abr_count").get<uint64_t>();
     m.abr_brick_count = j.at("abr_brick_count").get<uint64_t>();
     m.abr_bvh_node_count = j.value("abr_bvh_node_count", uint64_t(0));
-    m.file_order = j.value("file_order", false);  // absent in datasets written before it existed
+    m.abr_chunk_count = j.value("abr_chunk_count", uint64_t(0));  // absent before the ABR chunk index
+    m.file_order = j.value("file_order", false);                  // absent in datasets written before it existed
     for (const auto& l : j.at("levels"))
       m.levels.push_back({l.at("level").get<int32_t>(), l.at("cells").get<uint64_t>()});
   } else {
@@ -242,6 +244,8 @@ void validate_manifest(const DatasetManifest& m) {
     fail("counts out of range");
   if (m.abr_bvh_node_count != 0 && m.abr_bvh_node_count != 2 * m.abr_count - 1)
     fail("abr_bvh_node_count does not match abr_count");
+  if (m.abr_chunk_count != 0 && m.abr_chunk_count != chunk_count(m.abr_count))
+    fail("abr_chunk_count does not match abr_count");
 }
 
 // An ABR lies inside the supports of the bricks it lists (it is a region where exactly those
@@ -265,7 +269,9 @@ bool abr_geometry_ok(const AmrTopology& t, const Abr& a) {
   return true;
 }
 
-void validate_topology(const AmrTopology& t, const std::string& file) {
+// Bricks follow one another in the values (device order), inside the grid, and hold the
+// manifest's cells.
+void validate_bricks(const AmrTopology& t, const std::string& file) {
   uint64_t next = 0;
   for (const Brick& b : t.bricks) {
     bool ok = b.level >= 0 && b.level <= kMaxLevel && b.value_offset == next;
@@ -278,6 +284,11 @@ void validate_topology(const AmrTopology& t, const std::string& file) {
   }
   if (next != t.cell_count)
     input_error(file, "bricks hold " + std::to_string(next) + " cells, manifest says " + std::to_string(t.cell_count));
+}
+
+// The ABRs' brick lists name bricks and each ABR's geometry fits its bricks (abr_geometry_ok);
+// `ids` (empty: the position) is each ABR's global index, for the report.
+void validate_abrs(const AmrTopology& t, const std::string& file, const std::vector<uint32_t>& ids = {}) {
   for (uint32_t id : t.abr_bricks)
     if (id >= t.bricks.size()) input_error(file, "ABR brick index " + std::to_string(id) + " out of range");
   // Half a million ABRs on jet 1e6: checked on every core, the first bad one reported.
@@ -290,7 +301,13 @@ void validate_topology(const AmrTopology& t, const std::string& file) {
       }
     }
   });
-  if (first_bad.load() != UINT64_MAX) input_error(file, "ABR " + std::to_string(first_bad.load()) + " is invalid");
+  if (const uint64_t bad = first_bad.load(); bad != UINT64_MAX)
+    input_error(file, "ABR " + std::to_string(ids.empty() ? bad : ids[bad]) + " is invalid");
+}
+
+void validate_topology(const AmrTopology& t, const std::string& file) {
+  validate_bricks(t, file);
+  validate_abrs(t, file);
 }
 
 // Every element's used slots come first (4, 5, 6 or 8), name existing vertices and match the
@@ -352,6 +369,14 @@ void DatasetWriter::write_topology(const AmrTopology& t, const std::vector<Cell>
   write_file(dir_ / dataset_files::kAbrs, t.abrs.data(), t.abrs.size() * sizeof(Abr));
   write_file(dir_ / dataset_files::kAbrBricks, t.abr_bricks.data(), t.abr_bricks.size() * sizeof(uint32_t));
   write_abr_bvh(t);
+  write_abr_chunks(t);
+}
+
+// What a data-parallel rank chooses ABRs by without reading them (28 bytes per 32 ABRs).
+void DatasetWriter::write_abr_chunks(const AmrTopology& t) {
+  const std::vector<AbrChunk> chunks = abr_chunks(t.abrs);
+  manifest_.abr_chunk_count = chunks.size();
+  write_file(dir_ / dataset_files::kAbrChunks, chunks.data(), chunks.size() * sizeof(AbrChunk));
 }
 
 // The BVH's topology only (8 bytes a node): the boxes are the ABRs' own and refit at load, which
@@ -471,19 +496,49 @@ Dataset::Dataset(const fs::path& dir, TopologyLoad load) : dir_(dir) {
     load_mesh();
     return;
   }
-  topology_.cell_count = manifest_.cell_count;
-  topology_.bricks = read_topology<Brick>(dir / dataset_files::kBricks, manifest_.brick_count);
-  topology_.abrs = read_topology<Abr>(dir / dataset_files::kAbrs, manifest_.abr_count);
-  topology_.abr_bricks = read_topology<uint32_t>(dir / dataset_files::kAbrBricks, manifest_.abr_brick_count);
-  validate_topology(topology_, (dir / dataset_files::kBricks).string());
-  if (manifest_.abr_bvh_node_count) read_abr_bvh();
-  count_topology_bytes();
+  load_amr(load);
   if (manifest_.file_order) {  // the index itself is read (and checked) by whoever needs it
     const fs::path index = dir / dataset_files::kFileIndex;
     const uint64_t size = file_size_checked(index);
     if (size != manifest_.cell_count * sizeof(uint32_t))
       throw_size_mismatch(index, size, manifest_.cell_count * sizeof(uint32_t));
   }
+}
+
+// The bricks, and then the ABRs, their lists and BVH; or deferred, the ABR chunk index instead.
+void Dataset::load_amr(TopologyLoad load) {
+  const std::string bricks_file = (dir_ / dataset_files::kBricks).string();
+  topology_.cell_count = manifest_.cell_count;
+  topology_.bricks = read_topology<Brick>(dir_ / dataset_files::kBricks, manifest_.brick_count);
+  deferred_ = load == TopologyLoad::deferred && manifest_.abr_chunk_count > 0;
+  if (deferred_) {
+    validate_bricks(topology_, bricks_file);
+    read_stored_abr_chunks();
+  } else {
+    topology_.abrs = read_topology<Abr>(dir_ / dataset_files::kAbrs, manifest_.abr_count);
+    topology_.abr_bricks = read_topology<uint32_t>(dir_ / dataset_files::kAbrBricks, manifest_.abr_brick_count);
+    validate_topology(topology_, bricks_file);
+    if (manifest_.abr_bvh_node_count) read_abr_bvh();
+  }
+  count_topology_bytes();
+}
+
+// Finite boxes and positive finite widths (a NaN would make the selection skip the chunk).
+void Dataset::read_stored_abr_chunks() {
+  const fs::path path = dir_ / dataset_files::kAbrChunks;
+  stored_abr_chunks_ = read_topology<AbrChunk>(path, manifest_.abr_chunk_count);
+  for (size_t i = 0; i < stored_abr_chunks_.size(); ++i) {
+    const AbrChunk& c = stored_abr_chunks_[i];
+    const box3f& b = c.box;
+    if (!(b.lower.x <= b.upper.x && b.lower.y <= b.upper.y && b.lower.z <= b.upper.z && c.finest_width > 0) ||
+        !std::isfinite(b.lower.x + b.lower.y + b.lower.z + b.upper.x + b.upper.y + b.upper.z + c.finest_width))
+      input_error(path.string(), "chunk " + std::to_string(i) + " has no finite box or width");
+  }
+}
+
+std::vector<AbrChunk> Dataset::abr_chunks() const {
+  if (is_mesh() || part()) throw std::logic_error("Dataset::abr_chunks: not AMR, or already restricted");
+  return stored_abr_chunks_.empty() ? vs::abr_chunks(topology_.abrs) : stored_abr_chunks_;
 }
 
 void Dataset::load_mesh() {
@@ -725,7 +780,16 @@ void Dataset::restrict_to(DatasetPart part) {
   restricted_ = true;
 }
 
+uint32_t Dataset::local_abr(uint32_t global) const {
+  if (!abr_subset_) return global;  // all ABRs were read
+  const auto it = std::lower_bound(abr_ids_.begin(), abr_ids_.end(), global);
+  if (it == abr_ids_.end() || *it != global)
+    throw std::logic_error("Dataset::restrict_to: ABR " + std::to_string(global) + " was not read (read_abr_chunks)");
+  return uint32_t(it - abr_ids_.begin());
+}
+
 void Dataset::restrict_bricks(const DatasetPart& part) {
+  if (deferred_) throw std::logic_error("Dataset::restrict_to: the ABRs are deferred (read_abr_chunks first)");
   AmrTopology local;
   std::vector<uint32_t> local_index(topology_.bricks.size(), UINT32_MAX);
   uint64_t offset = 0;
@@ -740,7 +804,7 @@ void Dataset::restrict_bricks(const DatasetPart& part) {
     local.bricks.push_back(b);
   }
   for (uint32_t g : part.abrs) {
-    Abr a = topology_.abrs.at(g);
+    Abr a = topology_.abrs.at(local_abr(g));
     const uint32_t first = uint32_t(local.abr_bricks.size());
     for (uint32_t k = 0; k < a.brick_count; ++k) {
       const uint32_t l = local_index[topology_.abr_bricks[a.first_brick + k]];
@@ -752,6 +816,8 @@ void Dataset::restrict_bricks(const DatasetPart& part) {
   }
   local.cell_count = offset;
   topology_ = std::move(local);
+  abr_ids_.clear();  // the part's ABRs are numbered in its order now
+  abr_subset_ = false;
   count_topology_bytes();
 }
 
@@ -886,6 +952,69 @@ void Dataset::read_compact_part(const std::vector<uint32_t>& leaves, std::vector
   }
   if (!leaves.empty()) check_compact_mesh(part, by_type, dir_);
   compact_ = std::move(part);
+}
+
+// The chunks' ABRs, then their brick lists, each as runs of the files, checked as at a whole read
+// (validate_abrs); each ABR must lie within the box and width its chunk was chosen by.
+void Dataset::read_abr_chunks(const std::vector<uint32_t>& chunks) {
+  if (!deferred_ || is_mesh()) throw std::logic_error("Dataset::read_abr_chunks: the ABRs are not deferred");
+  read_chunk_abrs(chunks);
+  read_abr_lists();
+  validate_abrs(topology_, (dir_ / dataset_files::kBricks).string(), abr_ids_);
+  check_abrs_in_chunks();
+  deferred_ = false;
+  count_topology_bytes();
+}
+
+void Dataset::read_chunk_abrs(const std::vector<uint32_t>& chunks) {
+  const fs::path path = dir_ / dataset_files::kAbrs;
+  check_record_file(path, manifest_.abr_count, sizeof(Abr));
+  std::vector<ByteRun> runs;
+  for (uint32_t c : chunks) {
+    if (c >= stored_abr_chunks_.size() || (!abr_ids_.empty() && chunk_first(c) <= abr_ids_.back()))
+      throw std::logic_error("Dataset::read_abr_chunks: chunks out of range or not ascending");
+    const uint32_t size = chunk_size(c, manifest_.abr_count);
+    append_run(runs, {chunk_first(c) * sizeof(Abr), size * sizeof(Abr)});
+    for (uint32_t k = 0; k < size; ++k) abr_ids_.push_back(uint32_t(chunk_first(c) + k));
+  }
+  topology_.abrs.resize(abr_ids_.size());
+  read_runs(path, runs, topology_.abrs.data());
+  topology_bytes_read_ += topology_.abrs.size() * sizeof(Abr);
+  abr_subset_ = true;
+}
+
+// The lists of the ABRs read, rebased onto the lists read. They must follow one another in ABR
+// order, as convert writes them, so that what is read is at most the file.
+void Dataset::read_abr_lists() {
+  std::vector<ByteRun> runs;
+  uint64_t end = 0, local = 0;  // of the last list in the file; of the lists read
+  for (size_t i = 0; i < topology_.abrs.size(); ++i) {
+    Abr& a = topology_.abrs[i];
+    if (a.first_brick < end || uint64_t(a.first_brick) + a.brick_count > manifest_.abr_brick_count)
+      input_error((dir_ / dataset_files::kAbrs).string(),
+                  "ABR " + std::to_string(abr_ids_[i]) + "'s brick list is out of order or range");
+    end = uint64_t(a.first_brick) + a.brick_count;
+    append_run(runs, {uint64_t(a.first_brick) * sizeof(uint32_t), uint64_t(a.brick_count) * sizeof(uint32_t)});
+    a.first_brick = uint32_t(local);
+    local += a.brick_count;
+  }
+  const fs::path path = dir_ / dataset_files::kAbrBricks;
+  check_record_file(path, manifest_.abr_brick_count, sizeof(uint32_t));
+  topology_.abr_bricks.resize(local);
+  read_runs(path, runs, topology_.abr_bricks.data());
+  topology_bytes_read_ += local * sizeof(uint32_t);
+}
+
+// A rank chose the chunks by their boxes and widths: an ABR beyond them would be missed by the
+// ranks that need it.
+void Dataset::check_abrs_in_chunks() const {
+  for (size_t i = 0; i < topology_.abrs.size(); ++i) {
+    const Abr& a = topology_.abrs[i];
+    const AbrChunk& c = stored_abr_chunks_[abr_ids_[i] / kIndexChunk];
+    if (!c.box.contains(a.box) || !(a.finest_width <= c.finest_width))
+      input_error((dir_ / dataset_files::kAbrChunks).string(),
+                  "ABR " + std::to_string(abr_ids_[i]) + " lies outside its chunk's box or width");
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

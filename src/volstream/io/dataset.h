@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "volstream/amr/abrs.h"
 #include "volstream/amr/model.h"
 #include "volstream/amr/source.h"
 #include "volstream/backend/memory.h"
@@ -80,6 +81,9 @@ struct DatasetManifest {
   // Nodes of the stored ABR BVH (abr_bvh.bin; manifest key "abr_bvh_node_count", absent in
   // older datasets: 0, the BVH is built at load).
   uint64_t abr_bvh_node_count = 0;
+  // Chunks in the stored ABR chunk index (abr_chunks.bin; manifest key "abr_chunk_count",
+  // absent in older datasets: 0, and a data-parallel rank reads every ABR).
+  uint64_t abr_chunk_count = 0;
   // The dataset also holds every step in file order and file_index.bin (manifest key
   // "file_order"; absent in older datasets, which means false).
   bool file_order = false;
@@ -105,6 +109,7 @@ inline constexpr const char* kBricks = "bricks.bin";
 inline constexpr const char* kAbrs = "abrs.bin";
 inline constexpr const char* kAbrBricks = "abr_bricks.bin";
 inline constexpr const char* kAbrBvh = "abr_bvh.bin";                // per node: uint32 child or item, uint32 is_leaf
+inline constexpr const char* kAbrChunks = "abr_chunks.bin";          // AbrChunk per chunk of ABRs (amr/abrs.h)
 inline constexpr const char* kFileIndex = "file_index.bin";          // only with file-order copies
 inline constexpr const char* kMeshVertices = "mesh_vertices.bin";    // umesh: float x, y, z per vertex
 inline constexpr const char* kMeshElements = "mesh_elements.bin";    // umesh: UElement per element
@@ -148,6 +153,7 @@ class DatasetWriter {
   DatasetManifest manifest_;
   const AmrTopology* topology_ = nullptr;
   void write_abr_bvh(const AmrTopology& topology);
+  void write_abr_chunks(const AmrTopology& topology);
   void write_macrocells(const MacroCells& cells);
 };
 
@@ -168,7 +174,10 @@ struct DatasetPart {
 // stores its index (umesh/mesh_index.h; datasets written since issue 17) is opened with only
 // that (compact: the tree, leaf and sub-mesh records; reference: the chunk boxes; both: the
 // macrocells), and restrict_to reads only the part's items (compact: leaf bytes and vertices;
-// reference: BVH items, elements and vertices); any other dataset is read whole as with `whole`.
+// reference: BVH items, elements and vertices). AMR that stores its ABR chunk index
+// (abr_chunks.bin) is opened with the bricks and that index only; read_abr_chunks then reads
+// the ABRs of the chunks a rank chooses and their brick lists (the stored ABR BVH is never read:
+// a part's is built over it). Any other dataset is read whole as with `whole`.
 enum class TopologyLoad { whole, deferred };
 
 // A dataset opened for reading. Topology is loaded on open (or, deferred, at restrict_to);
@@ -177,12 +186,23 @@ class Dataset {
  public:
   explicit Dataset(const std::filesystem::path& dir, TopologyLoad load = TopologyLoad::whole);  // throws InputError
   const DatasetManifest& manifest() const { return manifest_; }
-  const AmrTopology& topology() const { return topology_; }  // AMR (empty for a mesh)
+  // AMR (empty for a mesh). Deferred: the bricks only, until read_abr_chunks adds its chunks' ABRs.
+  const AmrTopology& topology() const { return topology_; }
   DatasetKind kind() const { return manifest_.kind; }
   bool is_mesh() const { return manifest_.kind == DatasetKind::umesh; }
   // The mesh's topology is still to be read (opened deferred and not yet restricted): mesh() and
   // compact_mesh() are not available (logic_error) and mesh_vertices() is empty; mesh_index() is.
+  // AMR: the ABRs are still to be read (read_abr_chunks); abr_chunks() is available.
   bool topology_deferred() const { return deferred_; }
+  // AMR, before restrict_to: the ABR chunk index, read at open when deferred, else made from the
+  // ABRs (the same index).
+  std::vector<AbrChunk> abr_chunks() const;
+  // AMR opened deferred: reads the ABRs of `chunks` (ascending) and their brick lists, checked as
+  // at a whole read and each ABR within its chunk's box and width (InputError otherwise). The
+  // topology then holds those ABRs (abr_id gives their global indices) with every brick.
+  void read_abr_chunks(const std::vector<uint32_t>& chunks);
+  // The global index of topology().abrs[i] (before restrict_to).
+  uint32_t abr_id(uint32_t i) const { return abr_subset_ ? abr_ids_.at(i) : i; }
   // A mesh's index (before restrict_to; logic_error otherwise): read at open when deferred, else
   // made from the mesh (the same index).
   MeshIndex mesh_index() const;
@@ -205,7 +225,7 @@ class Dataset {
   // the reference encoding's BVH and adjacency rebuilt over them). From now on load_values and
   // load_abr_ranges read only the part's bytes. The topology files are read whole at open, but
   // for a deferred mesh, of which only the part's items are read now (checked as at open:
-  // InputError).
+  // InputError). A deferred AMR part's ABRs must have been read (read_abr_chunks).
   void restrict_to(DatasetPart part);
   const DatasetPart* part() const { return restricted_ ? &part_ : nullptr; }
   uint64_t value_bytes_read() const { return value_bytes_read_; }        // by load_values, so far
@@ -227,6 +247,7 @@ class Dataset {
   std::vector<float> load_file_order_values(int field, int step) const;
 
  private:
+  void load_amr(TopologyLoad load);
   void load_mesh();
   void load_compact_mesh();
   void load_compact_index();
@@ -238,6 +259,11 @@ class Dataset {
   template <typename T>
   std::vector<T> read_topology(const std::filesystem::path& path, uint64_t count);
   void restrict_bricks(const DatasetPart& part);
+  uint32_t local_abr(uint32_t global) const;  // its position in topology_.abrs
+  void read_stored_abr_chunks();
+  void read_chunk_abrs(const std::vector<uint32_t>& chunks);
+  void read_abr_lists();
+  void check_abrs_in_chunks() const;
   void restrict_mesh(const std::vector<uint32_t>& items);
   std::filesystem::path dir_;
   DatasetManifest manifest_;
@@ -256,7 +282,10 @@ class Dataset {
   MacroCells stored_cells_;         // deferred: the whole mesh's, from mesh_macrocells.bin
   std::vector<box3f> chunk_boxes_;  // deferred reference encoding: from mesh_chunks.bin
   box3f vertex_bounds_;
-  void read_abr_bvh();  // and checks it (InputError)
+  std::vector<AbrChunk> stored_abr_chunks_;  // deferred AMR: from abr_chunks.bin
+  std::vector<uint32_t> abr_ids_;            // after read_abr_chunks: global index of each ABR held
+  bool abr_subset_ = false;                  // topology_.abrs are abr_ids_ (read_abr_chunks)
+  void read_abr_bvh();                       // and checks it (InputError)
   void count_topology_bytes();
   void count_mesh_bytes();
 };

@@ -1,6 +1,7 @@
 #include "volstream/mpi/parallel_renderer.h"
 
 #include "volstream/frame/look.h"
+#include "volstream/mpi/amr_share.h"
 #include "volstream/mpi/mesh_share.h"
 
 namespace vs::mpi {
@@ -33,10 +34,10 @@ ParallelRenderer::ParallelRenderer(Dataset& dataset, Device device, const FrameR
 }
 
 void ParallelRenderer::share_bricks(DatasetPart& part, const IntegratorSettings& settings, int rank, int ranks) {
-  const AmrTopology& topology = dataset_.topology();
+  const AmrTopology& topology = dataset_.topology();  // every brick (deferred: no ABRs yet)
   partition_ = partition_bricks(topology.bricks, ranks);
   part.owned = partition_.regions[size_t(rank)];
-  RankShare mine = rank_share(topology, part.owned, settings);
+  RankShare mine = read_rank_share(dataset_, part.owned, settings);
   share_.ghost_margin = mine.margin;
   for (const Brick& b : topology.bricks) part.owned_cells += cells_in(b, part.owned);
   for (uint32_t b : mine.bricks) share_.held += uint64_t(topology.bricks[b].cell_count());

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "volstream/core/chunks.h"
 #include "volstream/umesh/compact.h"
 #include "volstream/umesh/macrocells.h"
 #include "volstream/umesh/umesh.h"
@@ -37,7 +38,8 @@ std::vector<StoredMacrocell> stored_macrocells(const MacroCells& cells);
 MacroCells macrocells_from_stored(const MacroGrid& grid, const std::vector<StoredMacrocell>& stored, uint64_t elements,
                                   const std::string& file);
 
-inline constexpr uint32_t kReferenceChunk = 32;
+// The reference encoding's items: chunks (core/chunks.h) of the element BVH's item order.
+inline constexpr uint32_t kReferenceChunk = kIndexChunk;
 
 struct MeshIndex {
   std::vector<box3f> item_boxes;        // each holds its item's elements
@@ -53,12 +55,6 @@ MeshIndex compact_mesh_index(const CompactMesh& mesh, MacroCells cells);
 std::vector<box3f> reference_chunk_boxes(const UMesh& mesh, const std::vector<uint32_t>& bvh_items);
 // From the chunk boxes of a mesh of `elements` elements and its macrocells.
 MeshIndex reference_mesh_index(std::vector<box3f> chunk_boxes, uint64_t elements, MacroCells cells);
-// Chunk c's elements: positions [chunk_first, chunk_first + chunk_size) of the BVH's item order.
-inline uint64_t chunk_first(uint32_t c) { return uint64_t(c) * kReferenceChunk; }
-inline uint32_t chunk_size(uint32_t c, uint64_t elements) {
-  return uint32_t(std::min<uint64_t>(kReferenceChunk, elements - chunk_first(c)));
-}
-inline uint64_t chunk_count(uint64_t elements) { return (elements + kReferenceChunk - 1) / kReferenceChunk; }
 // The elements of the chunks (ascending) of the BVH's item order, ascending.
 std::vector<uint32_t> chunk_elements(const std::vector<uint32_t>& chunks, const std::vector<uint32_t>& bvh_items);
 

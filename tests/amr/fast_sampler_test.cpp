@@ -149,6 +149,62 @@ TEST_P(FastSampler, BatchesEqualPointByPointOnEveryBuild) {
   EXPECT_GT(several, 0u);
 }
 
+// The batch over several ABRs (a ray's samples across short intervals, one ABR per lane): on
+// both builds, each lane gives sample_abr_fast's float for its point in its ABR.
+TEST_P(FastSampler, BatchesOverSeveralAbrsEqualPointByPointOnEveryBuild) {
+  const auto [seed, levels, refine] = GetParam();
+  const AmrTopology t = build_topology(test::random_octree_cells(seed, vec3i(3, 2, 2), levels, refine));
+  const std::vector<SampleBrick> records = make_sample_bricks(t);
+  ASSERT_TRUE(lane_offsets_fit(records));
+  std::mt19937 rng(seed + 100);
+  std::uniform_real_distribution<float> value(-100.f, 100.f), unit(0.f, 1.f);
+  std::vector<float> values(t.cell_count);
+  for (float& v : values) v = unit(rng) < 0.01f ? NAN : value(rng);
+  box3f domain = box3f::make_empty();
+  for (const Abr& a : t.abrs) domain.extend(a.box);
+  const auto abr_holding = [&](const vec3f& p) {  // brute force over every ABR
+    for (uint32_t a = 0; a < t.abrs.size(); ++a)
+      if (t.abrs[a].box.contains(p)) return int64_t(a);
+    return int64_t(-1);
+  };
+  uint64_t checked = 0, mixed = 0;
+  for (bool baseline : {true, false}) {
+    simd::force_baseline(baseline);
+    for (int ray = 0; ray < 300; ++ray) {
+      vec3f org, through;
+      for (int axis = 0; axis < 3; ++axis) {
+        org[axis] = domain.lower[axis] + unit(rng) * (domain.upper[axis] - domain.lower[axis]);
+        through[axis] = domain.lower[axis] + unit(rng) * (domain.upper[axis] - domain.lower[axis]);
+      }
+      const vec3f dir = through - org;
+      float ts[8], out[8];
+      uint32_t regions[8], n = 0;
+      const uint32_t want = 1 + uint32_t(ray) % 8;  // short batches too
+      for (int tries = 0; tries < 64 && n < want; ++tries) {
+        const float tk = unit(rng);
+        const int64_t a = abr_holding(org + dir * tk);
+        if (a < 0) continue;
+        ts[n] = tk;
+        regions[n++] = uint32_t(a);
+      }
+      if (n == 0) continue;
+      sample_abrs_batch({t.abrs.data(), t.abr_bricks.data(), records.data()}, values.data(), regions, org, dir, ts, n,
+                        out);
+      mixed += std::any_of(regions, regions + n, [&](uint32_t r) { return r != regions[0]; });
+      for (uint32_t i = 0; i < 8; ++i) {  // entries from n on repeat entry n - 1
+        const uint32_t k = std::min(i, n - 1);
+        const float one = sample_abr_fast(t.abrs.data(), t.abr_bricks.data(), records.data(), values.data(), regions[k],
+                                          org + dir * ts[k]);
+        ASSERT_TRUE(same_bits(out[i], one)) << simd::isa() << ": " << out[i] << " vs " << one;
+        ++checked;
+      }
+    }
+  }
+  simd::force_baseline(false);
+  EXPECT_GT(checked, 0u);
+  EXPECT_GT(mixed, 0u);
+}
+
 INSTANTIATE_TEST_SUITE_P(RandomOctrees, FastSampler,
                          ::testing::Values(std::make_tuple(1u, 3, 0.4), std::make_tuple(2u, 4, 0.35),
                                            std::make_tuple(3u, 5, 0.3), std::make_tuple(4u, 2, 0.6),

@@ -25,6 +25,7 @@ struct AmrVolume {
   // The CPU's fast sampler's records (amr/sampler.h, one per brick); null: the reference
   // sampler (the GPU, and tests that compare the two).
   const SampleBrick* sample_bricks = nullptr;
+  bool lane_offsets = false;  // their value offsets fit 32-bit lanes (sample_abrs_batch)
 
   VS_HOST_DEVICE float sample(int field, uint32_t abr, const vec3f& p) const {
     if (sample_bricks) return sample_abr_fast(amr.abrs, amr.abr_bricks, sample_bricks, fields[field], abr, p);
@@ -45,6 +46,17 @@ struct AmrVolume {
     const uint32_t* ids = amr.abr_bricks + a.first_brick;
     if (a.brick_count == 1) return sample_one_brick_batch(sample_bricks[ids[0]], fields[field], org, dir, t, n, out);
     sample_bricks_batch(sample_bricks, ids, a.brick_count, fields[field], org, dir, t, n, out);
+  }
+  // The same for n <= 8 points of several ABRs, point i in ABR regions[i] (a ray's samples over
+  // short intervals, integrator.h).
+  void sample_regions_batch(int field, const uint32_t* regions, const vec3f& org, const vec3f& dir, const float* t,
+                            uint32_t n, float* out) const {
+    bool one_region = true;
+    for (uint32_t i = 1; i < n; ++i) one_region &= regions[i] == regions[0];
+    if (one_region) return sample_batch(field, regions[0], org, dir, t, n, out);
+    if (sample_bricks && lane_offsets)
+      return sample_abrs_batch({amr.abrs, amr.abr_bricks, sample_bricks}, fields[field], regions, org, dir, t, n, out);
+    for (uint32_t i = 0; i < n; ++i) out[i] = sample(field, regions[i], org + dir * t[i]);
   }
 #endif
   VS_HOST_DEVICE int64_t locate(const vec3f& p) const {

@@ -60,6 +60,7 @@ AmrRenderer::AmrRenderer(const AmrTopology& topology, const WorldTransform& tran
       world_bounds_(world_bounds),
       skipping_(abr_skipping(topology)),
       sample_bricks_(make_sample_bricks(topology)),
+      lane_offsets_(lane_offsets_fit(sample_bricks_)),
       sample_bricks_bytes_("ABR sample bricks", MemorySpace::host,
                            int64_t(sample_bricks_.size() * sizeof(SampleBrick))) {}
 
@@ -91,6 +92,7 @@ FrameView<AmrVolume> AmrRenderer::view(const FrameFields& fields, const OpticsVi
   v.volume.all_nodes = skipping_.template_bvh().nodes.data();
   v.volume.all_node_count = uint32_t(skipping_.template_bvh().nodes.size());
   v.volume.sample_bricks = sample_bricks_.data();  // the CPU's; the GPU's view drops it
+  v.volume.lane_offsets = lane_offsets_;
   fill_frame(v, optics, color_tf, fields.second != nullptr, camera, settings, transform_, world_bounds());
   return v;
 }

@@ -135,6 +135,7 @@ class AmrRenderer {
   RegionBvh skipping_;  // over the ABR boxes
   // The CPU's fast sampler's records (amr/sampler.h), built once with the renderer.
   std::vector<SampleBrick> sample_bricks_;
+  bool lane_offsets_;  // sample_bricks_' value offsets fit 32-bit lanes
   CountedBytes sample_bricks_bytes_;
 };
 

@@ -302,37 +302,90 @@ VS_HOST_DEVICE inline Steps make_steps(const IntegratorSettings& st, const Ray& 
 }
 
 #if !defined(__CUDA_ARCH__)
-// The CPU's march of a transfer-function interval without isosurfaces or shading, in batches of
+// The CPU's march of transfer-function intervals without isosurfaces or shading, in batches of
 // kSampleBatch samples: a batch's reconstructions, table lookups and opacity corrections do not
-// depend on one another, so the core overlaps their long chains of dependent operations; only
-// compositing is serial. The same samples, colours, opacities and order as the one-by-one loop
-// below (take_sample), so the same image bit for bit; a ray that turns opaque inside a batch has
-// computed up to kSampleBatch - 1 samples it does not use (and does not count). A volume with
-// sample_batch (AmrVolume) reconstructs the batch in one call, in SIMD lanes (amr/sampler.h).
+// depend on one another, so the core overlaps their long chains of dependent operations (and
+// SIMD lanes take them); only compositing is serial. The same samples, colours, opacities and
+// order as the one-by-one loop (take_sample), so the same image bit for bit; a ray that turns
+// opaque inside a batch has computed up to kSampleBatch - 1 samples it does not use (and does
+// not count). Volumes that sample a batch over several regions at once (AmrVolume: SIMD lanes,
+// each with its own ABR) queue a ray's samples across intervals (trace_ray), so that batches fill
+// also where intervals hold a sample or two (jet's small ABRs, 1.8 on average); other volumes
+// batch intervals of kMinBatchSteps or more one by one and march shorter ones sample by sample.
 inline constexpr uint32_t kSampleBatch = 8;
 inline constexpr uint32_t kMinBatchSteps = 4;
+
+struct SampleQueue {
+  float t[kSampleBatch], len_ref[kSampleBatch];
+  uint32_t region[kSampleBatch];
+  uint32_t n = 0;
+};
+
+template <typename V>
+concept SamplesAcrossRegions = requires(const V& volume, const uint32_t* regions, const vec3f& p, const float* t,
+                                        float* out) {
+  volume.sample_regions_batch(0, regions, p, p, t, 1u, out);
+};
+
+template <typename V>
+inline bool batches_samples(const FrameView<V>& v) {
+  return v.settings.cpu_batches && v.settings.iso_count == 0 && !v.settings.shade;
+}
+
+// Takes the queued samples and empties the queue; false once the ray is finished.
+template <typename V>
+inline bool take_queued(const FrameView<V>& v, const Ray& ray, SampleQueue& q, RayState& s) {
+  if (q.n == 0) return true;
+  float f[kSampleBatch];
+  if constexpr (SamplesAcrossRegions<V>) {
+    v.volume.sample_regions_batch(0, q.region, ray.org, ray.dir, q.t, q.n, f);
+  } else {
+    for (uint32_t i = 0; i < q.n; ++i) f[i] = sample(v.volume, 0, q.region[i], ray.at(q.t[i]), s);
+  }
+  TfBatch c;
+  tf_lookup_batch(v.optics.tf, f, q.len_ref, q.n, c);  // a NaN f (no data) is skipped below
+  const uint32_t n = q.n;
+  q.n = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    ++s.samples;
+    if (is_nan(f[i]) || !(c.a[i] > 0.f) || !owns(v, ray.at(q.t[i]))) continue;
+    s.acc.blend_gray(c.r[i], c.g[i], c.b[i], c.alpha[i]);
+    if (finished(v, s)) return false;
+  }
+  return true;
+}
+
+// Queues an interval's steps, taking each full batch; false once the ray is finished.
+template <typename V>
+inline bool queue_steps(const FrameView<V>& v, const Ray& ray, uint32_t region, const Steps& steps, float jitter,
+                        SampleQueue& q, RayState& s) {
+  for (uint32_t k = 0; k < steps.n; ++k) {
+    steps.at(k, jitter, q.t[q.n], q.len_ref[q.n]);
+    q.region[q.n] = region;
+    if (++q.n == kSampleBatch && !take_queued(v, ray, q, s)) return false;
+  }
+  return true;
+}
 
 template <typename V>
 inline void march_interval_batched(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, const Steps& steps,
                                    float jitter, RayState& s) {
-  for (uint32_t k0 = 0; k0 < steps.n; k0 += kSampleBatch) {
-    const uint32_t m = steps.n - k0 < kSampleBatch ? steps.n - k0 : kSampleBatch;
-    float t[kSampleBatch], len_ref[kSampleBatch], f[kSampleBatch];
-    for (uint32_t i = 0; i < m; ++i) steps.at(k0 + i, jitter, t[i], len_ref[i]);
-    if constexpr (requires(float* out) { v.volume.sample_batch(0, iv.region, ray.org, ray.dir, t, m, out); }) {
-      v.volume.sample_batch(0, iv.region, ray.org, ray.dir, t, m, f);  // AmrVolume: SIMD lanes
-    } else {
-      for (uint32_t i = 0; i < m; ++i) f[i] = sample(v.volume, 0, iv.region, ray.at(t[i]), s);
-    }
-    TfBatch c;
-    tf_lookup_batch(v.optics.tf, f, len_ref, m, c);  // a NaN f (no data) is skipped below
-    for (uint32_t i = 0; i < m; ++i) {
-      ++s.samples;
-      if (is_nan(f[i]) || !(c.a[i] > 0.f) || !owns(v, ray.at(t[i]))) continue;
-      s.acc.blend_gray(c.r[i], c.g[i], c.b[i], c.alpha[i]);
-      if (finished(v, s)) return;
-    }
-  }
+  SampleQueue q;
+  if (queue_steps(v, ray, iv.region, steps, jitter, q, s)) take_queued(v, ray, q, s);
+}
+
+// A ray's interval into the queue (trace_ray); one of kMinBatchSteps or more in batches of its
+// own (the queue taken before and after it), which share a region: the one-ABR batch sampler.
+template <typename V>
+inline bool queue_interval(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, float jitter, SampleQueue& q,
+                           RayState& s) {
+  if (!(iv.t1 - iv.t0 > 0.f)) return true;
+  const Steps steps =
+      make_steps(v.settings, ray, v.settings.adaptive ? v.volume.step_width(iv.region) : 1.f, iv.t0, iv.t1);
+  const bool alone = steps.n >= kMinBatchSteps;
+  if (alone && !take_queued(v, ray, q, s)) return false;
+  if (!queue_steps(v, ray, iv.region, steps, jitter, q, s)) return false;
+  return !alone || take_queued(v, ray, q, s);
 }
 #endif
 
@@ -347,7 +400,7 @@ VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray,
 #if !defined(__CUDA_ARCH__)
   if constexpr (kOptics == OpticsKind::tf) {
     // Short intervals (small ABRs: jet's are a few cells) gain nothing from a batch's setup.
-    if (st.cpu_batches && st.iso_count == 0 && !st.shade && steps.n >= kMinBatchSteps) {
+    if (batches_samples(v) && steps.n >= kMinBatchSteps) {
       march_interval_batched(v, ray, iv, steps, jitter, s);
       return;
     }
@@ -386,6 +439,17 @@ VS_HOST_DEVICE inline RayState trace_ray(const FrameView<V>& v, const vec3f& org
   ray.dir = dir_w * v.grid.inv_cell_size;
   ray.dir_len = length(ray.dir);
   RayState s;
+#if !defined(__CUDA_ARCH__)
+  if constexpr (kOptics == OpticsKind::tf && SamplesAcrossRegions<V>) {
+    if (batches_samples(v)) {
+      SampleQueue q;
+      v.volume.for_each_interval(ray.org, ray.dir,
+                                 [&](const RayInterval& iv) { return queue_interval(v, ray, iv, jitter, q, s); });
+      take_queued(v, ray, q, s);
+      return s;
+    }
+  }
+#endif
   v.volume.for_each_interval(ray.org, ray.dir, [&](const RayInterval& iv) {
     march_interval<kOptics>(v, ray, iv, jitter, s);
     return !finished(v, s);

@@ -233,8 +233,9 @@ void sample_one_brick_batch(const SampleBrick& b, const float* values, const vec
 void sample_bricks_batch(const SampleBrick* records, const uint32_t* ids, uint32_t count, const float* values,
                          const vec3f& org, const vec3f& dir, const float* t, uint32_t n, float* out);
 // CPU only: the same for a batch whose points lie in different ABRs, point k in ABR regions[k]
-// (one lane each, with its ABR's bricks): as sample_abr_fast per point. The records' value
-// offsets must fit 32-bit lanes (lane_offsets_fit).
+// (one lane each, with its ABR's bricks; point by point on a CPU without AVX2, where the lanes'
+// loads cost more): as sample_abr_fast per point. The records' value offsets must fit 32-bit
+// lanes (lane_offsets_fit).
 struct AbrBatch {
   const Abr* abrs;
   const uint32_t* abr_bricks;

@@ -236,11 +236,6 @@ VS_TARGET_AVX2 void bricks_avx2(const SampleBrick* records, const uint32_t* ids,
   bricks_body<simd::Isa::avx2>(records, ids, count, values, org, dir, t, n, out);
 }
 
-void abrs_baseline(const AbrBatch& a, const float* values, const uint32_t* regions, const vec3f& org, const vec3f& dir,
-                   const float* t, uint32_t n, float* out) {
-  abrs_body<simd::Isa::baseline>(a, values, regions, org, dir, t, n, out);
-}
-
 VS_TARGET_AVX2 void abrs_avx2(const AbrBatch& a, const float* values, const uint32_t* regions, const vec3f& org,
                               const vec3f& dir, const float* t, uint32_t n, float* out) {
   abrs_body<simd::Isa::avx2>(a, values, regions, org, dir, t, n, out);
@@ -263,7 +258,13 @@ void sample_one_brick_batch(const SampleBrick& b, const float* values, const vec
 void sample_abrs_batch(const AbrBatch& a, const float* values, const uint32_t* regions, const vec3f& org,
                        const vec3f& dir, const float* t, uint32_t n, float* out) {
   if (n == 0) return;
-  (simd::use_avx2() ? abrs_avx2 : abrs_baseline)(a, values, regions, org, dir, t, n, out);
+  if (simd::use_avx2()) return abrs_avx2(a, values, regions, org, dir, t, n, out);
+  // Without AVX2's gathers, loading each lane's brick records and cells costs more than the
+  // scalar form point by point (measured: jet 1e6 0.38 s against 0.33 s).
+  for (uint32_t k = 0; k < kLanes; ++k) {
+    const uint32_t i = k < n ? k : n - 1;
+    out[k] = sample_abr_fast(a.abrs, a.abr_bricks, a.records, values, regions[i], org + dir * t[i]);
+  }
 }
 
 bool lane_offsets_fit(const std::vector<SampleBrick>& records) {

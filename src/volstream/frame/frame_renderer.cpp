@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numeric>
 
+#include <tbb/parallel_invoke.h>
+
 #include "volstream/amr/probe.h"
 #include "volstream/backend/backend.h"
 #include "volstream/backend/parallel.h"
@@ -309,32 +311,49 @@ void FrameRenderer::use_values(const float* primary) {
 void FrameRenderer::compute_ranges(const FrameRequest& r, FrameReport* report) {
   Impl& m = *impl_;
   if (r.kind != IntegratorKind::abr && !dataset_.is_mesh()) return;
+  const uint64_t generation = m.slots[0].generation;
+  const bool current = m.ranges_stamp && m.ranges_generation == generation && m.ranges_mode == r.range_mode &&
+                       m.ranges_stored == r.stored_ranges;
+  const bool cpu_ranges = !dataset_.is_mesh() && !r.stored_ranges && m.device == Device::cpu;
   if (dataset_.is_mesh())
     m.umesh_renderer();  // the element BVH and macrocells on first use
-  else
+  else if (current || !cpu_ranges)
     m.abr_renderer();  // the BVH (and on CUDA the device scene) on first use
-  const uint64_t generation = m.slots[0].generation;
-  if (m.ranges_stamp && m.ranges_generation == generation && m.ranges_mode == r.range_mode &&
-      m.ranges_stored == r.stored_ranges)
-    return;
-  Stopwatch watch;
+  if (current) return;
+  double seconds = 0;
   if (dataset_.is_mesh()) {
+    const Stopwatch watch;
     m.ranges = m.umesh->ranges(m.host_values(0));  // host values: also on CUDA (ranges on the host)
+    seconds = watch.seconds();
   } else if (r.stored_ranges) {
     if (m.slots[0].field < 0) throw UsageError("stored ranges need a dataset step, not streamed values");
+    const Stopwatch watch;
     m.ranges = m.dataset.load_abr_ranges(m.slots[0].field, m.slots[0].step);
+    seconds = watch.seconds();
   } else if (m.device == Device::cuda) {
+    const Stopwatch watch;
     m.scene->compute_ranges(m.kernel_values(0));
+    seconds = watch.seconds();
   } else {
     if (m.macro_offset.empty()) m.macro_offset = macrocell_offsets(m.dataset.topology().bricks);
-    m.ranges = compute_abr_ranges(m.dataset.topology(), m.kernel_values(0), &m.macro_offset, r.range_mode);
+    const auto ranges = [&] {
+      const Stopwatch watch;
+      m.ranges = compute_abr_ranges(m.dataset.topology(), m.kernel_values(0), &m.macro_offset, r.range_mode);
+      seconds = watch.seconds();
+    };
+    // A first frame's renderer set-up (the BVH's refit copy and 4-wide collapse, partly serial)
+    // beside the ranges (parallel loops): they share no state. Jet 1e6: about 15 ms less.
+    if (m.abr)
+      ranges();
+    else
+      tbb::parallel_invoke([&] { m.abr_renderer(); }, ranges);
   }
   m.ranges_bytes.set(int64_t(m.ranges.size() * sizeof(Range) + m.macro_offset.size() * sizeof(uint64_t)));
   m.ranges_generation = generation;
   m.ranges_mode = r.range_mode;
   m.ranges_stored = r.stored_ranges;
   m.ranges_stamp = m.next_generation++;
-  if (report) report->seconds.ranges += watch.seconds();
+  if (report) report->seconds.ranges += seconds;
 }
 
 void FrameRenderer::refit(const FrameRequest& r, bool rebuild, FrameReport* report) {

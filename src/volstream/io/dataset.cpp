@@ -1,5 +1,6 @@
 #include "volstream/io/dataset.h"
 
+#include <tbb/parallel_invoke.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -515,10 +516,20 @@ void Dataset::load_amr(TopologyLoad load) {
     validate_bricks(topology_, bricks_file);
     read_stored_abr_chunks();
   } else {
-    topology_.abrs = read_topology<Abr>(dir_ / dataset_files::kAbrs, manifest_.abr_count);
-    topology_.abr_bricks = read_topology<uint32_t>(dir_ / dataset_files::kAbrBricks, manifest_.abr_brick_count);
-    validate_topology(topology_, bricks_file);
-    if (manifest_.abr_bvh_node_count) read_abr_bvh();
+    // The stored BVH's tree is read and checked beside the ABRs and their lists (it needs only
+    // their count), then refit to their boxes.
+    const uint64_t bvh_nodes = manifest_.abr_bvh_node_count;
+    tbb::parallel_invoke(
+        [&] {
+          topology_.abrs = read_topology<Abr>(dir_ / dataset_files::kAbrs, manifest_.abr_count);
+          topology_.abr_bricks = read_topology<uint32_t>(dir_ / dataset_files::kAbrBricks, manifest_.abr_brick_count);
+          validate_topology(topology_, bricks_file);
+        },
+        [&] {
+          if (bvh_nodes) topology_.abr_bvh.nodes = read_abr_bvh_tree();
+        });
+    topology_bytes_read_ += bvh_nodes * 2 * sizeof(uint32_t);
+    if (bvh_nodes) refit_bvh(topology_.abr_bvh.nodes, abr_boxes(topology_), {});
   }
   count_topology_bytes();
 }
@@ -713,15 +724,16 @@ std::vector<float> Dataset::load_file_order_values(int field, int step) const {
   return read_records<float>(file_order_values_path(field, step), manifest_.value_count(), kFileAlignment);
 }
 
-void Dataset::read_abr_bvh() {
+std::vector<BvhNode> Dataset::read_abr_bvh_tree() const {
   const fs::path path = dir_ / dataset_files::kAbrBvh;
-  const std::vector<uint32_t> links = read_topology<uint32_t>(path, 2 * manifest_.abr_bvh_node_count);
-  std::vector<BvhNode>& nodes = topology_.abr_bvh.nodes;
-  nodes.resize(manifest_.abr_bvh_node_count);
-  for (size_t i = 0; i < nodes.size(); ++i) nodes[i] = {box3f::make_empty(), links[2 * i], links[2 * i + 1]};
-  if (const std::string problem = bvh_tree_problem(nodes, topology_.abrs.size()); !problem.empty())
+  const std::vector<uint32_t> links = read_records<uint32_t>(path, 2 * manifest_.abr_bvh_node_count);
+  std::vector<BvhNode> nodes;
+  nodes.reserve(manifest_.abr_bvh_node_count);
+  for (size_t i = 0; i < manifest_.abr_bvh_node_count; ++i)
+    nodes.push_back({box3f::make_empty(), links[2 * i], links[2 * i + 1]});
+  if (const std::string problem = bvh_tree_problem(nodes, manifest_.abr_count); !problem.empty())
     input_error(path.string(), "bad ABR BVH: " + problem);
-  refit_bvh(nodes, abr_boxes(topology_), {});
+  return nodes;
 }
 
 void Dataset::count_topology_bytes() {

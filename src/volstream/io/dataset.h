@@ -285,7 +285,9 @@ class Dataset {
   std::vector<AbrChunk> stored_abr_chunks_;  // deferred AMR: from abr_chunks.bin
   std::vector<uint32_t> abr_ids_;            // after read_abr_chunks: global index of each ABR held
   bool abr_subset_ = false;                  // topology_.abrs are abr_ids_ (read_abr_chunks)
-  void read_abr_bvh();                       // and checks it (InputError)
+  // The stored ABR BVH's tree (boxes unset), checked (InputError); its bytes not counted (it is
+  // read beside the ABRs, whose reads count theirs).
+  std::vector<BvhNode> read_abr_bvh_tree() const;
   void count_topology_bytes();
   void count_mesh_bytes();
 };

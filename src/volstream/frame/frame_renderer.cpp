@@ -321,33 +321,27 @@ void FrameRenderer::compute_ranges(const FrameRequest& r, FrameReport* report) {
     m.abr_renderer();  // the BVH (and on CUDA the device scene) on first use
   if (current) return;
   double seconds = 0;
-  if (dataset_.is_mesh()) {
+  const auto ranges = [&] {
     const Stopwatch watch;
-    m.ranges = m.umesh->ranges(m.host_values(0));  // host values: also on CUDA (ranges on the host)
-    seconds = watch.seconds();
-  } else if (r.stored_ranges) {
-    if (m.slots[0].field < 0) throw UsageError("stored ranges need a dataset step, not streamed values");
-    const Stopwatch watch;
-    m.ranges = m.dataset.load_abr_ranges(m.slots[0].field, m.slots[0].step);
-    seconds = watch.seconds();
-  } else if (m.device == Device::cuda) {
-    const Stopwatch watch;
-    m.scene->compute_ranges(m.kernel_values(0));
-    seconds = watch.seconds();
-  } else {
-    if (m.macro_offset.empty()) m.macro_offset = macrocell_offsets(m.dataset.topology().bricks);
-    const auto ranges = [&] {
-      const Stopwatch watch;
+    if (dataset_.is_mesh()) {
+      m.ranges = m.umesh->ranges(m.host_values(0));  // host values: also on CUDA (ranges on the host)
+    } else if (r.stored_ranges) {
+      if (m.slots[0].field < 0) throw UsageError("stored ranges need a dataset step, not streamed values");
+      m.ranges = m.dataset.load_abr_ranges(m.slots[0].field, m.slots[0].step);
+    } else if (m.device == Device::cuda) {
+      m.scene->compute_ranges(m.kernel_values(0));
+    } else {
+      if (m.macro_offset.empty()) m.macro_offset = macrocell_offsets(m.dataset.topology().bricks);
       m.ranges = compute_abr_ranges(m.dataset.topology(), m.kernel_values(0), &m.macro_offset, r.range_mode);
-      seconds = watch.seconds();
-    };
-    // A first frame's renderer set-up (the BVH's refit copy and 4-wide collapse, partly serial)
-    // beside the ranges (parallel loops): they share no state. Jet 1e6: about 15 ms less.
-    if (m.abr)
-      ranges();
-    else
-      tbb::parallel_invoke([&] { m.abr_renderer(); }, ranges);
-  }
+    }
+    seconds = watch.seconds();
+  };
+  // A first frame's renderer set-up (the BVH's refit copy and 4-wide collapse, partly serial)
+  // beside the CPU's ranges (parallel loops): they share no state. Jet 1e6: about 15 ms less.
+  if (cpu_ranges && !m.abr)
+    tbb::parallel_invoke([&] { m.abr_renderer(); }, ranges);
+  else
+    ranges();
   m.ranges_bytes.set(int64_t(m.ranges.size() * sizeof(Range) + m.macro_offset.size() * sizeof(uint64_t)));
   m.ranges_generation = generation;
   m.ranges_mode = r.range_mode;

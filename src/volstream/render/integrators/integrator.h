@@ -301,6 +301,13 @@ VS_HOST_DEVICE inline Steps make_steps(const IntegratorSettings& st, const Ray& 
   return s;
 }
 
+// The steps of a region's interval: the region's own step width where sampling is adaptive.
+template <typename V>
+VS_HOST_DEVICE inline Steps interval_steps(const FrameView<V>& v, const Ray& ray, const RayInterval& iv) {
+  const float width = v.settings.adaptive ? v.volume.step_width(iv.region) : 1.f;
+  return make_steps(v.settings, ray, width, iv.t0, iv.t1);
+}
+
 #if !defined(__CUDA_ARCH__)
 // The CPU's march of transfer-function intervals without isosurfaces or shading, in batches of
 // kSampleBatch samples: a batch's reconstructions, table lookups and opacity corrections do not
@@ -380,8 +387,7 @@ template <typename V>
 inline bool queue_interval(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, float jitter, SampleQueue& q,
                            RayState& s) {
   if (!(iv.t1 - iv.t0 > 0.f)) return true;
-  const Steps steps =
-      make_steps(v.settings, ray, v.settings.adaptive ? v.volume.step_width(iv.region) : 1.f, iv.t0, iv.t1);
+  const Steps steps = interval_steps(v, ray, iv);
   const bool alone = steps.n >= kMinBatchSteps;
   if (alone && !take_queued(v, ray, q, s)) return false;
   if (!queue_steps(v, ray, iv.region, steps, jitter, q, s)) return false;
@@ -395,11 +401,10 @@ VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray,
                                           RayState& s) {
   const IntegratorSettings& st = v.settings;
   if (!(iv.t1 - iv.t0 > 0.f)) return;
-  const float width = st.adaptive ? v.volume.step_width(iv.region) : 1.f;
-  const Steps steps = make_steps(st, ray, width, iv.t0, iv.t1);
+  const Steps steps = interval_steps(v, ray, iv);
 #if !defined(__CUDA_ARCH__)
   if constexpr (kOptics == OpticsKind::tf) {
-    // Short intervals (small ABRs: jet's are a few cells) gain nothing from a batch's setup.
+    // Volumes without batches across regions (meshes): short intervals are marched one by one.
     if (batches_samples(v) && steps.n >= kMinBatchSteps) {
       march_interval_batched(v, ray, iv, steps, jitter, s);
       return;

@@ -358,6 +358,16 @@ TEST(Vtu, NotAVtuFile) {
   EXPECT_NE(vtu_error(dir / "lz4.vtu").find("vtkLZ4DataCompressor"), std::string::npos);
 }
 
+// Entities in attribute values: unknown, empty (found by vtu_fuzz: "&;" threw out_of_range) and
+// character references without digits are one InputError line each.
+TEST(Vtu, BadEntitiesInAttributes) {
+  const fs::path dir = test::scratch_dir("vtu_entities");
+  for (const char* entity : {"&;", "&#;", "&#x;", "&bogus;", "&#0;"}) {
+    write_file(dir / "e.vtu", std::string("<VTKFile type=\"UnstructuredGrid") + entity + "\"/>");
+    EXPECT_NE(vtu_error(dir / "e.vtu"), "") << entity;
+  }
+}
+
 TEST(Pvd, RoundTrip) {
   const fs::path dir = test::scratch_dir("pvd_round_trip");
   fs::create_directories(dir / "steps");

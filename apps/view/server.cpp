@@ -444,7 +444,10 @@ void run_view(const ViewArgs& a) {
 
   mg_init_library(0);
   const std::string ports = host_and_port(host, a.port);
-  const char* options[] = {"listening_ports", ports.c_str(), "num_threads", "16", nullptr};
+  // tcp_nodelay: civetweb writes a WebSocket frame's header and payload with two send() calls;
+  // with Nagle's algorithm the payload then waits for the browser's delayed ACK of the header
+  // (40 ms on Linux), which was most of the viewer's own share of each frame's latency.
+  const char* options[] = {"listening_ports", ports.c_str(), "num_threads", "16", "tcp_nodelay", "1", nullptr};
   mg_callbacks callbacks{};
   callbacks.log_message = [](const mg_connection*, const char*) { return 1; };  // quiet: errors are ours to report
   mg_context* ctx = mg_start(&callbacks, nullptr, options);

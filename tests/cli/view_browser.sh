@@ -56,6 +56,16 @@ timeout 120 /usr/bin/python3 "$HERE/view_browser.py" "$URL" $URL6 || fail "brows
 if [ -n "$URL6" ]; then kill -INT $SERVER6; wait $SERVER6 || fail "IPv6 server exit status $? after SIGINT"; fi
 kill -0 $SERVER || fail "server died: $(cat server.log)"
 
+# What the viewer adds to a small frame's render (message, JPEG, socket, decode) is a few ms; 40
+# ms or more means a frame waits on TCP (Nagle's algorithm against the client's delayed ACK).
+PORT=${URL##*:}
+PORT=${PORT%/}
+/usr/bin/python3 "$HERE/../../bench/view_latency.py" --port "$PORT" --size 64x48 --frames 15 >latency.txt ||
+  fail "latency client failed: $(cat latency.txt)"
+overhead=$(awk '/^latency/ {l = $(NF - 5)} /^render/ {r = $(NF - 5)} END {print l - r}' latency.txt)
+awk -v o="$overhead" 'BEGIN {exit !(o < 25)}' || fail "viewer adds $overhead ms to a 64x48 frame: $(cat latency.txt)"
+echo "ok: the viewer adds $overhead ms (median) to a 64x48 frame's render"
+
 kill -INT $SERVER
 status=0
 timeout 20 tail --pid=$SERVER -f /dev/null || fail "server did not stop on SIGINT"

@@ -67,6 +67,20 @@ def camera_at(angle, centre, radius, height):
             "at": centre, "up": [0, 1, 0], "fov": 35}
 
 
+def orbit(cam, frames):
+    """Cameras of `frames` small orbit steps about the first frame's camera (its centre and radius)."""
+    offset = [p - a for p, a in zip(cam["pos"], cam["at"])]
+    radius, up = math.hypot(offset[0], offset[2]), offset[1]
+    base = math.atan2(offset[2], offset[0])
+    return [camera_at(base + 0.02 * (i + 1), cam["at"], radius, up) for i in range(frames)]
+
+
+def print_stats(rows):
+    """rows: (name, values in ms) pairs, printed as median, min and max."""
+    for name, values in rows:
+        print(f"{name}: median {statistics.median(values):.1f} ms, min {min(values):.1f}, max {max(values):.1f}")
+
+
 def next_frame(ws):
     while True:
         opcode, payload = ws.receive()
@@ -77,7 +91,8 @@ def next_frame(ws):
             return json.loads(payload[4:4 + length]), payload[4 + length:]
 
 
-def main():
+def parse_args():
+    """The options of both latency scripts: the server, the frame size, how many frames."""
     ap = argparse.ArgumentParser()
     ap.add_argument("--host", default="127.0.0.1")
     ap.add_argument("--port", type=int, default=8080)
@@ -85,6 +100,11 @@ def main():
     ap.add_argument("--frames", type=int, default=40)
     args = ap.parse_args()
     width, height = map(int, args.size.split("x"))
+    return args, width, height
+
+
+def main():
+    args, width, height = parse_args()
     try:
         from PIL import Image  # noqa: the decode step, as the browser does
         import io
@@ -95,13 +115,9 @@ def main():
     ws = WebSocket(args.host, args.port)
     ws.send_text(json.dumps({"type": "view", "width": width, "height": height, "preview": False}))
     first, _ = next_frame(ws)  # the default view: its camera gives the orbit's centre and radius
-    cam = first["camera"]
-    offset = [p - a for p, a in zip(cam["pos"], cam["at"])]
-    radius, up = math.hypot(offset[0], offset[2]), offset[1]
-    base = math.atan2(offset[2], offset[0])
     latencies, renders, encodes, sizes = [], [], [], []
-    for i in range(args.frames):
-        message = {"type": "view", "camera": camera_at(base + 0.02 * (i + 1), cam["at"], radius, up)}
+    for camera in orbit(first["camera"], args.frames):
+        message = {"type": "view", "camera": camera}
         sent = time.perf_counter()
         ws.send_text(json.dumps(message))
         header, jpeg = next_frame(ws)
@@ -113,9 +129,8 @@ def main():
         sizes.append(len(jpeg))
     print(f"{args.frames} frames {width}x{height}, JPEG {statistics.median(sizes) / 1024:.0f} KiB median, "
           f"decode {'PIL' if decode else 'not measured (no PIL)'}")
-    for name, values in (("latency (message -> frame received%s)" % (" and decoded" if decode else ""), latencies),
-                         ("render (server)", renders), ("JPEG encode (server)", encodes)):
-        print(f"{name}: median {statistics.median(values):.1f} ms, min {min(values):.1f}, max {max(values):.1f}")
+    print_stats((("latency (message -> frame received%s)" % (" and decoded" if decode else ""), latencies),
+                 ("render (server)", renders), ("JPEG encode (server)", encodes)))
 
 
 if __name__ == "__main__":

@@ -9,15 +9,16 @@ server reports. bench/view_latency.py measures the same path with a Python clien
   volstream view DATASET --port 8393 &
   /usr/bin/python3 bench/view_latency_browser.py --port 8393 --frames 40 [--size 1280x720]
 """
-import argparse
-import math
-import statistics
+import os
 import sys
 import time
 
 from selenium import webdriver
 from selenium.webdriver.chrome.options import Options
 from selenium.webdriver.chrome.service import Service
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from view_latency import orbit, parse_args, print_stats  # noqa: E402  the same orbit and figures as the Python client
 
 
 # Sends the camera as a drag does and resolves once the page has drawn the next frame.
@@ -56,13 +57,7 @@ def wait_for(driver, what, condition, timeout=60):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--host", default="127.0.0.1")
-    ap.add_argument("--port", type=int, default=8080)
-    ap.add_argument("--size", default="1280x720")
-    ap.add_argument("--frames", type=int, default=40)
-    args = ap.parse_args()
-    width, height = map(int, args.size.split("x"))
+    args, width, height = parse_args()
     driver = browser(width, height)
     try:
         driver.get(f"http://{args.host}:{args.port}/")
@@ -70,15 +65,8 @@ def main():
         first = wait_for(driver, "the first frame", full)
         if (first["last"]["width"], first["last"]["height"]) != (width, height):
             sys.exit(f"frame is {first['last']['width']}x{first['last']['height']}, not {args.size}")
-        cam = first["last"]["camera"]
-        offset = [p - a for p, a in zip(cam["pos"], cam["at"])]
-        radius, up = math.hypot(offset[0], offset[2]), offset[1]
-        base = math.atan2(offset[2], offset[0])
         latencies, renders = [], []
-        for i in range(args.frames):
-            angle = base + 0.02 * (i + 1)
-            camera = {"pos": [cam["at"][0] + radius * math.cos(angle), cam["at"][1] + up,
-                              cam["at"][2] + radius * math.sin(angle)], "at": cam["at"], "up": [0, 1, 0], "fov": 35}
+        for camera in orbit(first["last"]["camera"], args.frames):
             # Waits in the page (no polling through the driver, which would take CPU from the server).
             v = driver.execute_async_script(WAIT_FOR_FRAME, camera)
             latencies.append(v["latency"])
@@ -89,9 +77,7 @@ def main():
     finally:
         driver.quit()
     print(f"{args.frames} frames {width}x{height} in headless chromium")
-    for name, values in (("latency (page: message sent -> frame decoded and drawn)", latencies),
-                         ("render (server)", renders)):
-        print(f"{name}: median {statistics.median(values):.1f} ms, min {min(values):.1f}, max {max(values):.1f}")
+    print_stats((("latency (page: message sent -> frame decoded and drawn)", latencies), ("render (server)", renders)))
 
 
 if __name__ == "__main__":

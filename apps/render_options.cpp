@@ -177,13 +177,16 @@ IntegratorSettings make_integrator_settings(const RenderOptions& o) {
   if (!(o.rate > 0 && o.rate <= 64)) throw UsageError("--rate must be in (0, 64]");
   if (o.spp < 1 || o.spp > 4096) throw UsageError("--spp must be in [1, 4096]");
   if (!(o.iso_alpha >= 0 && o.iso_alpha <= 1)) throw UsageError("--iso-alpha must be in [0, 1]");
-  if (!(o.unit_distance >= 0)) throw UsageError("--unit-distance must be positive");
+  // 0 is "not given" (the renderer's default); a given length must be a positive float.
+  const float unit = float(o.unit_distance);
+  if (o.unit_distance != 0 && !(unit > 0 && unit < INFINITY))
+    throw UsageError("--unit-distance must be a positive, finite length (in float)");
   s.rate = float(o.rate);
   s.adaptive = o.no_adaptive ? 0 : 1;
   s.jitter = o.no_jitter ? 0 : 1;
   s.shade = o.shade ? 1 : 0;
   s.spp = o.spp;
-  s.ref_step = float(o.unit_distance);  // 0: the renderer's default, 1/256 of the domain
+  s.ref_step = unit;  // 0: the renderer's default, 1/256 of the domain
   s.iso_alpha = float(o.iso_alpha);
   if (!o.iso.empty()) {
     const auto iso = parse_numbers(o.iso, "--iso");

@@ -36,3 +36,8 @@ for s in 0,1,1 -1,1,1 1,1e-30,1 1,1,1e300; do
 done
 expect_bad_input "origin 1e300" convert ok.raw --dims 2,2,2 --origin 1e300,0,0 -o sp_ds
 [ ! -e sp_ds ] || fail "a refused convert left sp_ds behind"
+
+# Non-finite or out-of-float-range render lengths are refused, not rendered as empty or opaque.
+for unit in inf nan 1e50 1e-50 -1; do
+  expect_bad_input "--unit-distance $unit" render ds -o x.png --size 16x16 --unit-distance "$unit"
+done

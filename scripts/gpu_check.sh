@@ -8,6 +8,9 @@
 #   bench         bench/run_gpu.sh: data, stream and render            -> LOG_DIR/bench.log + its files
 #   bench-data | bench-stream | bench-render   one part of bench each (bench.log appended)
 #   all           build, test, bench (the default)
+# On the device tool's machine (no -dev packages, no network), first here:
+#   bash scripts/device_deps.sh fetch        (the .deb files into .devdeps, about 3 MB)
+# then run with carry [".devdeps"]; the build phase unpacks them (DEPS_PREFIX, /opt/volstream-deps).
 # Where one command may run only so long (e.g. 10 minutes), run one phase per command:
 #   scripts/gpu_check.sh L build; scripts/gpu_check.sh L test;
 #   scripts/gpu_check.sh L bench-data; scripts/gpu_check.sh L bench-stream; scripts/gpu_check.sh L bench-render
@@ -41,9 +44,18 @@ BUILD_DIR="${GPU_BUILD_DIR:-build-gpu}"  # GPU_BUILD_DIR: e.g. a CPU build, to t
   git rev-parse HEAD 2>/dev/null || true
 } >"$LOG_DIR/machine.txt" 2>&1
 
+# The lent machine has no Debian -dev packages and no network: when the run carries .devdeps
+# (scripts/device_deps.sh fetch, here), they are unpacked and CMake looks there first.
 phase_build() {
+  local deps=()
+  if [ -d .devdeps ]; then
+    local prefix
+    prefix="$(bash scripts/device_deps.sh install .devdeps "${DEPS_PREFIX:-/opt/volstream-deps}")" || return 1
+    deps=(-DCMAKE_PREFIX_PATH="$prefix")
+    echo "dependencies from .devdeps, unpacked in $prefix" >"$LOG_DIR/build.log"
+  fi
   BUILD_DIR=$BUILD_DIR bash scripts/build.sh -DVOLSTREAM_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES="${CUDA_ARCH:-90}" \
-    >"$LOG_DIR/build.log" 2>&1 || { echo "build failed, see $LOG_DIR/build.log"; return 1; }
+    "${deps[@]}" >>"$LOG_DIR/build.log" 2>&1 || { echo "build failed, see $LOG_DIR/build.log"; return 1; }
 }
 
 phase_test() {

@@ -6,18 +6,25 @@
 #           (Chrome-trace JSON) and its Gantt charts (SVG, one row per lane and one per stage)
 #   render  `volstream render` of the 1e8-cell demo on cuda and on the CPU, RENDER_REPEAT times
 #           at each size, summarised as a table
+#   mesh    unstructured meshes (issues 12, 13): the tets and mixed demos (MESH_TETS, MESH_MIXED
+#           elements) with both encodings, on RENDER_DEVICES at RENDER_SIZES, in the view and
+#           looks of bench/umesh_vs_vtk.sh (VTK is not on that machine), as a table
+#   view    the browser viewer's latency (issue 16; bench/view_latency.py, a WebSocket client):
+#           a 1e6-cell jet at 1280x720 and at the 426x240 preview size while dragging, on
+#           RENDER_DEVICES; frames/s while dragging = 1000 / the preview's median latency
 # Every command line is echoed and logged with its output, wall time and exit status into LOG_DIR
 # (one NAME.log per command, summary.txt for all of them). A part that fails is logged and the
 # next part still runs; the exit status is non-zero if any part failed.
 #
-# usage: bench/run_gpu.sh VOLSTREAM_BINARY LOG_DIR [data|stream|render|all ...]   (default: all)
+# usage: bench/run_gpu.sh VOLSTREAM_BINARY LOG_DIR [data|stream|render|mesh|view|all ...]   (default: all)
 # Environment (defaults for the GPU machine; tiny values smoke-test it on a CPU):
 #   DEVICE=cuda         device of the stream benchmark; render compares RENDER_DEVICES
 #   CELLS=3.1e8 STEPS=8 the streamed demo (the demo's cell count is approximate, a few %: 3.1e8
 #                       gives at least MIN_CELLS=3e8, which is checked when CELLS is not set)
 #   RENDER_CELLS=1e8    the rendered demo (default: 1e8, or CELLS when that is smaller)
 #   RENDER_DEVICES="cuda cpu" (default: "cuda cpu" when DEVICE=cuda, else DEVICE)
-#   RENDER_SIZES="512 1024" RENDER_REPEAT=2
+#   RENDER_SIZES="512 1024" RENDER_REPEAT=2 (also the mesh part's)
+#   MESH_TETS=1e6 MESH_MIXED=5e5 (mesh demo elements)   VIEW_FRAMES=40 (frames per latency run)
 #   STREAM_SIZE=1024x1024 (cuda) / 256x256 (otherwise); STREAM_STEPS (bench --steps, default all)
 #   LEVELS=a,b,...      only these levels (default all, in one run). Each LEVELS run writes its own
 #                       stream_<levels>.* files; the runs found in LOG_DIR are merged into
@@ -35,7 +42,7 @@
 # before each demo is generated (a part fails at once when it cannot fit).
 set -euo pipefail
 
-usage() { echo "usage: bench/run_gpu.sh VOLSTREAM_BINARY LOG_DIR [data|stream|render|all ...]" >&2; exit 2; }
+usage() { echo "usage: bench/run_gpu.sh VOLSTREAM_BINARY LOG_DIR [data|stream|render|mesh|view|all ...]" >&2; exit 2; }
 [ $# -ge 2 ] || usage
 VS="$(realpath "$1")"
 [ -x "$VS" ] || { echo "run_gpu.sh: no volstream binary at $1" >&2; exit 2; }
@@ -43,9 +50,9 @@ LOG_DIR="$(realpath -m "$2")"
 shift 2
 PARTS=("${@:-all}")
 for p in "${PARTS[@]}"; do
-  case $p in data | stream | render | all) ;; *) echo "run_gpu.sh: unknown part '$p'" >&2; usage ;; esac
+  case $p in data | stream | render | mesh | view | all) ;; *) echo "run_gpu.sh: unknown part '$p'" >&2; usage ;; esac
 done
-[[ " ${PARTS[*]} " == *" all "* ]] && PARTS=(data stream render)
+[[ " ${PARTS[*]} " == *" all "* ]] && PARTS=(data stream render mesh view)
 
 REPO="$(realpath "$(dirname "$0")/..")"
 DEVICE="${DEVICE:-cuda}"
@@ -58,6 +65,9 @@ RENDER_SIZES="${RENDER_SIZES:-512 1024}"
 RENDER_REPEAT="${RENDER_REPEAT:-2}"
 if [ "$DEVICE" = cuda ]; then STREAM_SIZE="${STREAM_SIZE:-1024x1024}"; else STREAM_SIZE="${STREAM_SIZE:-256x256}"; fi
 STREAM_STEPS="${STREAM_STEPS:-}"
+MESH_TETS="${MESH_TETS:-1e6}"
+MESH_MIXED="${MESH_MIXED:-5e5}"
+VIEW_FRAMES="${VIEW_FRAMES:-40}"
 LEVELS="${LEVELS:-}"
 STREAM_ARGS="${STREAM_ARGS:-}"
 DATA_DIR="$(realpath -m "${DATA_DIR:-${TMPDIR:-/tmp}/volstream_bench}")"
@@ -251,6 +261,83 @@ part_render() {
                print line } }' "$table" | sort >>"$table"
   note "# render: $RENDER_DS ($(cut -d' ' -f1 "$RENDER_DS/.run_gpu_complete") cells)"
   tee -a "$SUMMARY" <"$table"
+  return "$failed"
+}
+
+# A mesh demo of one step with its reference encoding (compact is built from it at load), kept
+# in DATA_DIR like the jet demos.
+ensure_mesh_demo() {
+  local kind="$1" elements="$2" dir="$DATA_DIR/${1}_${2}"
+  if [ ! -f "$dir/.run_gpu_complete" ] || [ "${REGEN:-0}" = 1 ]; then
+    rm -rf "$dir"
+    run "demo_${kind}_$elements" "$VS" demo "$kind" --elements "$elements" --steps 1 --encoding reference -o "$dir" -q
+    run "info_${kind}_$elements" "$VS" info "$dir" >/dev/null
+    date -u +%FT%TZ >"$dir/.run_gpu_complete"
+  fi
+  echo "$dir"
+}
+
+# The view and looks of bench/umesh_vs_vtk.sh (haze: every element visible; blobs: empty space to
+# skip), so that these rows sit beside its CPU and VTK figures.
+MESH_VIEW=(--field density --range 0.02,1.1 --unit-distance 0.01 --camera-pos 2.3,1.6,2.9 --camera-at 0.5,0.5,0.5
+  --camera-up 0,1,0 --fov 35 --background 0.06,0.06,0.08)
+mesh_opacity() { case "$1" in haze) echo 0.02:0.004,0.15:0.004,0.5:0.03,1.1:0.12 ;; blobs) echo 0.02:0,0.15:0,0.5:0.03,1.1:0.12 ;; esac; }
+
+part_mesh() {
+  local table="$LOG_DIR/mesh_table.txt" failed=0 kind elements dir look enc dev size rep name
+  printf "%-6s %-8s %-6s %-10s %-6s %-10s %-4s %10s %10s %12s
+" mesh elements look encoding device size run "render s"     "M samples" "M samples/s" >"$table"
+  for kind in tets mixed; do
+    elements=$MESH_TETS
+    [ "$kind" = mixed ] && elements=$MESH_MIXED
+    dir="$(ensure_mesh_demo "$kind" "$elements" | tail -1)"
+    for look in haze blobs; do
+      for enc in reference compact; do
+        for dev in $RENDER_DEVICES; do
+          for size in $RENDER_SIZES; do
+            for rep in $(seq "$RENDER_REPEAT"); do
+              name="mesh_${kind}_${look}_${enc}_${dev}_${size}_$rep"
+              run "$name" "$VS" render "$dir" --encoding "$enc" --device "$dev" --size "${size}x${size}" "${MESH_VIEW[@]}"                 --opacity "$(mesh_opacity "$look")" -o "$LOG_DIR/mesh_${kind}_${look}_${enc}_${dev}_${size}.png" ||
+                { failed=1; continue; }
+              local secs ms mps
+              read -r secs ms mps < <(sed -nE 's/^render [0-9x]+: ([0-9.]+)s \([0-9.]+s CPU time\), ([0-9.]+) M samples, ([0-9.]+) M samples\/s.*/\1 \2 \3/p' "$LOG_DIR/$name.log")
+              printf "%-6s %-8s %-6s %-10s %-6s %-10s %-4s %10s %10s %12s
+" "$kind" "$elements" "$look" "$enc" "$dev"                 "${size}x${size}" "$rep" "$secs" "$ms" "$mps" >>"$table"
+            done
+          done
+        done
+      done
+    done
+  done
+  note "# mesh: demos tets $MESH_TETS and mixed $MESH_MIXED elements (reference datasets; compact built at load)"
+  tee -a "$SUMMARY" <"$table"
+  return "$failed"
+}
+
+# One viewer per device on a 1e6-cell jet; the client sends small orbit steps and waits for each
+# frame (bench/view_latency.py), at the full size and at the preview size.
+part_view() {
+  local ds="$DATA_DIR/jet_1e6_1" dev port=8460 pid failed=0
+  [ -f "$ds/.run_gpu_complete" ] || ensure_demo "$ds" 1e6 1
+  if ! "$VS" view --help >/dev/null 2>&1; then
+    note "view: this volstream was built without the viewer (civetweb, libjpeg-turbo)"
+    return 1
+  fi
+  for dev in $RENDER_DEVICES; do
+    port=$((port + 1))
+    "$VS" view "$ds" --device "$dev" --port "$port" >"$LOG_DIR/view_server_$dev.log" 2>&1 &
+    pid=$!
+    for _ in $(seq 100); do grep -q http:// "$LOG_DIR/view_server_$dev.log" && break; sleep 0.1; done
+    run "view_${dev}_1280x720" python3 "$REPO/bench/view_latency.py" --port "$port" --frames "$VIEW_FRAMES" --size 1280x720 ||
+      failed=1
+    run "view_${dev}_426x240" python3 "$REPO/bench/view_latency.py" --port "$port" --frames "$VIEW_FRAMES" --size 426x240 ||
+      failed=1
+    kill -INT "$pid" 2>/dev/null || true
+    wait "$pid" 2>/dev/null || true
+    local preview
+    preview=$(sed -nE 's/^latency .*median ([0-9.]+) ms.*/\1/p' "$LOG_DIR/view_${dev}_426x240.log")
+    [ -n "$preview" ] && note "# view on $dev: dragging (426x240 previews, one at a time) at $(awk -v l="$preview" 'BEGIN { printf "%.1f", 1000 / l }') frames/s"
+  done
   return "$failed"
 }
 

@@ -5,8 +5,8 @@
 # usage: scripts/gpu_check.sh LOG_DIR [PHASE...]      (the order of the arguments does not matter)
 #   build         configure and build build-gpu with CUDA              -> LOG_DIR/build.log
 #   test          ctest in build-gpu (needs the build phase)           -> LOG_DIR/tests.log
-#   bench         bench/run_gpu.sh: data, stream and render            -> LOG_DIR/bench.log + its files
-#   bench-data | bench-stream | bench-render   one part of bench each (bench.log appended)
+#   bench         bench/run_gpu.sh: data, stream, render, mesh, view   -> LOG_DIR/bench.log + its files
+#   bench-data | bench-stream | bench-render | bench-mesh | bench-view   one part of bench each (bench.log appended)
 #   all           build, test, bench (the default)
 # On the device tool's machine (no -dev packages, no network), first here:
 #   bash scripts/device_deps.sh fetch        (the .deb files into .devdeps, about 3 MB)
@@ -18,13 +18,13 @@
 # LEVELS=baseline,async-io,... (bench/run_gpu.sh merges the runs). Environment: CUDA_ARCH (90),
 # CTEST_JOBS (4), and bench/run_gpu.sh's (CELLS, STEPS, DEVICE, ...).
 set -uo pipefail
-usage() { echo "usage: scripts/gpu_check.sh LOG_DIR [build|test|bench|bench-data|bench-stream|bench-render|all ...]" >&2; exit 2; }
+usage() { echo "usage: scripts/gpu_check.sh LOG_DIR [build|test|bench|bench-data|bench-stream|bench-render|bench-mesh|bench-view|all ...]" >&2; exit 2; }
 
 LOG_DIR=""
 PHASES=()
 for arg in "$@"; do
   case $arg in
-    build | test | bench | bench-data | bench-stream | bench-render | all) PHASES+=("$arg") ;;
+    build | test | bench | bench-data | bench-stream | bench-render | bench-mesh | bench-view | all) PHASES+=("$arg") ;;
     *) [ -z "$LOG_DIR" ] || usage; LOG_DIR="$arg" ;;
   esac
 done

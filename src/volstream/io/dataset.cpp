@@ -955,6 +955,7 @@ void Dataset::read_compact_part(const std::vector<uint32_t>& leaves, std::vector
   std::vector<vec3f> vertices(source_vertex.size());
   read_runs(vertices_path, runs, vertices.data());
   topology_bytes_read_ += vertices.size() * sizeof(vec3f);
+  check_finite_vertices(vertices, vertices_path.string());  // before the part's tree quantizes boxes
   const std::vector<box3f> boxes = finish_compact_part(part, std::move(vertices));
   uint64_t by_type[4] = {};
   for (size_t i = 0; i < leaves.size(); ++i) {

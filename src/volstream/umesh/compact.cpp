@@ -59,12 +59,12 @@ std::vector<uint32_t> cluster_order(const UMesh& mesh) {
 // Quantizes `child` relative to the node box [origin, origin + 255 * scale], rounded outwards,
 // and widened by a step where float rounding would still leave part of the child outside.
 void quantize(CompactNode& node, int i, const box3f& child) {
+  // A step count in [0, 255], clamped before the conversion (a NaN or huge float has no int).
+  auto step = [](float x) { return x > 0.f ? (x < 255.f ? int(x) : 255) : 0; };
   for (int a = 0; a < 3; ++a) {
     const float s = node.scale[a];
-    int lo = s > 0.f ? int(std::floor((child.lower[a] - node.origin[a]) / s)) : 0;
-    int hi = s > 0.f ? int(std::ceil((child.upper[a] - node.origin[a]) / s)) : 0;
-    lo = std::clamp(lo, 0, 255);
-    hi = std::clamp(hi, 0, 255);
+    int lo = s > 0.f ? step(std::floor((child.lower[a] - node.origin[a]) / s)) : 0;
+    int hi = s > 0.f ? step(std::ceil((child.upper[a] - node.origin[a]) / s)) : 0;
     while (lo > 0 && node.origin[a] + float(lo) * s > child.lower[a]) --lo;
     while (hi < 255 && node.origin[a] + float(hi) * s < child.upper[a]) ++hi;
     node.lower[i][a] = uint8_t(lo);

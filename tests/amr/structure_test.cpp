@@ -95,6 +95,27 @@ TEST_P(AmrStructure, AbrsAreDisjointAndListExactlyTheOverlappingBricks) {
   }
 }
 
+// Two ABRs with the same bricks whose union is a box are one (merge_adjacent_abrs), checked pair
+// by pair (these octrees need fewer than its 8 rounds).
+TEST_P(AmrStructure, NoTwoAbrsWithTheSameBricksMakeABox) {
+  const auto& t = built_.topology;
+  auto bricks = [&](const Abr& a) {
+    return std::vector<uint32_t>(t.abr_bricks.begin() + a.first_brick,
+                                 t.abr_bricks.begin() + a.first_brick + a.brick_count);
+  };
+  for (size_t i = 0; i < t.abrs.size(); ++i)
+    for (size_t j = i + 1; j < t.abrs.size(); ++j) {
+      const box3f &a = t.abrs[i].box, &b = t.abrs[j].box;
+      for (int axis = 0; axis < 3; ++axis) {
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        const bool face = a.lower[u] == b.lower[u] && a.upper[u] == b.upper[u] && a.lower[v] == b.lower[v] &&
+                          a.upper[v] == b.upper[v] &&
+                          (a.upper[axis] == b.lower[axis] || b.upper[axis] == a.lower[axis]);
+        EXPECT_FALSE(face && bricks(t.abrs[i]) == bricks(t.abrs[j])) << "ABRs " << i << " and " << j;
+      }
+    }
+}
+
 TEST_P(AmrStructure, AbrsCoverTheUnionOfSupports) {
   // Rasterise supports and ABRs on the half-grid (all faces lie on it): each voxel inside some
   // support is in exactly one ABR, and no ABR reaches outside the supports.

@@ -117,7 +117,7 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, ElementsOf&& visit_e
     if (finest[c] == ordered(INFINITY)) continue;  // no element overlaps it
     m.region_of_cell[c] = int32_t(m.cell_of_region.size());
     m.cell_of_region.push_back(uint32_t(c));
-    m.step_width.push_back(from_ordered(finest[c]));
+    m.step_width.push_back(std::max(from_ordered(finest[c]), m.min_step()));
   }
   return m;
 }

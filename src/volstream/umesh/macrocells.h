@@ -87,8 +87,13 @@ struct MacroCells {
   MacroGrid grid;
   std::vector<int32_t> region_of_cell;   // grid cell -> region, -1 where no element overlaps
   std::vector<uint32_t> cell_of_region;  // region -> grid cell (grid.index)
-  std::vector<float> step_width;         // per region: its smallest element's size
+  std::vector<float> step_width;         // per region: its smallest element's size, at least min_step
   size_t region_count() const { return cell_of_region.size(); }
+  // The finest step a macrocell is marched with: 1/1000 of the grid cell's longest side (as
+  // element_size keeps 1/1000 of an element's). A degenerate element (a damaged dataset: every
+  // corner at one point) would otherwise ask for a step of zero, and each ray for 16.7 M samples
+  // per macrocell; a boundary layer finer than this is sampled at this step.
+  float min_step() const { return 1e-3f * reduce_max(grid.cell_size); }
   box3f box(size_t region) const;  // its grid cell's box
   uint64_t bytes() const {
     return region_of_cell.size() * sizeof(int32_t) + cell_of_region.size() * sizeof(uint32_t) +

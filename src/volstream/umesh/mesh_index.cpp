@@ -46,7 +46,7 @@ MacroCells macrocells_from_stored(const MacroGrid& grid, const std::vector<Store
       input_error(file, "macrocell " + std::to_string(r) + " has a bad step width");
     m.region_of_cell[s.cell] = int32_t(r);
     m.cell_of_region.push_back(s.cell);
-    m.step_width.push_back(s.step_width);
+    m.step_width.push_back(std::max(s.step_width, m.min_step()));  // written before min_step existed
   }
   return m;
 }

@@ -93,6 +93,30 @@ TEST_P(MeshProbeTest, EveryElementCentroidIsFound) {
   }
 }
 
+// The walk from the ray's hint (the previous sample's element, and a tet's kept solve) gives
+// what a search from scratch gives, along random lines sampled as rays are: in and out of the
+// mesh, through holes and across the parts of a non-convex one.
+TEST_P(MeshProbeTest, WalkFromTheHintEqualsSearchAlongLines) {
+  const DemoMesh d = demo(GetParam(), 3000);
+  const UMeshRenderer renderer(d.mesh, d.transform);
+  const UMeshView mesh = renderer.mesh_view();
+  const std::vector<vec3f> ends = random_points(d, 200, 5);
+  int walked = 0;
+  for (size_t line = 0; line + 1 < ends.size(); line += 2) {
+    UMeshView::Hint hint;
+    for (int i = 0; i <= 200; ++i) {
+      const vec3f p = ends[line] + (ends[line + 1] - ends[line]) * (float(i) / 200.f);
+      const bool from_hint = hint.element >= 0;
+      const float got = mesh.sample(d.density.data(), p, hint), want = mesh.sample(d.density.data(), p);
+      ASSERT_EQ(std::isnan(got), std::isnan(want)) << "line " << line << " sample " << i;
+      if (std::isnan(want)) continue;
+      walked += from_hint ? 1 : 0;
+      EXPECT_NEAR(got, want, 1e-6f * std::max(1.f, std::fabs(want))) << "line " << line << " sample " << i;
+    }
+  }
+  EXPECT_GT(walked, 5000);
+}
+
 INSTANTIATE_TEST_SUITE_P(Demos, MeshProbeTest, ::testing::Values("tets", "mixed", "holes"));
 
 TEST(MeshProbe, HolesAndGapsAreNan) {

@@ -154,6 +154,28 @@ TEST_P(ShapeTest, EarlyOutGivesTheSameAnswerAsFullConvergence) {
   EXPECT_GT(refused, 1000);
 }
 
+// A tet's kept solve (the walk's hint, element_bvh.h) locates a second point with the same
+// floats as a fresh locate_in_tet of the corners: weights, outside distance and face.
+TEST(Shape, KeptTetSolveGivesTheFreshSolvesFloats) {
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<float> around(-0.5f, 1.5f);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const std::vector<vec3f> x = element(4, rng, 0.3f);
+    shape::TetSolve kept;
+    float w0[4];
+    shape::locate_in_tet(x.data(), x[0] * 0.25f + x[1] * 0.25f + x[2] * 0.25f + x[3] * 0.25f, w0, nullptr, nullptr,
+                         &kept);
+    const vec3f p = x[0] + (x[1] - x[0]) * around(rng) + (x[2] - x[0]) * around(rng) + (x[3] - x[0]) * around(rng);
+    float w_fresh[4], w_kept[4], out_fresh = 0.f, out_kept = 1.f;
+    int face_fresh = -1, face_kept = -2;
+    const bool fresh = shape::locate_in_tet(x.data(), p, w_fresh, &out_fresh, &face_fresh);
+    ASSERT_EQ(shape::tet_weights(kept, p, w_kept, &out_kept, &face_kept), fresh) << "trial " << trial;
+    EXPECT_EQ(out_fresh, out_kept);
+    EXPECT_EQ(face_fresh, face_kept);
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(w_fresh[i], w_kept[i]) << "trial " << trial << " weight " << i;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(AllTypes, ShapeTest, ::testing::Values(4, 5, 6, 8),
                          [](const auto& p) { return std::to_string(p.param) + "_vertices"; });
 

@@ -514,6 +514,7 @@ struct CompactMeshView {
   // kMultiLeafSize + slot) first; where it ends without a strict hit, that element's leaf from
   // there out, then every other leaf holding p, near ones first (so the result is search's: a
   // strict hit wins, none is missed). The element found is the next hint.
+  using Hint = int64_t;  // the element as leaf * kMultiLeafSize + slot; -1: none
   VS_HOST_DEVICE Hit locate(const vec3f& p, int64_t& hint) const {
     Hit hit;
     float best = INFINITY;

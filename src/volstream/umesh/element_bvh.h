@@ -95,52 +95,83 @@ struct UMeshView {
     return hit;
   }
 
-  // Walks from element `from` towards p across the faces p lies beyond (face adjacency): true
-  // with the hit when an element holds p strictly within kMaxWalk steps; false at the mesh's
-  // boundary, an unmatched face, or a point too far to tell the way.
-  VS_HOST_DEVICE bool walk(uint32_t from, const vec3f& p, ElementHit& hit) const {
+  // The ray's note of where its last sample was (RayState::hint, volume.h): the element, and
+  // when it is a tet, the solve that located that sample (shape::TetSolve). Nearly every walk
+  // starts by testing p in that element (consecutive samples are close; it fails about half the
+  // time on a tet mesh, and gives the face to cross); with the solve kept, that test needs no
+  // corner or element loads and no cross products, and gives the same floats.
+  struct Hint {
+    int64_t element = -1;
+    bool has_tet = false;  // `tet` is element's solve
+    shape::TetSolve tet;
+  };
+
+  // Walks from the hint's element towards p across the faces p lies beyond (face adjacency):
+  // true with the hit when an element holds p strictly within kMaxWalk steps (the hint then
+  // holds it); false at the mesh's boundary, an unmatched face, or a point too far to tell the way.
+  VS_HOST_DEVICE bool walk(Hint& hint, const vec3f& p, ElementHit& hit) const {
     constexpr int kMaxWalk = 8;
-    uint32_t e = from;
-    for (int step = 0; step < kMaxWalk; ++step) {
+    uint32_t e = uint32_t(hint.element);
+    int step = 0;
+    const bool kept = hint.has_tet;
+    hint.has_tet = false;  // hint.tet now holds the walk's last solve, whichever element that was
+    if (kept) {            // the first step from the kept solve
+      float outside = INFINITY;
+      int face = -1;
+      if (shape::tet_weights(hint.tet, p, hit.w, &outside, &face) && outside <= 0.f) {
+        hit.element = e;
+        hint.has_tet = true;
+        return true;
+      }
+      if (!cross_face(e, face)) return false;
+      ++step;
+    }
+    for (; step < kMaxWalk; ++step) {
       const UElement& el = elements[e];
       const int n = el.vertex_count();
       vec3f x[8];
       for (int i = 0; i < n; ++i) x[i] = vertices[el.v[i]];
       float outside = INFINITY;
       int face = -1;
-      if (shape::locate_in_element(n, x, p, hit.w, &outside, &face, true) && outside <= 0.f) {
+      const bool in = n == 4 ? shape::locate_in_tet(x, p, hit.w, &outside, &face, &hint.tet)
+                             : shape::locate_in_element(n, x, p, hit.w, &outside, &face, true);
+      if (in && outside <= 0.f) {
         hit.element = e;
+        hint.element = e;
+        hint.has_tet = n == 4;
         return true;
       }
-      if (face < 0) return false;
-      e = neighbors[uint64_t(e) * shape::kMaxFaces + uint64_t(face)];
-      if (e == kNoNeighborIndex) return false;
+      if (!cross_face(e, face)) return false;
     }
     return false;
   }
 
-  // locate(p) starting from element `hint` (the ray's previous sample's; -1: none): consecutive
-  // samples are close, so a walk of a step or two over face neighbours usually finds p; where it
-  // does not (the boundary, an unmatched face, a long way), the BVH search decides, so the
-  // result is locate(p)'s (a strict hit wins; none may be missed). The element found is the
-  // next hint.
-  VS_HOST_DEVICE ElementHit locate(const vec3f& p, int64_t& hint) const {
+  // e becomes its neighbour across `face`; false when there is none (or no face: -1).
+  VS_HOST_DEVICE bool cross_face(uint32_t& e, int face) const {
+    if (face < 0) return false;
+    e = neighbors[uint64_t(e) * shape::kMaxFaces + uint64_t(face)];
+    return e != kNoNeighborIndex;
+  }
+
+  // locate(p) starting from the hint (the ray's previous sample's element; -1: none):
+  // consecutive samples are close, so a walk of a step or two over face neighbours usually
+  // finds p; where it does not (the boundary, an unmatched face, a long way), the BVH search
+  // decides, so the result is locate(p)'s (a strict hit wins; none may be missed). The element
+  // found is the next hint.
+  VS_HOST_DEVICE ElementHit locate(const vec3f& p, Hint& hint) const {
     ElementHit hit;
-    if (hint >= 0 && neighbors && walk(uint32_t(hint), p, hit)) {
-      hint = hit.element;
-      return hit;
-    }
+    if (hint.element >= 0 && neighbors && walk(hint, p, hit)) return hit;
     hit = locate(p);
-    if (hit.element >= 0) hint = hit.element;
+    if (hit.element >= 0) hint.element = hit.element;
     return hit;
   }
 
   // The field's value at p, NaN outside every element.
   VS_HOST_DEVICE float sample(const float* values, const vec3f& p) const {
-    int64_t no_hint = -1;
+    Hint no_hint;
     return sample(values, p, no_hint);
   }
-  VS_HOST_DEVICE float sample(const float* values, const vec3f& p, int64_t& hint) const {
+  VS_HOST_DEVICE float sample(const float* values, const vec3f& p, Hint& hint) const {
     const ElementHit hit = locate(p, hint);
     if (hit.element < 0) return NAN;
     const UElement& el = elements[hit.element];

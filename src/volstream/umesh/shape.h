@@ -119,10 +119,29 @@ VS_HOST_DEVICE inline vec3f centre_params(int n) {
 }
 
 // The tet's map is affine: its barycentric coordinates come from one 3x3 solve (the hot path of
-// tet meshes, kept free of the general Newton loop's arrays).
-VS_HOST_DEVICE inline bool locate_in_tet(const vec3f* x, const vec3f& p, float* w, float* outside, int* face) {
-  vec3f pc;
-  if (!solve3(x[1] - x[0], x[2] - x[0], x[3] - x[0], p - x[0], pc)) return false;
+// tet meshes, kept free of the general Newton loop's arrays). TetSolve is that solve's part that
+// does not depend on p (Cramer's rule: the cofactor rows and 1 / det), so a walk can keep it and
+// test its next point in the same tet without the corners (element_bvh.h); tet_weights then
+// gives the same floats as the whole solve.
+struct TetSolve {
+  vec3f origin;       // corner 0
+  vec3f rows[3];      // cross products of the edge vectors from corner 0
+  float inv_det = 0;  // 1 / det of those edges
+};
+VS_HOST_DEVICE inline bool tet_solve(const vec3f* x, TetSolve& s) {
+  const vec3f c0 = x[1] - x[0], c1 = x[2] - x[0], c2 = x[3] - x[0];
+  s.origin = x[0];
+  s.rows[0] = cross(c1, c2), s.rows[1] = cross(c2, c0), s.rows[2] = cross(c0, c1);
+  const float det = dot(c0, s.rows[0]);
+  if (!(fabsf(det) > 1e-30f)) return false;
+  s.inv_det = 1.f / det;
+  return true;
+}
+// The weights at p (w[0..4)), how far outside p is and the face it lies beyond most, as in
+// locate_in_element; true when p is inside within kParamTolerance.
+VS_HOST_DEVICE inline bool tet_weights(const TetSolve& s, const vec3f& p, float* w, float* outside, int* face) {
+  const vec3f b = p - s.origin;
+  const vec3f pc = {dot(b, s.rows[0]) * s.inv_det, dot(b, s.rows[1]) * s.inv_det, dot(b, s.rows[2]) * s.inv_det};
   w[0] = 1.f - pc.x - pc.y - pc.z, w[1] = pc.x, w[2] = pc.y, w[3] = pc.z;
   int worst = 0;
   for (int i = 1; i < 4; ++i)
@@ -130,6 +149,14 @@ VS_HOST_DEVICE inline bool locate_in_tet(const vec3f* x, const vec3f& p, float* 
   if (face) *face = worst;  // the face opposite the most negative weight
   if (outside) *outside = -w[worst];
   return -w[worst] <= kParamTolerance;
+}
+// `kept` (optional) gets the solve, valid when `face` was set (the corners were not degenerate).
+VS_HOST_DEVICE inline bool locate_in_tet(const vec3f* x, const vec3f& p, float* w, float* outside, int* face,
+                                         TetSolve* kept = nullptr) {
+  TetSolve s;
+  if (!tet_solve(x, s)) return false;
+  if (kept) *kept = s;
+  return tet_weights(s, p, w, outside, face);
 }
 
 // The map of a hex, wedge or pyramid as a polynomial in r, s, t: x = c[0] + c[1] r + c[2] s +

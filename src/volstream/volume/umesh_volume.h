@@ -28,10 +28,11 @@ struct MeshVolume {
   VS_HOST_DEVICE float sample(int field, uint32_t, const vec3f& p) const { return mesh.sample(fields[field], p); }
   VS_HOST_DEVICE float sample_near(int field, uint32_t, const vec3f& p) const { return mesh.sample(fields[field], p); }
   // With the ray's hint (integrator.h): the element of the ray's previous sample is tried first.
-  VS_HOST_DEVICE float sample(int field, uint32_t, const vec3f& p, int64_t& hint) const {
+  using Hint = typename Locator::Hint;
+  VS_HOST_DEVICE float sample(int field, uint32_t, const vec3f& p, Hint& hint) const {
     return mesh.sample(fields[field], p, hint);
   }
-  VS_HOST_DEVICE float sample_near(int field, uint32_t, const vec3f& p, int64_t& hint) const {
+  VS_HOST_DEVICE float sample_near(int field, uint32_t, const vec3f& p, Hint& hint) const {
     return mesh.sample(fields[field], p, hint);
   }
   VS_HOST_DEVICE float step_width(uint32_t region) const { return step_widths[region]; }

@@ -102,31 +102,51 @@ struct PrevSample {
   float end = 0.f;  // exit distance of that sample's region interval
 };
 
+// The per-ray note of volumes that take a hint (volume.h): V::Hint, or an integer where they
+// take one (-1: none yet).
+template <typename V>
+struct HintOf {
+  using type = int64_t;
+};
+template <typename V>
+requires requires { typename V::Hint; }
+struct HintOf<V> {
+  using type = typename V::Hint;
+};
+template <typename H>
+VS_HOST_DEVICE constexpr H no_hint() {
+  if constexpr (std::is_integral_v<H>)
+    return H(-1);
+  else
+    return H{};
+}
+
+template <typename V>
 struct RayState {
   Accum acc;
   PrevSample prev;
   uint32_t samples = 0;
   // Where the volume found the ray's last sample (an unstructured mesh's element), for volumes
   // that take a hint (volume.h): consecutive samples are close, so it is often right.
-  int64_t hint = -1;
+  typename HintOf<V>::type hint = no_hint<typename HintOf<V>::type>();
 };
 
 // Early ray termination, where the frame allows it (settings.h).
 template <typename V>
-VS_HOST_DEVICE inline bool finished(const FrameView<V>& v, const RayState& s) {
+VS_HOST_DEVICE inline bool finished(const FrameView<V>& v, const RayState<V>& s) {
   return v.settings.early_termination && s.acc.opaque();
 }
 
 // A volume's reconstruction at p, with the ray's hint where the volume takes one.
 template <typename V>
-VS_HOST_DEVICE inline float sample(const V& volume, int field, uint32_t region, const vec3f& p, RayState& s) {
+VS_HOST_DEVICE inline float sample(const V& volume, int field, uint32_t region, const vec3f& p, RayState<V>& s) {
   if constexpr (requires { volume.sample(field, region, p, s.hint); })
     return volume.sample(field, region, p, s.hint);
   else
     return volume.sample(field, region, p);
 }
 template <typename V>
-VS_HOST_DEVICE inline float sample_near(const V& volume, int field, uint32_t region, const vec3f& p, RayState& s) {
+VS_HOST_DEVICE inline float sample_near(const V& volume, int field, uint32_t region, const vec3f& p, RayState<V>& s) {
   if constexpr (requires { volume.sample_near(field, region, p, s.hint); })
     return volume.sample_near(field, region, p, s.hint);
   else
@@ -136,7 +156,7 @@ VS_HOST_DEVICE inline float sample_near(const V& volume, int field, uint32_t reg
 // Gradient in world units by central differences (one-sided at the volume's edge).
 template <typename V>
 VS_HOST_DEVICE inline vec3f world_gradient(const FrameView<V>& v, uint32_t region, const vec3f& p, float f,
-                                           RayState& s) {
+                                           RayState<V>& s) {
   const float h = 0.5f * v.volume.step_width(region);
   vec3f g;
   for (int a = 0; a < 3; ++a) {
@@ -163,7 +183,7 @@ struct Bracket {
 // where f stays far from iso.
 template <typename V>
 VS_HOST_DEVICE inline float refine_root(const FrameView<V>& v, const Ray& ray, const Bracket& br, float iso,
-                                        RayState& s) {
+                                        RayState<V>& s) {
   auto g = [&](float t) {
     ++s.samples;
     return sample(v.volume, 0, br.region_at(t), ray.at(t), s) - iso;
@@ -188,7 +208,7 @@ VS_HOST_DEVICE inline float refine_root(const FrameView<V>& v, const Ray& ray, c
 
 // Composites the isosurfaces crossed between the two samples of `br`, nearest first.
 template <typename V>
-VS_HOST_DEVICE inline void isosurfaces(const FrameView<V>& v, const Ray& ray, const Bracket& br, RayState& s) {
+VS_HOST_DEVICE inline void isosurfaces(const FrameView<V>& v, const Ray& ray, const Bracket& br, RayState<V>& s) {
   const IntegratorSettings& st = v.settings;
   float hit_t[kMaxIso];
   uint32_t hit_iso[kMaxIso];
@@ -224,7 +244,7 @@ VS_HOST_DEVICE inline void isosurfaces(const FrameView<V>& v, const Ray& ray, co
 // The previous interval ended and the next one does not touch it (culled regions in between):
 // check the stretch from the last sample to that interval's exit, then forget it.
 template <typename V>
-VS_HOST_DEVICE inline void close_interval(const FrameView<V>& v, const Ray& ray, RayState& s) {
+VS_HOST_DEVICE inline void close_interval(const FrameView<V>& v, const Ray& ray, RayState<V>& s) {
   if (!s.prev.valid) return;
   const PrevSample& p = s.prev;
   // Just inside the exit face: on a face where two bricks' supports meet edge to edge the
@@ -240,7 +260,7 @@ VS_HOST_DEVICE inline void close_interval(const FrameView<V>& v, const Ray& ray,
 // optics' emission and absorption over len_ref reference steps.
 template <OpticsKind kOptics, typename V>
 VS_HOST_DEVICE inline void take_sample(const FrameView<V>& v, const Ray& ray, uint32_t region, float t, float end,
-                                       float f, float len_ref, RayState& s) {
+                                       float f, float len_ref, RayState<V>& s) {
   const bool iso = v.settings.iso_count > 0;
   if (iso && s.prev.valid) isosurfaces(v, ray, {s.prev.t, s.prev.f, t, f, s.prev.end, s.prev.region, region}, s);
   // Without isosurfaces the march stops at opacity before this sample; with them, a surface
@@ -341,7 +361,7 @@ inline bool batches_samples(const FrameView<V>& v) {
 
 // Takes the queued samples and empties the queue; false once the ray is finished.
 template <typename V>
-inline bool take_queued(const FrameView<V>& v, const Ray& ray, SampleQueue& q, RayState& s) {
+inline bool take_queued(const FrameView<V>& v, const Ray& ray, SampleQueue& q, RayState<V>& s) {
   if (q.n == 0) return true;
   float f[kSampleBatch];
   if constexpr (SamplesAcrossRegions<V>) {
@@ -365,7 +385,7 @@ inline bool take_queued(const FrameView<V>& v, const Ray& ray, SampleQueue& q, R
 // Queues an interval's steps, taking each full batch; false once the ray is finished.
 template <typename V>
 inline bool queue_steps(const FrameView<V>& v, const Ray& ray, uint32_t region, const Steps& steps, float jitter,
-                        SampleQueue& q, RayState& s) {
+                        SampleQueue& q, RayState<V>& s) {
   for (uint32_t k = 0; k < steps.n; ++k) {
     steps.at(k, jitter, q.t[q.n], q.len_ref[q.n]);
     q.region[q.n] = region;
@@ -376,7 +396,7 @@ inline bool queue_steps(const FrameView<V>& v, const Ray& ray, uint32_t region, 
 
 template <typename V>
 inline void march_interval_batched(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, const Steps& steps,
-                                   float jitter, RayState& s) {
+                                   float jitter, RayState<V>& s) {
   SampleQueue q;
   if (queue_steps(v, ray, iv.region, steps, jitter, q, s)) take_queued(v, ray, q, s);
 }
@@ -385,7 +405,7 @@ inline void march_interval_batched(const FrameView<V>& v, const Ray& ray, const 
 // own (the queue taken before and after it), which share a region: the one-ABR batch sampler.
 template <typename V>
 inline bool queue_interval(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, float jitter, SampleQueue& q,
-                           RayState& s) {
+                           RayState<V>& s) {
   if (!(iv.t1 - iv.t0 > 0.f)) return true;
   const Steps steps = interval_steps(v, ray, iv);
   const bool alone = steps.n >= kMinBatchSteps;
@@ -398,7 +418,7 @@ inline bool queue_interval(const FrameView<V>& v, const Ray& ray, const RayInter
 // Marches one region's interval.
 template <OpticsKind kOptics, typename V>
 VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, float jitter,
-                                          RayState& s) {
+                                          RayState<V>& s) {
   const IntegratorSettings& st = v.settings;
   if (!(iv.t1 - iv.t0 > 0.f)) return;
   const Steps steps = interval_steps(v, ray, iv);
@@ -436,14 +456,15 @@ VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray,
 
 // kOptics: the frame's optics as a template argument (one branch per ray, not per sample).
 template <OpticsKind kOptics, typename V>
-VS_HOST_DEVICE inline RayState trace_ray(const FrameView<V>& v, const vec3f& org_w, const vec3f& dir_w, float jitter) {
+VS_HOST_DEVICE inline RayState<V> trace_ray(const FrameView<V>& v, const vec3f& org_w, const vec3f& dir_w,
+                                            float jitter) {
   Ray ray;
   ray.org_w = org_w;
   ray.dir_w = dir_w;
   ray.org = (org_w - v.grid.origin) * v.grid.inv_cell_size;
   ray.dir = dir_w * v.grid.inv_cell_size;
   ray.dir_len = length(ray.dir);
-  RayState s;
+  RayState<V> s;
 #if !defined(__CUDA_ARCH__)
   if constexpr (kOptics == OpticsKind::tf && SamplesAcrossRegions<V>) {
     if (batches_samples(v)) {
@@ -486,7 +507,7 @@ VS_HOST_DEVICE inline void render_pixel(const FrameView<V>& v, uint32_t x, uint3
     jitter = kFaceInset + (1.f - 2.f * kFaceInset) * jitter;  // never exactly on a region face
     vec3f org, dir;
     v.camera.ray(float(x) + sx, float(y) + sy, org, dir);
-    const detail::RayState s = detail::trace_ray<kOptics>(v, org, dir, jitter);
+    const detail::RayState<V> s = detail::trace_ray<kOptics>(v, org, dir, jitter);
     color = color + s.acc.color;
     alpha += s.acc.alpha();
     samples += s.samples;

@@ -133,10 +133,10 @@ TEST_P(CompactTest, WalkFromTheHintEqualsSearchAlongLines) {
   for (int line = 0; line < 100; ++line) {
     const vec3f from = b.lower + b.size() * vec3f(u(rng), u(rng), u(rng));
     const vec3f to = b.lower + b.size() * vec3f(u(rng), u(rng), u(rng));
-    int64_t hint = -1;
+    CompactMeshView::Hint hint;
     for (int i = 0; i <= 200; ++i) {
       const vec3f p = from + (to - from) * (float(i) / 200.f);
-      const int64_t before = hint;
+      const int64_t before = hint.element;
       const float got = compact.sample(local.data(), p, hint), want = compact.sample(local.data(), p);
       ASSERT_EQ(std::isnan(got), std::isnan(want)) << "line " << line << " sample " << i;
       if (std::isnan(want)) continue;

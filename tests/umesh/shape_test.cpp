@@ -176,6 +176,51 @@ TEST(Shape, KeptTetSolveGivesTheFreshSolvesFloats) {
   }
 }
 
+// A walk's kept solve (KeptSolve, the ray's hint) answers a second point nearby as a fresh
+// locate_in_element does: the same points inside, the same weights to Newton's tolerance, a face
+// for the points it refuses (a non-tet's iteration starts from the first point's parameters and
+// may give up after one step).
+TEST_P(ShapeTest, KeptSolveAnswersTheNextPointAsAFreshOne) {
+  const int n = GetParam();
+  std::mt19937 rng(900 + n);
+  std::uniform_real_distribution<float> nudge(-0.4f, 0.4f);
+  int inside = 0, refused = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const std::vector<vec3f> x = element(n, rng, 0.12f);
+    auto at = [&](const vec3f& pc) {
+      float w[8];
+      vec3f d[8];
+      shape::weights(n, pc.x, pc.y, pc.z, w, d);
+      vec3f p(0.f);
+      for (int i = 0; i < n; ++i) p = p + x[size_t(i)] * w[i];
+      return p;
+    };
+    const vec3f first_pc = random_params(n, rng);
+    shape::KeptSolve kept;
+    float w[8], outside;
+    int face;
+    ASSERT_TRUE(kept.locate(n, x.data(), at(first_pc), w, &outside, &face)) << "trial " << trial;
+    kept.n = n;
+    const vec3f p = at(first_pc + vec3f(nudge(rng), nudge(rng), nudge(rng)));
+    float w_kept[8], w_fresh[8], out_kept = -1.f, out_fresh = -1.f;
+    int face_kept = -1, face_fresh = -1, kept_n = 0;
+    const bool fresh = shape::locate_in_element(n, x.data(), p, w_fresh, &out_fresh, &face_fresh, false);
+    const bool again = kept.locate_again(p, w_kept, &out_kept, &face_kept, kept_n);
+    EXPECT_EQ(kept_n, n);
+    EXPECT_EQ(kept.n, 0);  // dropped until a walk keeps it again
+    ASSERT_EQ(again, fresh) << "trial " << trial;
+    if (fresh) {
+      ++inside;
+      EXPECT_NEAR(out_kept, out_fresh, 1e-5f);
+      for (int i = 0; i < n; ++i) EXPECT_NEAR(w_kept[i], w_fresh[i], 1e-5f) << "trial " << trial << " weight " << i;
+    } else {
+      refused += face_kept >= 0 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(inside, 500);
+  EXPECT_GT(refused, 500);
+}
+
 INSTANTIATE_TEST_SUITE_P(AllTypes, ShapeTest, ::testing::Values(4, 5, 6, 8),
                          [](const auto& p) { return std::to_string(p.param) + "_vertices"; });
 

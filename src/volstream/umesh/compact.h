@@ -485,56 +485,88 @@ struct CompactMeshView {
     return best_reach > 0.f ? best : -1;
   }
 
-  // Walks from element k of leaf l towards p across the faces p lies beyond (as
-  // UMeshView::walk, with neighbours found by face_neighbour): true with the hit when an element
-  // holds p strictly within kMaxWalk steps.
-  VS_HOST_DEVICE bool walk(uint32_t l, uint32_t k, const vec3f& p, Hit& hit) const {
+  // The ray's note of where its last sample was (RayState::hint, volume.h): the element (leaf *
+  // kMultiLeafSize + slot; -1: none), the solve that located that sample there
+  // (shape::KeptSolve), and the element's corners as the walk reads them, so that the next
+  // sample's first test, in that element, decodes and loads nothing.
+  struct Hint {
+    int64_t element = -1;
+    shape::KeptSolve solve;
+    uint8_t corner[8];
+    uint16_t v[8];
+    uint32_t first_vertex = 0;
+  };
+
+  // Walks from the hint's element towards p across the faces p lies beyond (as UMeshView::walk,
+  // with neighbours found by face_neighbour): true with the hit when an element holds p strictly
+  // within kMaxWalk steps (the hint then holds it).
+  VS_HOST_DEVICE bool walk(Hint& hint, const vec3f& p, Hit& hit) const {
     constexpr int kMaxWalk = 8;
-    for (int step = 0; step < kMaxWalk; ++step) {
-      uint8_t corner[8];
-      uint16_t v[8];
-      const int n = element(leaves[l], k, corner, v);
-      const uint32_t base = submeshes[leaves[l].submesh].first_vertex;
-      vec3f x[8];
-      for (int i = 0; i < n; ++i) x[i] = vertices[base + v[i]];
+    uint32_t l = uint32_t(hint.element / kMultiLeafSize), k = uint32_t(hint.element % kMultiLeafSize);
+    int step = 0;
+    if (hint.solve.n > 0) {  // the first step from the kept solve
       float outside = INFINITY;
-      int face = -1;
-      if (shape::locate_in_element(n, x, p, hit.w, &outside, &face, true) && outside <= 0.f) {
-        hit.leaf = l, hit.slot = k, hit.first_vertex = base, hit.n = n;
-        for (int i = 0; i < n; ++i) hit.v[i] = v[i];
+      int face = -1, n = 0;
+      if (hint.solve.locate_again(p, hit.w, &outside, &face, n) && outside <= 0.f) {
+        hint.solve.n = n;
+        hit.leaf = l, hit.slot = k, hit.first_vertex = hint.first_vertex, hit.n = n;
+        for (int i = 0; i < n; ++i) hit.v[i] = hint.v[i];
         return true;
       }
-      if (face < 0) face = face_towards(n, x, p);
-      if (face < 0 || !face_neighbour(l, k, corner, v, n, face)) return false;
+      if (face < 0) face = face_towards(n, corners(hint.first_vertex, hint.v, n).x, p);
+      if (face < 0 || !face_neighbour(l, k, hint.corner, hint.v, n, face)) return false;
+      ++step;
+    }
+    for (; step < kMaxWalk; ++step) {
+      const int n = element(leaves[l], k, hint.corner, hint.v);
+      const uint32_t base = submeshes[leaves[l].submesh].first_vertex;
+      const Corners x = corners(base, hint.v, n);
+      float outside = INFINITY;
+      int face = -1;
+      if (hint.solve.locate(n, x.x, p, hit.w, &outside, &face) && outside <= 0.f) {
+        hint.element = l * int64_t(kMultiLeafSize) + k;
+        hint.solve.n = n;
+        hint.first_vertex = base;
+        hit.leaf = l, hit.slot = k, hit.first_vertex = base, hit.n = n;
+        for (int i = 0; i < n; ++i) hit.v[i] = hint.v[i];
+        return true;
+      }
+      if (face < 0) face = face_towards(n, x.x, p);
+      if (face < 0 || !face_neighbour(l, k, hint.corner, hint.v, n, face)) return false;
     }
     return false;
   }
 
-  // The element holding p: a walk from the ray's previous element (hint = leaf *
-  // kMultiLeafSize + slot) first; where it ends without a strict hit, that element's leaf from
-  // there out, then every other leaf holding p, near ones first (so the result is search's: a
-  // strict hit wins, none is missed). The element found is the next hint.
-  using Hint = int64_t;  // the element as leaf * kMultiLeafSize + slot; -1: none
-  VS_HOST_DEVICE Hit locate(const vec3f& p, int64_t& hint) const {
+  struct Corners {
+    vec3f x[8];
+  };
+  VS_HOST_DEVICE Corners corners(uint32_t first_vertex, const uint16_t* v, int n) const {
+    Corners c;
+    for (int i = 0; i < n; ++i) c.x[i] = vertices[first_vertex + v[i]];
+    return c;
+  }
+
+  // The element holding p: a walk from the ray's previous element first; where it ends without a
+  // strict hit, that element's leaf from there out, then every other leaf holding p, near ones
+  // first (so the result is search's: a strict hit wins, none is missed). The element found is
+  // the next hint.
+  VS_HOST_DEVICE Hit locate(const vec3f& p, Hint& hint) const {
     Hit hit;
     float best = INFINITY;
-    if (hint >= 0 && walk(uint32_t(hint / kMultiLeafSize), uint32_t(hint % kMultiLeafSize), p, hit)) {
-      hint = hit.leaf * int64_t(kMultiLeafSize) + hit.slot;
-      return hit;
-    }
+    if (hint.element >= 0 && walk(hint, p, hit)) return hit;
     hit = Hit{};
-    if (hint >= 0) {
-      const uint32_t leaf = uint32_t(hint / kMultiLeafSize);
-      if (!test_leaf(leaf, p, hit, best, uint32_t(hint % kMultiLeafSize)))
+    if (hint.element >= 0) {
+      const uint32_t leaf = uint32_t(hint.element / kMultiLeafSize);
+      if (!test_leaf(leaf, p, hit, best, uint32_t(hint.element % kMultiLeafSize)))
         for_each_leaf_holding_near(leaf, p, [&](uint32_t other) { return test_leaf(other, p, hit, best); });
     } else {
       search(p, hit, best);
     }
-    if (hit.leaf >= 0) hint = hit.leaf * int64_t(kMultiLeafSize) + hit.slot;
+    if (hit.leaf >= 0) hint.element = hit.leaf * int64_t(kMultiLeafSize) + hit.slot;
     return hit;
   }
 
-  VS_HOST_DEVICE float sample(const float* values, const vec3f& p, int64_t& hint) const {
+  VS_HOST_DEVICE float sample(const float* values, const vec3f& p, Hint& hint) const {
     const Hit hit = locate(p, hint);
     if (hit.leaf < 0) return NAN;
     float f = 0.f;
@@ -542,7 +574,7 @@ struct CompactMeshView {
     return f;
   }
   VS_HOST_DEVICE float sample(const float* values, const vec3f& p) const {
-    int64_t no_hint = -1;
+    Hint no_hint;
     return sample(values, p, no_hint);
   }
 };

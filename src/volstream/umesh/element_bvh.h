@@ -96,14 +96,11 @@ struct UMeshView {
   }
 
   // The ray's note of where its last sample was (RayState::hint, volume.h): the element, and
-  // when it is a tet, the solve that located that sample (shape::TetSolve). Nearly every walk
-  // starts by testing p in that element (consecutive samples are close; it fails about half the
-  // time on a tet mesh, and gives the face to cross); with the solve kept, that test needs no
-  // corner or element loads and no cross products, and gives the same floats.
+  // the solve that located that sample there (shape::KeptSolve), so that the next sample's
+  // first test, in that element, loads no corners.
   struct Hint {
     int64_t element = -1;
-    bool has_tet = false;  // `tet` is element's solve
-    shape::TetSolve tet;
+    shape::KeptSolve solve;
   };
 
   // Walks from the hint's element towards p across the faces p lies beyond (face adjacency):
@@ -113,14 +110,12 @@ struct UMeshView {
     constexpr int kMaxWalk = 8;
     uint32_t e = uint32_t(hint.element);
     int step = 0;
-    const bool kept = hint.has_tet;
-    hint.has_tet = false;  // hint.tet now holds the walk's last solve, whichever element that was
-    if (kept) {            // the first step from the kept solve
+    if (hint.solve.n > 0) {  // the first step from the kept solve
       float outside = INFINITY;
-      int face = -1;
-      if (shape::tet_weights(hint.tet, p, hit.w, &outside, &face) && outside <= 0.f) {
+      int face = -1, n = 0;
+      if (hint.solve.locate_again(p, hit.w, &outside, &face, n) && outside <= 0.f) {
         hit.element = e;
-        hint.has_tet = true;
+        hint.solve.n = n;
         return true;
       }
       if (!cross_face(e, face)) return false;
@@ -133,12 +128,10 @@ struct UMeshView {
       for (int i = 0; i < n; ++i) x[i] = vertices[el.v[i]];
       float outside = INFINITY;
       int face = -1;
-      const bool in = n == 4 ? shape::locate_in_tet(x, p, hit.w, &outside, &face, &hint.tet)
-                             : shape::locate_in_element(n, x, p, hit.w, &outside, &face, true);
-      if (in && outside <= 0.f) {
+      if (hint.solve.locate(n, x, p, hit.w, &outside, &face) && outside <= 0.f) {
         hit.element = e;
         hint.element = e;
-        hint.has_tet = n == 4;
+        hint.solve.n = n;
         return true;
       }
       if (!cross_face(e, face)) return false;

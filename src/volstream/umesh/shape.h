@@ -214,33 +214,36 @@ VS_HOST_DEVICE inline bool newton_shows_outside(int n, const vec3f& pc, float st
   return params_outside(n, pc.x, pc.y, pc.z, face) > (margin < 0.25f ? margin : 0.25f);
 }
 
-// Interpolation weights of the element with corners x[0..n) at point p; false if p is outside
-// (beyond kParamTolerance). `outside` (optional) gets how far outside the parameter domain p is
-// (<= 0: strictly inside), so that callers can prefer the element that holds p strictly over a
-// neighbour that only takes it within the tolerance (and extrapolates a little).
-// `face` (optional) gets the face p lies beyond most, or -1 when p is too far to tell (Newton
-// diverged or did not converge), also when false is returned.
-// `early_out`: give up as soon as the iteration shows p outside (a walk only needs the face to
-// cross then; the answer for a point inside is the same either way).
-VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f& p, float* w, float* outside = nullptr,
-                                             int* face = nullptr, bool early_out = false) {
-  if (face) *face = -1;
-  if (n == 4) return locate_in_tet(x, p, w, outside, face);
-  // Relative to corner 0: coordinates of the element's size, so float rounding stays far below
-  // the Newton tolerance however far the element is from the grid's origin.
+// A hex's, wedge's or pyramid's map as Newton inverts it: the polynomial form relative to corner
+// 0 (coordinates of the element's size, so float rounding stays far below the Newton tolerance
+// however far the element is from the grid's origin), and the parametric point found last (a
+// walk keeps it: the next point, close by, starts its iteration there).
+struct IsoSolve {
+  vec3f origin;  // corner 0
+  IsoMap map;
+  vec3f params;
+};
+VS_HOST_DEVICE inline IsoSolve iso_solve(int n, const vec3f* x) {
   vec3f local[8];
   for (int i = 0; i < n; ++i) local[i] = x[i] - x[0];
-  const IsoMap map = iso_map(n, local);
-  const vec3f target = p - x[0];
-  vec3f pc = centre_params(n);
+  return {x[0], iso_map(n, local), centre_params(n)};
+}
+
+// Newton's inversion of s.map at p from s.params, which becomes the point reached; the rest as
+// locate_in_element.
+VS_HOST_DEVICE inline bool iso_weights(int n, IsoSolve& s, const vec3f& p, float* w, float* outside, int* face,
+                                       bool early_out, int first_exit = 1) {
+  if (face) *face = -1;
+  const vec3f target = p - s.origin;
+  vec3f& pc = s.params;
   float step = 0.f, previous = 0.f;
   for (int it = 0; it < kNewtonIterations; ++it, previous = step) {
     vec3f delta;
-    if (!newton_step(map, target, pc, delta)) return false;
+    if (!newton_step(s.map, target, pc, delta)) return false;
     pc = pc + delta;
     step = fabsf(delta.x) + fabsf(delta.y) + fabsf(delta.z);
     if (newton_converged(step, previous)) break;
-    if (early_out && it >= 1 && newton_shows_outside(n, pc, step, face)) return false;
+    if (early_out && it >= first_exit && newton_shows_outside(n, pc, step, face)) return false;
     if (!(fabsf(pc.x) < 4.f && fabsf(pc.y) < 4.f && fabsf(pc.z) < 4.f)) return false;  // diverging: far outside
   }
   // Newton converges quadratically: a last step this small is float noise, not a slow approach.
@@ -252,5 +255,62 @@ VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f&
   weights(n, pc.x, pc.y, pc.z, w, d);
   return true;
 }
+
+// Interpolation weights of the element with corners x[0..n) at point p; false if p is outside
+// (beyond kParamTolerance). `outside` (optional) gets how far outside the parameter domain p is
+// (<= 0: strictly inside), so that callers can prefer the element that holds p strictly over a
+// neighbour that only takes it within the tolerance (and extrapolates a little).
+// `face` (optional) gets the face p lies beyond most, or -1 when p is too far to tell (Newton
+// diverged or did not converge), also when false is returned.
+// `early_out`: give up as soon as the iteration shows p outside (a walk only needs the face to
+// cross then; the answer for a point inside is the same either way).
+VS_HOST_DEVICE inline bool locate_in_element(int n, const vec3f* x, const vec3f& p, float* w, float* outside = nullptr,
+                                             int* face = nullptr, bool early_out = false) {
+  if (n == 4) {
+    if (face) *face = -1;
+    return locate_in_tet(x, p, w, outside, face);
+  }
+  IsoSolve s = iso_solve(n, x);
+  return iso_weights(n, s, p, w, outside, face, early_out);
+}
+
+// A walk's solve of the last element it found a point in, kept for the next point (the ray's
+// hint: element_bvh.h, compact.h). Consecutive samples are close, so a walk starts by testing p
+// in that element (on the demo meshes p has left it about half the time, and the test gives the
+// face to cross); with the solve kept that test loads no corners. A tet's kept solve gives the
+// same floats as a fresh one; another type's Newton iteration starts from the previous point,
+// which is close: it may give up after its first step when that shows p outside (from the
+// element's centre it takes two, newton_shows_outside). Inside, the weights are the fresh ones
+// to Newton's tolerance (tests/umesh/shape_test.cpp).
+struct KeptSolve {
+  int n = 0;  // vertex count of the element whose solve is kept; 0: none
+  TetSolve tet;
+  IsoSolve iso;
+
+  // p in the kept element (as locate_in_element with early_out). The solve is dropped: a walk
+  // keeps it again where it finds p.
+  VS_HOST_DEVICE bool locate_again(const vec3f& p, float* w, float* outside, int* face, int& kept_n) {
+    kept_n = n;
+    n = 0;
+    if (kept_n == 4) return tet_weights(tet, p, w, outside, face);
+    // Near a pyramid's apex, where its map is singular, Newton from there may reach the mirror
+    // root beyond the apex and refuse a point inside (found by the test of this): start from the
+    // centre there.
+    if (kept_n == 5 && iso.params.z > 0.5f) {
+      iso.params = centre_params(5);
+      return iso_weights(kept_n, iso, p, w, outside, face, true);
+    }
+    return iso_weights(kept_n, iso, p, w, outside, face, true, 0);
+  }
+  // p in the element with corners x[0..count) (locate_in_element with early_out), solving it afresh.
+  VS_HOST_DEVICE bool locate(int count, const vec3f* x, const vec3f& p, float* w, float* outside, int* face) {
+    if (count == 4) {
+      if (face) *face = -1;
+      return locate_in_tet(x, p, w, outside, face, &tet);
+    }
+    iso = iso_solve(count, x);
+    return iso_weights(count, iso, p, w, outside, face, true);
+  }
+};
 
 }  // namespace vs::shape

@@ -13,6 +13,7 @@
 #include "volstream/io/vtu.h"
 #include "volstream/umesh/compact.h"
 #include "volstream/umesh/from_mesh_data.h"
+#include "volstream/umesh/spatial_order.h"
 
 namespace vs {
 namespace fs = std::filesystem;
@@ -128,7 +129,14 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
   const std::string origin = series.origin(0);
   const WorldTransform transform = mesh_transform(first);
   if (const std::string problem = transform_problem(transform); !problem.empty()) input_error(origin, problem);
-  const UMesh mesh = make_umesh(first, transform, origin);
+  // Stored in spatial order (umesh/spatial_order.h): elements and vertices are renumbered, each
+  // step's values with them; inputs are checked in the file's numbering, which messages name.
+  MeshOrder order;
+  const UMesh mesh = [&] {
+    const UMesh as_read = make_umesh(first, transform, origin);
+    order = spatial_order(as_read);
+    return reordered(as_read, order);
+  }();
   stats.encode_seconds = watch.lap();
   stats.elements = mesh.elements.size();
   stats.vertices = mesh.vertices.size();
@@ -173,8 +181,9 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
       });
       if (it == here.end()) input_error(series.origin(step), "no field '" + fields[f].name + "' in this step");
       watch.lap();
-      const std::vector<float> values = mesh_field_values(first, *it);
-      check_field_values(values, series.origin(step), fields[f].name, step);
+      const std::vector<float> file_values = mesh_field_values(first, *it);
+      check_field_values(file_values, series.origin(step), fields[f].name, step);
+      const std::vector<float> values = reordered_values(file_values, order);
       if (compact)  // the step's range over every vertex, as the reference encoding has it
         writer.write_values(int(f), step, compact_mesh.gather(values.data()),
                             value_range(values.data(), values.size()));

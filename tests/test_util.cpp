@@ -140,3 +140,15 @@ std::string bvh_difference(const std::vector<BvhNode>& a, const std::vector<BvhN
 }
 
 }  // namespace vs::test
+
+namespace vs::test {
+std::vector<vec3f> points_around(const std::vector<vec3f>& vertices, int count, uint32_t seed) {
+  box3f b = box3f::make_empty();
+  for (const vec3f& v : vertices) b.extend(v);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-0.05f, 1.05f);
+  std::vector<vec3f> points(static_cast<size_t>(count));
+  for (vec3f& p : points) p = b.lower + b.size() * vec3f(u(rng), u(rng), u(rng));
+  return points;
+}
+}  // namespace vs::test

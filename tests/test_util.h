@@ -56,3 +56,11 @@ std::vector<float> test_values(const TestVolume& volume, const GridFunction& f);
 // dims cells of one level, x fastest, starting at `offset` (grid units).
 std::vector<Cell> uniform_cells(vec3i dims, int level = 0, vec3i offset = {0, 0, 0});
 }  // namespace vs::test
+
+#include "volstream/core/math.h"
+
+namespace vs::test {
+// `count` random points (deterministic for a seed) in the box of `vertices` grown by 5% of its
+// size on every side: mostly in a mesh, some around it.
+std::vector<vec3f> points_around(const std::vector<vec3f>& vertices, int count, uint32_t seed);
+}  // namespace vs::test

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_util.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -46,12 +48,7 @@ TEST_P(CompactTest, EqualsTheReferenceAtRandomPoints) {
   const UMeshRenderer reference(e.mesh, e.transform);
   const CompactMeshView compact = view_of(e.compact);
   const std::vector<float> local = e.compact.gather(e.values.data());
-  box3f b = box3f::make_empty();
-  for (const vec3f& v : e.mesh.vertices) b.extend(v);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> u(-0.05f, 1.05f);
-  std::vector<vec3f> points(10000);
-  for (vec3f& p : points) p = b.lower + b.size() * vec3f(u(rng), u(rng), u(rng));
+  const std::vector<vec3f> points = test::points_around(e.mesh.vertices, 10000, 5);
   const std::vector<float> want = reference.probe(e.values.data(), points);
   int inside = 0;
   for (size_t i = 0; i < points.size(); ++i) {

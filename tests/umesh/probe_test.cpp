@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "test_util.h"
 #include "volstream/render/integrators/umesh_renderer.h"
 #include "volstream/umesh/demo.h"
 #include "volstream/umesh/from_mesh_data.h"
@@ -33,14 +34,7 @@ DemoMesh demo(const std::string& name, uint64_t elements) {
 }
 
 std::vector<vec3f> random_points(const DemoMesh& d, int count, uint32_t seed) {
-  box3f b = box3f::make_empty();
-  for (const vec3f& v : d.mesh.vertices) b.extend(v);
-  const vec3f pad = b.size() * 0.05f;
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(0.f, 1.f);
-  std::vector<vec3f> points(static_cast<size_t>(count));
-  for (vec3f& p : points) p = b.lower - pad + (b.size() + pad * 2.f) * vec3f(u(rng), u(rng), u(rng));
-  return points;
+  return test::points_around(d.mesh.vertices, count, seed);
 }
 
 class MeshProbeTest : public ::testing::TestWithParam<std::string> {};

@@ -41,6 +41,16 @@ vec3f random_params(int n, std::mt19937& rng) {
   return pc;
 }
 
+// The point of the element with corners x at parametric pc (VTK's map, also beyond its domain).
+vec3f point_at(int n, const std::vector<vec3f>& x, const vec3f& pc) {
+  float w[8];
+  vec3f d[8];
+  shape::weights(n, pc.x, pc.y, pc.z, w, d);
+  vec3f p(0.f);
+  for (int i = 0; i < n; ++i) p = p + x[size_t(i)] * w[i];
+  return p;
+}
+
 class ShapeTest : public ::testing::TestWithParam<int> {};
 
 TEST_P(ShapeTest, LinearFieldIsReproducedAtRandomInteriorPoints) {
@@ -48,12 +58,7 @@ TEST_P(ShapeTest, LinearFieldIsReproducedAtRandomInteriorPoints) {
   std::mt19937 rng(n);
   for (int trial = 0; trial < 200; ++trial) {
     const std::vector<vec3f> x = element(n, rng, 0.12f);
-    const vec3f pc = random_params(n, rng);
-    float w[8];
-    vec3f d[8];
-    shape::weights(n, pc.x, pc.y, pc.z, w, d);
-    vec3f p(0.f);
-    for (int i = 0; i < n; ++i) p = p + x[size_t(i)] * w[i];
+    const vec3f p = point_at(n, x, random_params(n, rng));
     float found[8];
     ASSERT_TRUE(shape::locate_in_element(n, x.data(), p, found)) << "trial " << trial;
     float f = 0.f;
@@ -131,11 +136,7 @@ TEST_P(ShapeTest, EarlyOutGivesTheSameAnswerAsFullConvergence) {
   for (int trial = 0; trial < 4000; ++trial) {
     const std::vector<vec3f> x = element(n, rng, 0.12f);
     // The map extended beyond the parameter domain: points inside and near every face.
-    float wp[8];
-    vec3f dp[8];
-    shape::weights(n, around(rng), around(rng), around(rng), wp, dp);
-    vec3f p(0.f);
-    for (int i = 0; i < n; ++i) p = p + x[size_t(i)] * wp[i];
+    const vec3f p = point_at(n, x, vec3f{around(rng), around(rng), around(rng)});
     float w_full[8], w_early[8], out_full = -1.f, out_early = -1.f;
     int face_full = -1, face_early = -1;
     const bool full = shape::locate_in_element(n, x.data(), p, w_full, &out_full, &face_full, false);
@@ -187,21 +188,13 @@ TEST_P(ShapeTest, KeptSolveAnswersTheNextPointAsAFreshOne) {
   int inside = 0, refused = 0;
   for (int trial = 0; trial < 4000; ++trial) {
     const std::vector<vec3f> x = element(n, rng, 0.12f);
-    auto at = [&](const vec3f& pc) {
-      float w[8];
-      vec3f d[8];
-      shape::weights(n, pc.x, pc.y, pc.z, w, d);
-      vec3f p(0.f);
-      for (int i = 0; i < n; ++i) p = p + x[size_t(i)] * w[i];
-      return p;
-    };
     const vec3f first_pc = random_params(n, rng);
     shape::KeptSolve kept;
     float w[8], outside;
     int face;
-    ASSERT_TRUE(kept.locate(n, x.data(), at(first_pc), w, &outside, &face)) << "trial " << trial;
+    ASSERT_TRUE(kept.locate(n, x.data(), point_at(n, x, first_pc), w, &outside, &face)) << "trial " << trial;
     kept.n = n;
-    const vec3f p = at(first_pc + vec3f(nudge(rng), nudge(rng), nudge(rng)));
+    const vec3f p = point_at(n, x, first_pc + vec3f{nudge(rng), nudge(rng), nudge(rng)});
     float w_kept[8], w_fresh[8], out_kept = -1.f, out_fresh = -1.f;
     int face_kept = -1, face_fresh = -1, kept_n = 0;
     const bool fresh = shape::locate_in_element(n, x.data(), p, w_fresh, &out_fresh, &face_fresh, false);

@@ -10,6 +10,7 @@
 #include <numeric>
 #include <random>
 
+#include "test_util.h"
 #include "volstream/render/integrators/umesh_renderer.h"
 #include "volstream/umesh/adjacency.h"
 #include "volstream/umesh/demo.h"
@@ -93,12 +94,7 @@ TEST_P(SpatialOrderTest, PointLocationFindsTheSameValues) {
   const MeshOrder order = spatial_order(in.mesh);
   const UMesh out = reordered(in.mesh, order);
   const std::vector<float> values = reordered_values(in.values, order);
-  box3f b = box3f::make_empty();
-  for (const vec3f& v : in.mesh.vertices) b.extend(v);
-  std::mt19937 rng(8);
-  std::uniform_real_distribution<float> u(-0.05f, 1.05f);
-  std::vector<vec3f> points(4000);
-  for (vec3f& p : points) p = b.lower + b.size() * vec3f(u(rng), u(rng), u(rng));
+  const std::vector<vec3f> points = test::points_around(in.mesh.vertices, 4000, 8);
   const std::vector<float> want = UMeshRenderer(in.mesh, in.transform).probe(in.values.data(), points);
   const std::vector<float> got = UMeshRenderer(out, in.transform).probe(values.data(), points);
   int inside = 0;

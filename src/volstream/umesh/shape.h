@@ -230,7 +230,8 @@ VS_HOST_DEVICE inline IsoSolve iso_solve(int n, const vec3f* x) {
 }
 
 // Newton's inversion of s.map at p from s.params, which becomes the point reached; the rest as
-// locate_in_element.
+// locate_in_element. `first_exit`: the first iteration after which early_out may give up (1 from
+// the element's centre, where the first step can be far off; 0 from a kept point nearby).
 VS_HOST_DEVICE inline bool iso_weights(int n, IsoSolve& s, const vec3f& p, float* w, float* outside, int* face,
                                        bool early_out, int first_exit = 1) {
   if (face) *face = -1;

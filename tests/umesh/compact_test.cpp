@@ -182,11 +182,39 @@ void expect_cached_neighbours_equal_search(const CompactMeshView& view, Check&& 
 TEST_P(CompactTest, CachedFaceNeighboursEqualTheSearch) {
   const Encoded e = encode(GetParam(), 20000), other = encode(GetParam() == "tets" ? "mixed" : "tets", 20000);
   const CompactMeshView view = view_of(e.compact), other_view = view_of(other.compact);
-  ASSERT_TRUE(view.neighbour_cache);
+  ASSERT_TRUE(view.thread_caches);
   int across = 0;
   for (const CompactMeshView* v : {&view, &other_view, &view})
     expect_cached_neighbours_equal_search(*v, [&](uint32_t from, uint32_t to) { across += from != to ? 1 : 0; });
   EXPECT_GT(across, 1000);  // faces between leaves, the searches the cache saves
+}
+
+// Searches with the thread's cached element boxes (LeafBoxCache) find what searches that decode
+// every element find, at points in and around the mesh, also when a view of another mesh used the
+// thread's cache in between (its leaves' boxes are not this mesh's).
+TEST_P(CompactTest, CachedElementBoxesGiveTheUncachedSearch) {
+  const Encoded e = encode(GetParam(), 20000), other = encode(GetParam() == "tets" ? "mixed" : "tets", 20000);
+  const std::vector<float> local = e.compact.gather(e.values.data());
+  const std::vector<float> other_local = other.compact.gather(other.values.data());
+  CompactMeshView uncached = view_of(e.compact);
+  uncached.thread_caches = false;
+  const std::vector<vec3f> points = test::points_around(e.mesh.vertices, 4000, 17);
+  const std::vector<vec3f> other_points = test::points_around(other.mesh.vertices, 500, 18);
+  int inside = 0;
+  for (int round = 0; round < 2; ++round) {
+    const CompactMeshView cached = view_of(e.compact), other_view = view_of(other.compact);
+    ASSERT_TRUE(cached.thread_caches);
+    ASSERT_NE(cached.id, other_view.id);
+    for (size_t i = 0; i < points.size(); ++i) {
+      const float got = cached.sample(local.data(), points[i]), want = uncached.sample(local.data(), points[i]);
+      ASSERT_EQ(std::isnan(got), std::isnan(want)) << "point " << i;
+      if (std::isnan(want)) continue;
+      ++inside;
+      EXPECT_EQ(got, want) << "point " << i;
+    }
+    for (const vec3f& p : other_points) other_view.sample(other_local.data(), p);  // fills the cache with its leaves
+  }
+  EXPECT_GT(inside, 2000);
 }
 
 // A mesh of several sub-meshes: the neighbour across a face between two is found by the face's
@@ -197,7 +225,7 @@ TEST(Compact, FaceNeighboursAcrossSubMeshesAreFoundByPosition) {
   const CompactMesh& c = e.compact;
   ASSERT_GE(c.submeshes.size(), 2u);
   CompactMeshView view = view_of(c);
-  view.neighbour_cache = false;
+  view.thread_caches = false;
   const auto reference_corners = [&](uint32_t l, uint32_t k) {
     uint8_t corner[8];
     uint16_t v[8];

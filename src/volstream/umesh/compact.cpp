@@ -3,6 +3,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -317,7 +318,9 @@ CompactBytes CompactMesh::bytes_by_part() const {
 
 CompactMeshView compact_view(const CompactMesh& host, const CompactNode* nodes, const CompactLeaf* leaves,
                              const uint8_t* bytes, const CompactSubmesh* submeshes, const vec3f* vertices) {
+  static std::atomic<uint64_t> views{0};
   CompactMeshView v;
+  v.id = ++views;
   v.nodes = nodes, v.leaves = leaves, v.bytes = bytes, v.submeshes = submeshes, v.vertices = vertices;
   v.leaf_count = uint32_t(host.leaves.size());
   v.leaf_parents = host.leaf_parents;

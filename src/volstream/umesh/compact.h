@@ -153,30 +153,53 @@ void build_compact_tree(CompactMesh& c, const std::vector<box3f>& leaf_boxes);
 
 // The face neighbours a CPU thread found last, direct-mapped by (leaf, element, face): rays of
 // one tile (launch_cpu.h) cross the same faces, and finding a neighbour in another leaf (a search
-// up the tree) costs more than the rest of a walk's step. Entries are of the mesh `mesh` (its
-// bytes); a thread's cache is emptied when it walks another.
+// up the tree) costs more than the rest of a walk's step. Entries are of one view
+// (CompactMeshView::id, new for every view made): a thread's cache is emptied when it walks
+// another, so it never holds another mesh's neighbours.
 struct NeighbourCache {
   static constexpr uint32_t kEntries = 8192;
   static constexpr uint64_t kNone = ~uint64_t(0);  // no neighbour (the mesh's boundary)
-  const uint8_t* mesh;
+  uint64_t view = 0;
   uint64_t from[kEntries];  // 1 + (leaf * kMultiLeafSize + element) * 8 + face; 0: empty
   uint64_t to[kEntries];    // leaf * kMultiLeafSize + element, or kNone
 
   static uint32_t entry(uint64_t key) { return uint32_t((key * 0x9E3779B97F4A7C15ull) >> 51); }
-  // The thread's cache, emptied if it held another mesh's neighbours. On the heap: a thread's
+  // The thread's cache, emptied if it held another view's neighbours. On the heap: a thread's
   // static TLS comes out of its stack, which threads started with small stacks (the view
   // server's) cannot spare 128 KiB of.
-  static NeighbourCache& of_thread(const uint8_t* mesh_bytes) {
+  static NeighbourCache& of_thread(uint64_t view_id) {
     static thread_local std::unique_ptr<NeighbourCache> cache;
     if (!cache) cache = std::make_unique<NeighbourCache>();  // zeroed: every entry empty
-    if (cache->mesh != mesh_bytes) {
+    if (cache->view != view_id) {
       memset(cache->from, 0, sizeof(cache->from));
-      cache->mesh = mesh_bytes;
+      cache->view = view_id;
     }
     return *cache;
   }
 };
 static_assert(NeighbourCache::kEntries == 1u << 13);  // entry() keeps the hash's top 13 bits
+
+// The element boxes of the leaves a thread searched last (CPU only, like NeighbourCache). A
+// search tests the elements of every leaf whose box holds p, each decoded with its corners loaded
+// before its box can refuse p; for a point outside every element (the samples of a ray before it
+// enters the mesh or after it leaves) that is all of them, and the rays of a tile search the same
+// leaves along the mesh's boundary. A cached box refuses p without the decoding. Entries are of one
+// view (CompactMeshView::id, new for every view made), so they are never another mesh's.
+struct LeafBoxCache {
+  static constexpr uint32_t kEntries = 64;  // direct-mapped by leaf: neighbouring leaves do not collide
+  uint64_t view = 0;
+  uint32_t leaf[kEntries];  // leaf + 1; 0: empty
+  box3f boxes[kEntries][kMultiLeafSize];
+  static LeafBoxCache& of_thread(uint64_t view_id) {
+    static thread_local std::unique_ptr<LeafBoxCache> cache;  // on the heap, as NeighbourCache's
+    if (!cache) cache = std::make_unique<LeafBoxCache>();
+    if (cache->view != view_id) {
+      memset(cache->leaf, 0, sizeof(cache->leaf));
+      cache->view = view_id;
+    }
+    return *cache;
+  }
+};
 
 // Everything sampling reads (host or device pointers).
 struct CompactMeshView {
@@ -192,7 +215,10 @@ struct CompactMeshView {
   static constexpr int kMaxLevels = 16;
   uint32_t level_first[kMaxLevels] = {};
   int levels = 0;
-  bool neighbour_cache = true;  // on the CPU, the thread's NeighbourCache (false: every search made; tests)
+  // On the CPU, the thread's NeighbourCache and LeafBoxCache (false: every search made and every
+  // element decoded; tests).
+  bool thread_caches = true;
+  uint64_t id = 0;  // unique per view made (compact_view): the key of the thread caches
 
   struct Hit {
     int64_t leaf = -1;
@@ -272,13 +298,40 @@ struct CompactMeshView {
   VS_HOST_DEVICE bool test_leaf(uint32_t l, const vec3f& p, Hit& hit, float& best, uint32_t start = 0) const {
     const uint32_t count = leaves[l].element_count();
     if (start >= count) start = 0;
+    const box3f* boxes = nullptr;  // the elements' boxes where a thread cache has them
+#ifndef __CUDA_ARCH__
+    if (thread_caches) boxes = cached_element_boxes(l);
+#endif
+    auto test = [&](uint32_t k) { return (!boxes || boxes[k].contains(p)) && test_element(l, k, p, hit, best); };
     for (uint32_t d = 0; d < count; ++d) {
-      if (start + d < count && test_element(l, start + d, p, hit, best)) return true;
-      if (d > 0 && d <= start && test_element(l, start - d, p, hit, best)) return true;
+      if (start + d < count && test(start + d)) return true;
+      if (d > 0 && d <= start && test(start - d)) return true;
       if (start + d >= count && d > start) break;
     }
     return false;
   }
+
+#ifndef __CUDA_ARCH__
+  // The boxes of leaf l's elements (as test_element makes them), from the thread's LeafBoxCache.
+  const box3f* cached_element_boxes(uint32_t l) const {
+    LeafBoxCache& cache = LeafBoxCache::of_thread(id);
+    const uint32_t at = l % LeafBoxCache::kEntries;
+    if (cache.leaf[at] != l + 1) {
+      const CompactLeaf& leaf = leaves[l];
+      const uint32_t base = submeshes[leaf.submesh].first_vertex;
+      for (uint32_t k = 0; k < leaf.element_count(); ++k) {
+        uint8_t corner[8];
+        uint16_t v[8];
+        const int n = element(leaf, k, corner, v);
+        box3f b = box3f::make_empty();
+        for (int i = 0; i < n; ++i) b.extend(vertices[base + v[i]]);
+        cache.boxes[at][k] = b;
+      }
+      cache.leaf[at] = l + 1;
+    }
+    return cache.boxes[at];
+  }
+#endif
 
   // Calls visit(leaf) for every leaf whose box holds the box [lo, hi] below node `top` but not
   // below its child `skip` (-1: none), until visit returns true (then true).
@@ -411,15 +464,15 @@ struct CompactMeshView {
     // A paired tet's face off its apex (corner 3: local face 3) is the face it shares with its pair.
     if (n == 4 && face == 3 && k < 2u * leaves[l].tet_pairs) return k ^= 1u, true;
 #ifndef __CUDA_ARCH__
-    if (neighbour_cache) {
-      NeighbourCache& cache = NeighbourCache::of_thread(bytes);
+    if (thread_caches) {
+      NeighbourCache& cache = NeighbourCache::of_thread(id);
       const uint64_t key = 1u + (uint64_t(l) * kMultiLeafSize + k) * 8u + uint64_t(face);
       const uint32_t at = NeighbourCache::entry(key);
       if (cache.from[at] == key) {
         const uint64_t to = cache.to[at];
         if (to == NeighbourCache::kNone) return false;
         const uint64_t to_leaf = to / kMultiLeafSize;
-        // Entries are of this mesh, but a freed one's bytes may have been reused: never outside it.
+        // Entries are of this view's mesh; checked anyway, so that no entry can lead outside it.
         if (to_leaf < leaf_count && to % kMultiLeafSize < leaves[to_leaf].element_count())
           return l = uint32_t(to_leaf), k = uint32_t(to % kMultiLeafSize), true;
       }

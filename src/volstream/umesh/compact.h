@@ -164,18 +164,7 @@ struct NeighbourCache {
   uint64_t to[kEntries];    // leaf * kMultiLeafSize + element, or kNone
 
   static uint32_t entry(uint64_t key) { return uint32_t((key * 0x9E3779B97F4A7C15ull) >> 51); }
-  // The thread's cache, emptied if it held another view's neighbours. On the heap: a thread's
-  // static TLS comes out of its stack, which threads started with small stacks (the view
-  // server's) cannot spare 128 KiB of.
-  static NeighbourCache& of_thread(uint64_t view_id) {
-    static thread_local std::unique_ptr<NeighbourCache> cache;
-    if (!cache) cache = std::make_unique<NeighbourCache>();  // zeroed: every entry empty
-    if (cache->view != view_id) {
-      memset(cache->from, 0, sizeof(cache->from));
-      cache->view = view_id;
-    }
-    return *cache;
-  }
+  void clear() { memset(from, 0, sizeof(from)); }
 };
 static_assert(NeighbourCache::kEntries == 1u << 13);  // entry() keeps the hash's top 13 bits
 
@@ -190,16 +179,22 @@ struct LeafBoxCache {
   uint64_t view = 0;
   uint32_t leaf[kEntries];  // leaf + 1; 0: empty
   box3f boxes[kEntries][kMultiLeafSize];
-  static LeafBoxCache& of_thread(uint64_t view_id) {
-    static thread_local std::unique_ptr<LeafBoxCache> cache;  // on the heap, as NeighbourCache's
-    if (!cache) cache = std::make_unique<LeafBoxCache>();
-    if (cache->view != view_id) {
-      memset(cache->leaf, 0, sizeof(cache->leaf));
-      cache->view = view_id;
-    }
-    return *cache;
-  }
+  void clear() { memset(leaf, 0, sizeof(leaf)); }
 };
+
+// The calling thread's cache of type C (NeighbourCache, LeafBoxCache), emptied when it last held
+// another view's entries. On the heap: a thread's static TLS comes out of its stack, which
+// threads started with small stacks (the view server's) cannot spare 100 KiB of.
+template <typename C>
+C& thread_cache(uint64_t view_id) {
+  static thread_local std::unique_ptr<C> cache;
+  if (!cache) cache = std::make_unique<C>();
+  if (cache->view != view_id) {
+    cache->clear();
+    cache->view = view_id;
+  }
+  return *cache;
+}
 
 // Everything sampling reads (host or device pointers).
 struct CompactMeshView {
@@ -268,6 +263,21 @@ struct CompactMeshView {
     return n;
   }
 
+  // The corner positions of an element whose sub-mesh vertices are v[0..n) (element() gives them).
+  struct CornerPoints {
+    vec3f x[8];
+    VS_HOST_DEVICE box3f box(int n) const {
+      box3f b = box3f::make_empty();
+      for (int i = 0; i < n; ++i) b.extend(x[i]);
+      return b;
+    }
+  };
+  VS_HOST_DEVICE CornerPoints corner_points(uint32_t first_vertex, const uint16_t* v, int n) const {
+    CornerPoints c;
+    for (int i = 0; i < n; ++i) c.x[i] = vertices[first_vertex + v[i]];
+    return c;
+  }
+
   // Tests element k of leaf l (hit and best as for UMeshView::consider: a strict hit wins, else
   // the nearest within the tolerance); true on a strict hit.
   VS_HOST_DEVICE bool test_element(uint32_t l, uint32_t k, const vec3f& p, Hit& hit, float& best) const {
@@ -276,14 +286,9 @@ struct CompactMeshView {
     uint16_t v[8];
     const int n = element(leaf, k, corner, v);
     const uint32_t base = submeshes[leaf.submesh].first_vertex;
-    vec3f x[8];
-    box3f b = box3f::make_empty();
-    for (int i = 0; i < n; ++i) {
-      x[i] = vertices[base + v[i]];
-      b.extend(x[i]);
-    }
+    const CornerPoints x = corner_points(base, v, n);
     float w[8], outside;
-    if (!b.contains(p) || !shape::locate_in_element(n, x, p, w, &outside) || !(outside < best)) return false;
+    if (!x.box(n).contains(p) || !shape::locate_in_element(n, x.x, p, w, &outside) || !(outside < best)) return false;
     best = outside;
     hit.leaf = l;
     hit.slot = k;
@@ -314,7 +319,7 @@ struct CompactMeshView {
 #ifndef __CUDA_ARCH__
   // The boxes of leaf l's elements (as test_element makes them), from the thread's LeafBoxCache.
   const box3f* cached_element_boxes(uint32_t l) const {
-    LeafBoxCache& cache = LeafBoxCache::of_thread(id);
+    LeafBoxCache& cache = thread_cache<LeafBoxCache>(id);
     const uint32_t at = l % LeafBoxCache::kEntries;
     if (cache.leaf[at] != l + 1) {
       const CompactLeaf& leaf = leaves[l];
@@ -323,9 +328,7 @@ struct CompactMeshView {
         uint8_t corner[8];
         uint16_t v[8];
         const int n = element(leaf, k, corner, v);
-        box3f b = box3f::make_empty();
-        for (int i = 0; i < n; ++i) b.extend(vertices[base + v[i]]);
-        cache.boxes[at][k] = b;
+        cache.boxes[at][k] = corner_points(base, v, n).box(n);
       }
       cache.leaf[at] = l + 1;
     }
@@ -465,7 +468,7 @@ struct CompactMeshView {
     if (n == 4 && face == 3 && k < 2u * leaves[l].tet_pairs) return k ^= 1u, true;
 #ifndef __CUDA_ARCH__
     if (thread_caches) {
-      NeighbourCache& cache = NeighbourCache::of_thread(id);
+      NeighbourCache& cache = thread_cache<NeighbourCache>(id);
       const uint64_t key = 1u + (uint64_t(l) * kMultiLeafSize + k) * 8u + uint64_t(face);
       const uint32_t at = NeighbourCache::entry(key);
       if (cache.from[at] == key) {
@@ -566,14 +569,14 @@ struct CompactMeshView {
         for (int i = 0; i < n; ++i) hit.v[i] = hint.v[i];
         return true;
       }
-      if (face < 0) face = face_towards(n, corners(hint.first_vertex, hint.v, n).x, p);
+      if (face < 0) face = face_towards(n, corner_points(hint.first_vertex, hint.v, n).x, p);
       if (face < 0 || !face_neighbour(l, k, hint.corner, hint.v, n, face)) return false;
       ++step;
     }
     for (; step < kMaxWalk; ++step) {
       const int n = element(leaves[l], k, hint.corner, hint.v);
       const uint32_t base = submeshes[leaves[l].submesh].first_vertex;
-      const Corners x = corners(base, hint.v, n);
+      const CornerPoints x = corner_points(base, hint.v, n);
       float outside = INFINITY;
       int face = -1;
       if (hint.solve.locate(n, x.x, p, hit.w, &outside, &face) && outside <= 0.f) {
@@ -588,15 +591,6 @@ struct CompactMeshView {
       if (face < 0 || !face_neighbour(l, k, hint.corner, hint.v, n, face)) return false;
     }
     return false;
-  }
-
-  struct Corners {
-    vec3f x[8];
-  };
-  VS_HOST_DEVICE Corners corners(uint32_t first_vertex, const uint16_t* v, int n) const {
-    Corners c;
-    for (int i = 0; i < n; ++i) c.x[i] = vertices[first_vertex + v[i]];
-    return c;
   }
 
   // The element holding p: a walk from the ray's previous element first; where it ends without a

@@ -15,8 +15,8 @@
 //   v.step_width(region)                  the region's finest feature size: adaptive sampling
 //                                         steps width / rate
 //   v.locate(p)                           the region containing p, or -1
-// and optionally sample(field, region, p, hint) and sample_near(..., hint) with a V::Hint (or an
-// int64_t, -1 at first, where V declares no Hint type) that the integrator keeps per ray
+// and optionally, with a type V::Hint, sample(field, region, p, hint) and sample_near(..., hint)
+// with the V::Hint (value-initialised for each ray) that the integrator keeps per ray
 // (RayState::hint): the volume's note of where the previous sample was found (a mesh's element,
 // and a tet's solve), which it may read and update to find the next one faster.
 //

@@ -102,24 +102,17 @@ struct PrevSample {
   float end = 0.f;  // exit distance of that sample's region interval
 };
 
-// The per-ray note of volumes that take a hint (volume.h): V::Hint, or an integer where they
-// take one (-1: none yet).
+// The per-ray note of volumes that take a hint (volume.h): V::Hint; nothing for the others.
+struct NoHint {};
 template <typename V>
 struct HintOf {
-  using type = int64_t;
+  using type = NoHint;
 };
 template <typename V>
 requires requires { typename V::Hint; }
 struct HintOf<V> {
   using type = typename V::Hint;
 };
-template <typename H>
-VS_HOST_DEVICE constexpr H no_hint() {
-  if constexpr (std::is_integral_v<H>)
-    return H(-1);
-  else
-    return H{};
-}
 
 template <typename V>
 struct RayState {
@@ -128,7 +121,7 @@ struct RayState {
   uint32_t samples = 0;
   // Where the volume found the ray's last sample (an unstructured mesh's element), for volumes
   // that take a hint (volume.h): consecutive samples are close, so it is often right.
-  typename HintOf<V>::type hint = no_hint<typename HintOf<V>::type>();
+  typename HintOf<V>::type hint{};
 };
 
 // Early ray termination, where the frame allows it (settings.h).

@@ -288,7 +288,8 @@ struct CompactMeshView {
     const uint32_t base = submeshes[leaf.submesh].first_vertex;
     const CornerPoints x = corner_points(base, v, n);
     float w[8], outside;
-    if (!x.box(n).contains(p) || !shape::locate_in_element(n, x.x, p, w, &outside) || !(outside < best)) return false;
+    if (!x.box(n).contains(p) || !shape::locate_in_element(n, x.x, p, w, &outside, nullptr, true) || !(outside < best))
+      return false;
     best = outside;
     hit.leaf = l;
     hit.slot = k;

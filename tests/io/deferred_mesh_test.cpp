@@ -131,6 +131,30 @@ TEST(DeferredMesh, PartReadFromTheFilesEqualsThePartOfTheWholeMesh) {
   }
 }
 
+// A whole load hands the renderer the macrocells convert stored, which are the ones it would
+// build from the mesh; a part builds its own (on the whole grid), so it gets none.
+TEST(DeferredMesh, WholeLoadOffersTheStoredMacrocellsWhichAreTheBuiltOnes) {
+  for (const MeshEncoding encoding : kEncodings) {
+    SCOPED_TRACE(encoding == MeshEncoding::compact ? "compact" : "reference");
+    Dataset whole(holes_dir(encoding));
+    const MacroCells* stored = whole.stored_macrocells();
+    ASSERT_NE(stored, nullptr);
+    const MacroCells built =
+        whole.is_compact_mesh() ? build_macrocells(whole.compact_mesh()) : build_macrocells(whole.mesh());
+    EXPECT_EQ(stored->grid.dims, built.grid.dims);
+    EXPECT_EQ(stored->grid.cell_size, built.grid.cell_size);
+    EXPECT_EQ(stored->grid.bounds.lower, built.grid.bounds.lower);
+    EXPECT_EQ(stored->grid.bounds.upper, built.grid.bounds.upper);
+    EXPECT_EQ(stored->region_of_cell, built.region_of_cell);
+    EXPECT_EQ(stored->cell_of_region, built.cell_of_region);
+    EXPECT_EQ(stored->step_width, built.step_width);
+    DatasetPart part;
+    part.mesh_items = {0, 1};
+    whole.restrict_to(part);
+    EXPECT_EQ(whole.stored_macrocells(), nullptr);
+  }
+}
+
 // A dataset written before the mesh index (no macrocell count, no index files) is read whole,
 // deferred or not, and gives the same index and parts.
 TEST(DeferredMesh, DatasetsWithoutAnIndexAreReadWhole) {

@@ -5,6 +5,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 
@@ -30,6 +31,27 @@ void parallel_for_ranges(int64_t n, F&& f, int64_t grain = 1) {
   if (n <= 0) return;
   tbb::parallel_for(tbb::blocked_range<int64_t>(0, n, grain),
                     [&](const tbb::blocked_range<int64_t>& r) { f(r.begin(), r.end()); });
+}
+
+// The smallest i in [0, n) for which ok(i) is false, or -1 where there is none: the serial loop's
+// answer found in parallel, so that a check's error message names the same item whatever the
+// threads did (for the checks of a dataset's load over millions of records).
+template <typename Ok>
+int64_t first_failing(int64_t n, Ok&& ok, int64_t grain = 4096) {
+  std::atomic<int64_t> first{n};
+  parallel_for_ranges(
+      n,
+      [&](int64_t begin, int64_t end) {
+        for (int64_t i = begin; i < end && i < first.load(std::memory_order_relaxed); ++i) {
+          if (ok(i)) continue;
+          int64_t seen = first.load(std::memory_order_relaxed);
+          while (i < seen && !first.compare_exchange_weak(seen, i, std::memory_order_relaxed)) {
+          }
+          return;
+        }
+      },
+      grain);
+  return first.load() == n ? -1 : first.load();
 }
 
 }  // namespace vs

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cctype>
 #include <chrono>
@@ -314,11 +315,11 @@ void validate_topology(const AmrTopology& t, const std::string& file) {
 // Every element's used slots come first (4, 5, 6 or 8), name existing vertices and match the
 // manifest's counts by type; every vertex is finite.
 void check_finite_vertices(const std::vector<vec3f>& vertices, const std::string& file) {
-  for (size_t i = 0; i < vertices.size(); ++i) {
-    const vec3f& v = vertices[i];
-    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
-      input_error(file, "vertex " + std::to_string(i) + " is not finite");
-  }
+  const int64_t bad = first_failing(int64_t(vertices.size()), [&](int64_t i) {
+    const vec3f& v = vertices[size_t(i)];
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  });
+  if (bad >= 0) input_error(file, "vertex " + std::to_string(bad) + " is not finite");
 }
 
 // Its used slots come first (4, 5, 6 or 8) and name existing vertices.
@@ -329,14 +330,26 @@ bool element_valid(const UElement& el, uint64_t vertex_count) {
   return ok;
 }
 
+// Elements of each type (type_slot order), counted in parallel.
+std::array<uint64_t, 4> count_by_type(const std::vector<UElement>& elements) {
+  std::array<std::atomic<uint64_t>, 4> total{};
+  parallel_for_ranges(
+      int64_t(elements.size()),
+      [&](int64_t begin, int64_t end) {
+        uint64_t n[4] = {};
+        for (int64_t e = begin; e < end; ++e) ++n[type_slot(elements[size_t(e)].vertex_count())];
+        for (int t = 0; t < 4; ++t) total[size_t(t)] += n[t];
+      },
+      4096);
+  return {total[0].load(), total[1].load(), total[2].load(), total[3].load()};
+}
+
 void validate_mesh(const UMesh& m, const MeshCounts& counts, const std::string& file) {
   check_finite_vertices(m.vertices, file);
-  uint64_t by_type[4] = {};
-  for (size_t e = 0; e < m.elements.size(); ++e) {
-    const UElement& el = m.elements[e];
-    if (!element_valid(el, m.vertices.size())) input_error(file, "element " + std::to_string(e) + " is invalid");
-    ++by_type[type_slot(el.vertex_count())];
-  }
+  const int64_t bad = first_failing(int64_t(m.elements.size()),
+                                    [&](int64_t e) { return element_valid(m.elements[size_t(e)], m.vertices.size()); });
+  if (bad >= 0) input_error(file, "element " + std::to_string(bad) + " is invalid");
+  const std::array<uint64_t, 4> by_type = count_by_type(m.elements);
   for (int t = 0; t < 4; ++t)
     if (by_type[t] != counts.by_type[t])
       input_error(file, std::string("the manifest's ") + kTypeSlotNames[t] + " count does not match the elements");
@@ -555,15 +568,26 @@ std::vector<AbrChunk> Dataset::abr_chunks() const {
 void Dataset::load_mesh() {
   if (manifest_.mesh.compact()) return load_compact_mesh();
   if (deferred_) return load_reference_index();
-  mesh_.vertices = read_topology<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
-  mesh_.elements = read_topology<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
-  for (int t = 0; t < 4; ++t) mesh_.count_by_type[t] = manifest_.mesh.by_type[t];
-  validate_mesh(mesh_, manifest_.mesh, (dir_ / dataset_files::kMeshElements).string());
-  mesh_accel_.bvh.nodes = read_topology<ElementBvhNode>(dir_ / dataset_files::kMeshBvhNodes, manifest_.mesh.bvh_nodes);
-  mesh_accel_.bvh.items = read_topology<uint32_t>(dir_ / dataset_files::kMeshBvhItems, manifest_.mesh.elements);
-  mesh_accel_.neighbors =
-      read_topology<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
-  check_mesh_accel(mesh_, mesh_accel_, (dir_ / dataset_files::kMeshBvhNodes).string());
+  const std::string nodes_file = (dir_ / dataset_files::kMeshBvhNodes).string();
+  // The BVH and adjacency are read and their structure checked beside the vertices and elements
+  // (it needs only the element count); the macrocells as convert stored them beside both.
+  tbb::parallel_invoke(
+      [&] {
+        mesh_.vertices = read_topology<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
+        mesh_.elements = read_topology<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
+        for (int t = 0; t < 4; ++t) mesh_.count_by_type[t] = manifest_.mesh.by_type[t];
+        validate_mesh(mesh_, manifest_.mesh, (dir_ / dataset_files::kMeshElements).string());
+      },
+      [&] {
+        mesh_accel_.bvh.nodes =
+            read_topology<ElementBvhNode>(dir_ / dataset_files::kMeshBvhNodes, manifest_.mesh.bvh_nodes);
+        mesh_accel_.bvh.items = read_topology<uint32_t>(dir_ / dataset_files::kMeshBvhItems, manifest_.mesh.elements);
+        mesh_accel_.neighbors =
+            read_topology<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
+        check_mesh_accel_structure(mesh_accel_, manifest_.mesh.elements, nodes_file);
+        if (manifest_.mesh.macrocells > 0) read_stored_macrocells();
+      });
+  check_mesh_accel_boxes(mesh_, mesh_accel_, nodes_file);
   count_mesh_bytes();
 }
 
@@ -608,6 +632,7 @@ void Dataset::load_compact_mesh() {
   compact_.replicated =
       compact_.vertices.size() - std::min<uint64_t>(compact_.vertices.size(), manifest_.mesh.vertices);
   check_compact_mesh(compact_, manifest_.mesh.by_type, dir_);
+  if (manifest_.mesh.macrocells > 0) read_stored_macrocells();
   count_mesh_bytes();
 }
 
@@ -684,6 +709,10 @@ const UMesh& Dataset::mesh() const {
 const MeshAccel& Dataset::mesh_accel() const {
   if (is_compact_mesh()) throw std::logic_error("Dataset::mesh_accel: the dataset stores the compact encoding");
   return mesh_accel_;
+}
+
+const MacroCells* Dataset::stored_macrocells() const {
+  return is_mesh() && !restricted_ && manifest_.mesh.macrocells > 0 ? &stored_cells_ : nullptr;
 }
 
 const CompactMesh& Dataset::compact_mesh() const {

@@ -26,46 +26,66 @@ MeshAccel build_mesh_accel(const UMesh& mesh) {
 
 namespace {
 
-void check_nodes(const UMesh& mesh, const ElementBvh& bvh, const std::string& file) {
-  const auto& nodes = bvh.nodes;
-  input_check(!nodes.empty() && bvh.items.size() == mesh.elements.size(), file, "BVH sizes do not match the mesh");
-  std::vector<uint8_t> depth(nodes.size(), 0);
-  std::vector<uint8_t> seen(mesh.elements.size(), 0);
-  // Messages are made only on failure (a string per node would cost more than the checks).
-  auto fail = [&](size_t i, const char* what) { input_error(file, "BVH node " + std::to_string(i) + " " + what); };
-  for (size_t i = 0; i < nodes.size(); ++i) {
-    const ElementBvhNode& n = nodes[i];
-    if (n.count == 0) {
-      // Children after their parent: every search path ends, within the search stack's depth.
-      if (!(n.first > i && uint64_t(n.first) + 1 < nodes.size())) fail(i, "has bad children");
-      if (depth[i] >= 60) fail(i, "is too deep");
-      for (uint32_t c = n.first; c <= n.first + 1; ++c) {
-        depth[c] = uint8_t(depth[i] + 1);
-        if (!n.box.contains(nodes[c].box)) fail(i, "has a box that does not hold its children");
-      }
-      continue;
-    }
-    if (!(n.count <= 64 && uint64_t(n.first) + n.count <= bvh.items.size())) fail(i, "has bad items");
-    for (uint32_t k = n.first; k < n.first + n.count; ++k) {
-      const uint32_t e = bvh.items[k];
-      if (!(e < seen.size() && !seen[e])) input_error(file, "BVH items are not a permutation of the elements");
-      seen[e] = 1;
-      // Each element's box made where it is checked: no second array of all of them at load.
-      if (!n.box.contains(element_box(mesh.vertices.data(), mesh.elements[e])))
-        fail(i, "has a box that does not hold its elements");
-    }
-  }
-  for (uint8_t s : seen) input_check(s != 0, file, "BVH leaves do not hold every element");
+// Messages are made only on failure (a string per node would cost more than the checks).
+[[noreturn]] void node_error(const std::string& file, int64_t i, const char* what) {
+  input_error(file, "BVH node " + std::to_string(i) + " " + what);
 }
 
 }  // namespace
 
+void check_mesh_accel_structure(const MeshAccel& accel, uint64_t elements, const std::string& file) {
+  const ElementBvh& bvh = accel.bvh;
+  const auto& nodes = bvh.nodes;
+  input_check(!nodes.empty() && bvh.items.size() == elements, file, "BVH sizes do not match the mesh");
+  std::vector<uint8_t> depth(nodes.size(), 0);
+  std::vector<uint8_t> seen(elements, 0);
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const ElementBvhNode& n = nodes[i];
+    if (n.count == 0) {
+      // Children after their parent: every search path ends, within the search stack's depth.
+      if (!(n.first > i && uint64_t(n.first) + 1 < nodes.size())) node_error(file, int64_t(i), "has bad children");
+      if (depth[i] >= 60) node_error(file, int64_t(i), "is too deep");
+      for (uint32_t c = n.first; c <= n.first + 1; ++c) {
+        depth[c] = uint8_t(depth[i] + 1);
+        if (!n.box.contains(nodes[c].box)) node_error(file, int64_t(i), "has a box that does not hold its children");
+      }
+      continue;
+    }
+    if (!(n.count <= 64 && uint64_t(n.first) + n.count <= bvh.items.size()))
+      node_error(file, int64_t(i), "has bad items");
+    for (uint32_t k = n.first; k < n.first + n.count; ++k) {
+      const uint32_t e = bvh.items[k];
+      if (!(e < seen.size() && !seen[e])) input_error(file, "BVH items are not a permutation of the elements");
+      seen[e] = 1;
+    }
+  }
+  for (uint8_t s : seen) input_check(s != 0, file, "BVH leaves do not hold every element");
+  input_check(accel.neighbors.size() == elements * shape::kMaxFaces, file, "face neighbours do not match the mesh");
+  const int64_t bad = first_failing(int64_t(accel.neighbors.size()), [&](int64_t i) {
+    const uint32_t n = accel.neighbors[size_t(i)];
+    return n == kNoNeighbor || n < elements;
+  });
+  input_check(bad < 0, file, "a face neighbour is out of range");
+}
+
+void check_mesh_accel_boxes(const UMesh& mesh, const MeshAccel& accel, const std::string& file) {
+  const auto& nodes = accel.bvh.nodes;
+  // Each element's box made where it is checked: no second array of all of them at load.
+  const int64_t bad = first_failing(
+      int64_t(nodes.size()),
+      [&](int64_t i) {
+        const ElementBvhNode& n = nodes[size_t(i)];
+        for (uint32_t k = n.first; k < n.first + n.count; ++k)
+          if (!n.box.contains(element_box(mesh.vertices.data(), mesh.elements[accel.bvh.items[k]]))) return false;
+        return true;
+      },
+      1024);
+  if (bad >= 0) node_error(file, bad, "has a box that does not hold its elements");
+}
+
 void check_mesh_accel(const UMesh& mesh, const MeshAccel& accel, const std::string& file) {
-  check_nodes(mesh, accel.bvh, file);
-  input_check(accel.neighbors.size() == mesh.elements.size() * shape::kMaxFaces, file,
-              "face neighbours do not match the mesh");
-  for (uint32_t n : accel.neighbors)
-    input_check(n == kNoNeighbor || n < mesh.elements.size(), file, "a face neighbour is out of range");
+  check_mesh_accel_structure(accel, mesh.elements.size(), file);
+  check_mesh_accel_boxes(mesh, accel, file);
 }
 
 }  // namespace vs

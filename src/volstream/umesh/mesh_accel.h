@@ -39,5 +39,10 @@ inline UMeshView view_of(const UMesh& mesh, const MeshAccel& accel) {
 // permutation of the elements, every box holding its children or elements, every neighbour a
 // valid element or none.
 void check_mesh_accel(const UMesh& mesh, const MeshAccel& accel, const std::string& file);
+// Its two halves: what needs only the element count (links, depth, items, neighbours; a load
+// runs it while the vertices and elements are read), then the boxes against the elements (in
+// parallel), which rely on the first.
+void check_mesh_accel_structure(const MeshAccel& accel, uint64_t elements, const std::string& file);
+void check_mesh_accel_boxes(const UMesh& mesh, const MeshAccel& accel, const std::string& file);
 
 }  // namespace vs

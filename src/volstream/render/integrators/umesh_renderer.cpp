@@ -15,17 +15,20 @@ void needs_reference_encoding(const std::string& feature) {
 }
 
 UMeshRenderer::UMeshRenderer(const UMesh& mesh, const MeshAccel& accel, const WorldTransform& transform,
-                             const MeshWhole* whole)
-    : UMeshRenderer(&mesh, nullptr, &accel, nullptr, transform, whole) {}
+                             const MeshWhole* whole, const MacroCells* cells)
+    : UMeshRenderer(&mesh, nullptr, &accel, nullptr, transform, whole, cells) {}
 
 UMeshRenderer::UMeshRenderer(const UMesh& mesh, const WorldTransform& transform)
-    : UMeshRenderer(&mesh, std::make_unique<MeshAccel>(build_mesh_accel(mesh)), nullptr, nullptr, transform, nullptr) {}
+    : UMeshRenderer(&mesh, std::make_unique<MeshAccel>(build_mesh_accel(mesh)), nullptr, nullptr, transform, nullptr,
+                    nullptr) {}
 
-UMeshRenderer::UMeshRenderer(const CompactMesh& stored, const WorldTransform& transform, const MeshWhole* whole)
-    : UMeshRenderer(nullptr, nullptr, nullptr, &stored, transform, whole) {}
+UMeshRenderer::UMeshRenderer(const CompactMesh& stored, const WorldTransform& transform, const MeshWhole* whole,
+                             const MacroCells* cells)
+    : UMeshRenderer(nullptr, nullptr, nullptr, &stored, transform, whole, cells) {}
 
 UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned, const MeshAccel* borrowed,
-                             const CompactMesh* stored, const WorldTransform& transform, const MeshWhole* whole)
+                             const CompactMesh* stored, const WorldTransform& transform, const MeshWhole* whole,
+                             const MacroCells* cells)
     : mesh_(mesh),
       owned_(std::move(owned)),
       accel_(borrowed ? borrowed : owned_.get()),
@@ -34,7 +37,10 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
       bounds_(whole ? whole->world_bounds : world_bounds(mesh ? mesh->vertices : stored->vertices, transform)) {
   Stopwatch watch;
   const MacroGrid* grid = whole ? &whole->grid : nullptr;
-  cells_ = mesh ? build_macrocells(*mesh, grid) : build_macrocells(*stored, grid);
+  if (cells && !whole)
+    cells_ = *cells;
+  else
+    cells_ = mesh ? build_macrocells(*mesh, grid) : build_macrocells(*stored, grid);
   build_seconds_ = watch.seconds();
   visible_.assign(cells_.region_count(), 1);
   const UMeshBytes b = bytes();

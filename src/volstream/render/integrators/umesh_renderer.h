@@ -42,14 +42,17 @@ struct MeshWhole {
 
 class UMeshRenderer {
  public:
-  // Keeps references to `mesh` and `accel` (the dataset's stored BVH and adjacency).
+  // Keeps references to `mesh` and `accel` (the dataset's stored BVH and adjacency). With `cells`
+  // (the dataset's stored macrocells of this whole mesh: Dataset::stored_macrocells) they are
+  // copied, not built; with `whole` (a part's) they are built over the part on the whole grid.
   UMeshRenderer(const UMesh& mesh, const MeshAccel& accel, const WorldTransform& transform,
-                const MeshWhole* whole = nullptr);
+                const MeshWhole* whole = nullptr, const MacroCells* cells = nullptr);
   // Builds its own BVH and adjacency (tests, meshes not read from a dataset).
   UMeshRenderer(const UMesh& mesh, const WorldTransform& transform);
   // A mesh stored in the compact encoding (keeps a reference): no reference encoding exists, so
   // only the compact views and probes work, and values are per local vertex.
-  UMeshRenderer(const CompactMesh& stored, const WorldTransform& transform, const MeshWhole* whole = nullptr);
+  UMeshRenderer(const CompactMesh& stored, const WorldTransform& transform, const MeshWhole* whole = nullptr,
+                const MacroCells* cells = nullptr);
   bool has_reference() const { return mesh_ != nullptr; }
 
   // Values as the dataset stores them: per vertex (reference) or per local vertex (compact).
@@ -92,7 +95,8 @@ class UMeshRenderer {
 
  private:
   UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned, const MeshAccel* borrowed,
-                const CompactMesh* stored, const WorldTransform& transform, const MeshWhole* whole);
+                const CompactMesh* stored, const WorldTransform& transform, const MeshWhole* whole,
+                const MacroCells* cells);
   const MeshAccel& reference_accel() const;  // UsageError for a stored compact mesh
   template <typename Locator>
   FrameView<MeshVolume<Locator>> make_view(const Locator& locator, const FrameFields& fields, const OpticsView& optics,

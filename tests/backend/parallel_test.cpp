@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 namespace vs {
@@ -23,10 +24,30 @@ TEST(Parallel, FirstFailingIsTheSerialLoopsAnswer) {
       for (int f = 0; f < failures && n > 0; ++f) ok[rng() % uint64_t(n)] = 0;
       for (const int64_t grain : {int64_t(1), int64_t(4096)}) {
         SCOPED_TRACE(testing::Message() << n << " items, " << failures << " failures, grain " << grain);
-        EXPECT_EQ(first_failing(n, [&](int64_t i) { return ok[size_t(i)] != 0; }, grain), first_failing_serially(ok));
+        EXPECT_EQ(first_failing(
+                      n, [&](int64_t i) { return ok[size_t(i)] != 0; }, grain),
+                  first_failing_serially(ok));
       }
     }
   }
+}
+
+// Whichever task fails sooner, the error is the serial order's first.
+TEST(Parallel, InvokeInOrderThrowsTheFirstTasksErrorFirst) {
+  for (int round = 0; round < 20; ++round) {
+    try {
+      parallel_invoke_in_order([] { throw std::runtime_error("first"); }, [] { throw std::runtime_error("second"); });
+      FAIL() << "nothing thrown";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "first");
+    }
+  }
+  int ran = 0;
+  EXPECT_THROW(parallel_invoke_in_order([&] { ++ran; }, [] { throw std::logic_error("second"); }), std::logic_error);
+  EXPECT_EQ(ran, 1);
+  std::atomic<int> both{0};
+  parallel_invoke_in_order([&] { ++both; }, [&] { ++both; });
+  EXPECT_EQ(both.load(), 2);
 }
 
 }  // namespace

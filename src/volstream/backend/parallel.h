@@ -4,10 +4,12 @@
 #pragma once
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 
 #include "volstream/backend/launch_times.h"
 #include "volstream/core/stopwatch.h"
@@ -52,6 +54,24 @@ int64_t first_failing(int64_t n, Ok&& ok, int64_t grain = 4096) {
       },
       grain);
   return first.load() == n ? -1 : first.load();
+}
+
+// Runs first() and second() in parallel and then throws what the serial order `first(); second();`
+// would have thrown: first's exception if it threw, else second's (so that a damaged input's
+// message does not depend on which thread failed sooner).
+template <typename First, typename Second>
+void parallel_invoke_in_order(First&& first, Second&& second) {
+  std::exception_ptr errors[2];
+  auto catching = [&](auto& f, std::exception_ptr& error) {
+    try {
+      f();
+    } catch (...) {
+      error = std::current_exception();
+    }
+  };
+  tbb::parallel_invoke([&] { catching(first, errors[0]); }, [&] { catching(second, errors[1]); });
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
 }
 
 }  // namespace vs

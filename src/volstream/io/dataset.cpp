@@ -1,6 +1,5 @@
 #include "volstream/io/dataset.h"
 
-#include <tbb/parallel_invoke.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -532,7 +531,7 @@ void Dataset::load_amr(TopologyLoad load) {
     // The stored BVH's tree is read and checked beside the ABRs and their lists (it needs only
     // their count), then refit to their boxes.
     const uint64_t bvh_nodes = manifest_.abr_bvh_node_count;
-    tbb::parallel_invoke(
+    parallel_invoke_in_order(
         [&] {
           topology_.abrs = read_topology<Abr>(dir_ / dataset_files::kAbrs, manifest_.abr_count);
           topology_.abr_bricks = read_topology<uint32_t>(dir_ / dataset_files::kAbrBricks, manifest_.abr_brick_count);
@@ -571,7 +570,7 @@ void Dataset::load_mesh() {
   const std::string nodes_file = (dir_ / dataset_files::kMeshBvhNodes).string();
   // The BVH and adjacency are read and their structure checked beside the vertices and elements
   // (it needs only the element count); the macrocells as convert stored them beside both.
-  tbb::parallel_invoke(
+  parallel_invoke_in_order(
       [&] {
         mesh_.vertices = read_topology<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
         mesh_.elements = read_topology<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);

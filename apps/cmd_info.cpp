@@ -22,7 +22,7 @@ void add_device_bytes(const Dataset& ds, nlohmann::json& summary) {
 // built here, as a render would) and that divided by the elements: bytes_per_element.
 void add_mesh_resident_bytes(const Dataset& ds, nlohmann::json& summary) {
   const WorldTransform& transform = ds.manifest().transform;
-  const MacroCells* cells = ds.stored_macrocells();
+  const MacroCells* cells = ds.macrocells();
   const UMeshRenderer renderer = ds.is_compact_mesh()
                                      ? UMeshRenderer(ds.compact_mesh(), transform, nullptr, cells)
                                      : UMeshRenderer(ds.mesh(), ds.mesh_accel(), transform, nullptr, cells);

@@ -137,7 +137,7 @@ TEST(DeferredMesh, WholeLoadOffersTheStoredMacrocellsWhichAreTheBuiltOnes) {
   for (const MeshEncoding encoding : kEncodings) {
     SCOPED_TRACE(encoding == MeshEncoding::compact ? "compact" : "reference");
     Dataset whole(holes_dir(encoding));
-    const MacroCells* stored = whole.stored_macrocells();
+    const MacroCells* stored = whole.macrocells();
     ASSERT_NE(stored, nullptr);
     const MacroCells built =
         whole.is_compact_mesh() ? build_macrocells(whole.compact_mesh()) : build_macrocells(whole.mesh());
@@ -151,7 +151,7 @@ TEST(DeferredMesh, WholeLoadOffersTheStoredMacrocellsWhichAreTheBuiltOnes) {
     DatasetPart part;
     part.mesh_items = {0, 1};
     whole.restrict_to(part);
-    EXPECT_EQ(whole.stored_macrocells(), nullptr);
+    EXPECT_EQ(whole.macrocells(), nullptr);
   }
 }
 
@@ -197,6 +197,39 @@ std::string read_damaged(const std::string& name, const std::string& file,
 template <typename T>
 void patch(std::vector<char>& bytes, size_t at, T value) {
   std::memcpy(bytes.data() + at, &value, sizeof(T));
+}
+
+// A whole load takes only the grid from mesh_macrocells.bin and builds the cells on it, so a
+// grid that does not bound the mesh, or cells that are not its non-empty ones, are refused;
+// step widths are the mesh's own (a damaged width changes nothing).
+TEST(DeferredMesh, WholeLoadRefusesStoredMacrocellsThatAreNotTheMeshs) {
+  for (const MeshEncoding encoding : kEncodings) {
+    SCOPED_TRACE(encoding == MeshEncoding::compact ? "compact" : "reference");
+    const std::string name = encoding == MeshEncoding::compact ? "whole_cells_compact_" : "whole_cells_reference_";
+    auto whole_load = [&](const std::string& what, const std::function<void(std::vector<char>&)>& damage) {
+      const fs::path dir = test::damaged_copy(holes_dir(encoding), name + what, "mesh_macrocells.bin", damage);
+      return test::input_error_line([&] { Dataset ds(dir); });
+    };
+    // The grid's lower x moved out a little: still a grid of the same dims and cell size
+    // (bounds are checked to give them), but not this mesh's bounds.
+    const Dataset whole(holes_dir(encoding));
+    const MacroGrid grid = whole.macrocells()->grid;
+    const float widened = std::nextafter(grid.bounds.lower.x, -INFINITY);
+    std::string line = whole_load("bounds", [&](auto& b) { patch<float>(b, offsetof(MacroGrid, bounds), widened); });
+    EXPECT_NE(line.find("mesh_macrocells.bin"), std::string::npos) << line;
+    EXPECT_NE(line, "accepted");
+    const size_t cell_count = whole.macrocells()->cell_of_region.size();
+    line = whole_load("cells", [&](auto& b) {  // the last non-empty cell moved to the grid's last cell
+      patch<uint32_t>(b, sizeof(MacroGrid) + 8 * (cell_count - 1), uint32_t(grid.cell_count() - 1));
+    });
+    if (whole.macrocells()->cell_of_region.back() != grid.cell_count() - 1) {
+      EXPECT_NE(line.find("not the mesh's"), std::string::npos) << line;
+    }
+    const fs::path width = test::damaged_copy(holes_dir(encoding), name + "width", "mesh_macrocells.bin",
+                                              [](auto& b) { patch<float>(b, sizeof(MacroGrid) + 4, 0.f); });
+    const Dataset damaged(width);
+    EXPECT_EQ(damaged.macrocells()->step_width, whole.macrocells()->step_width);
+  }
 }
 
 TEST(DeferredMesh, ReaderRefusesDamagedFilesNamingThem) {

@@ -133,7 +133,7 @@ struct FrameRenderer::Impl {
       MeshWhole whole;
       if (part) whole = {part->mesh_grid, part->world_bounds};
       const MeshWhole* share = part ? &whole : nullptr;
-      const MacroCells* stored = dataset.stored_macrocells();
+      const MacroCells* stored = dataset.macrocells();
       umesh = dataset.is_compact_mesh()
                   ? std::make_unique<UMeshRenderer>(dataset.compact_mesh(), transform, share, stored)
                   : std::make_unique<UMeshRenderer>(dataset.mesh(), dataset.mesh_accel(), transform, share, stored);

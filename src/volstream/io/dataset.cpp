@@ -587,6 +587,7 @@ void Dataset::load_mesh() {
         if (manifest_.mesh.macrocells > 0) read_stored_macrocells();
       });
   check_mesh_accel_boxes(mesh_, mesh_accel_, nodes_file);
+  if (manifest_.mesh.macrocells > 0) build_macrocells_on_stored_grid();
   count_mesh_bytes();
 }
 
@@ -631,7 +632,10 @@ void Dataset::load_compact_mesh() {
   compact_.replicated =
       compact_.vertices.size() - std::min<uint64_t>(compact_.vertices.size(), manifest_.mesh.vertices);
   check_compact_mesh(compact_, manifest_.mesh.by_type, dir_);
-  if (manifest_.mesh.macrocells > 0) read_stored_macrocells();
+  if (manifest_.mesh.macrocells > 0) {
+    read_stored_macrocells();
+    build_macrocells_on_stored_grid();
+  }
   count_mesh_bytes();
 }
 
@@ -683,6 +687,23 @@ void Dataset::read_stored_macrocells() {
   stored_cells_ = macrocells_from_stored(grid, cells, manifest_.mesh.elements, path.string());
 }
 
+// The macrocells of the whole mesh, built on the grid convert stored (one pass over the elements
+// instead of two), which must be this mesh's: bounded by its elements' boxes, with their
+// non-empty cells. Only the grid is taken from the file: the cells and step widths are the
+// mesh's own, so a damaged file cannot hide elements or make a render march tiny steps.
+void Dataset::build_macrocells_on_stored_grid() {
+  const std::string file = (dir_ / dataset_files::kMeshMacrocells).string();
+  const MacroGrid grid = stored_cells_.grid;
+  box3f seen;
+  MacroCells built =
+      is_compact_mesh() ? build_macrocells(compact_, &grid, &seen) : build_macrocells(mesh_, &grid, &seen);
+  input_check(seen.lower == grid.bounds.lower && seen.upper == grid.bounds.upper, file,
+              "the macrocell grid's bounds are not the mesh's");
+  input_check(built.cell_of_region == stored_cells_.cell_of_region, file,
+              "the non-empty macrocells are not the mesh's");
+  stored_cells_ = std::move(built);
+}
+
 MeshIndex Dataset::mesh_index() const {
   if (!is_mesh() || part()) throw std::logic_error("Dataset::mesh_index: not a mesh, or already restricted");
   if (is_compact_mesh()) return compact_mesh_index(compact_, deferred_ ? stored_cells_ : build_macrocells(compact_));
@@ -710,7 +731,7 @@ const MeshAccel& Dataset::mesh_accel() const {
   return mesh_accel_;
 }
 
-const MacroCells* Dataset::stored_macrocells() const {
+const MacroCells* Dataset::macrocells() const {
   return is_mesh() && !restricted_ && manifest_.mesh.macrocells > 0 ? &stored_cells_ : nullptr;
 }
 

@@ -8,6 +8,7 @@
 #include <mutex>
 
 #include "volstream/backend/parallel.h"
+#include "volstream/core/stopwatch.h"
 #include "volstream/umesh/compact_store.h"
 
 namespace vs {
@@ -73,23 +74,28 @@ box3f MacroCells::box(size_t region) const {
   return grid.cell_box({int(c % row), int(c / row % uint64_t(grid.dims.y)), int(c / plane)});
 }
 
-float element_size(const box3f& b) {
+namespace {
+
+// element_size cubed (no cube root: the macrocells take the smallest of their elements' cubes
+// and one root per cell), as a float at most FLT_MAX.
+float element_size_cubed(const box3f& b) {
   const vec3d s(b.size());  // double: the product of three large extents overflows a float
-  const float root = cbrtf(float(std::min(s.x * s.y * s.z, double(FLT_MAX))));
-  return std::max(root, float(std::min(1e-3 * reduce_max(s), double(FLT_MAX))));
+  const double floor = 1e-3 * reduce_max(s);
+  return float(std::min(std::max(s.x * s.y * s.z, floor * floor * floor), double(FLT_MAX)));
 }
+
+}  // namespace
+
+float element_size(const box3f& b) { return cbrtf(element_size_cubed(b)); }
 
 namespace {
 
-// The grid over the elements' boxes and the non-empty cells with their smallest element's size.
-// visit_elements(item, add) calls add(box, vertex indices, vertex count) for the elements of one
-// item of work (an element, a leaf: elements_of below), items in parallel; no array of all boxes
-// is made, so the load's peak memory is the encoding's.
+// The union of the element boxes visit_elements gives (see build_over), and their count.
 template <typename ElementsOf>
-MacroCells build_over(int64_t items, const MacroGrid* grid, ElementsOf&& visit_elements) {
+box3f bounds_over(int64_t items, uint64_t& elements, ElementsOf&& visit_elements) {
   box3f bounds = box3f::make_empty();
-  uint64_t elements = 0;
   std::mutex merge;
+  elements = 0;
   parallel_for_ranges(
       items,
       [&](int64_t begin, int64_t end) {
@@ -102,22 +108,51 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, ElementsOf&& visit_e
         elements += n;
       },
       1024);
+  return bounds;
+}
+
+// The grid over the elements' boxes (or `grid`) and the non-empty cells with their smallest
+// element's size. visit_elements(item, add) calls add(box, vertex indices, vertex count) for the
+// elements of one item of work (an element, a leaf: elements_of below), items in parallel; no
+// array of all boxes is made, so the load's peak memory is the encoding's. On a given grid it is
+// one pass over the elements, which also gives their boxes' union (`seen`).
+template <typename ElementsOf>
+MacroCells build_over(int64_t items, const MacroGrid* grid, box3f* seen, ElementsOf&& visit_elements) {
   MacroCells m;
-  m.grid = grid ? *grid : macro_grid(bounds, elements);
+  if (grid) {
+    m.grid = *grid;
+  } else {
+    uint64_t elements = 0;
+    const box3f bounds = bounds_over(items, elements, visit_elements);
+    m.grid = macro_grid(bounds, elements);
+  }
   const uint64_t n = m.grid.cell_count();
-  std::vector<uint32_t> finest(n, ordered(INFINITY));
-  parallel_for("macrocell sizes", items, [&](int64_t item) {
-    visit_elements(item, [&](const box3f& box, const uint32_t*, int) {
-      const uint32_t size = ordered(element_size(box));
-      for_each_cell(m.grid, box, [&](uint64_t c) { atomic_min(finest[c], size); });
-    });
-  });
+  std::vector<uint32_t> finest(n, ordered(INFINITY));  // the smallest element_size_cubed
+  box3f bounds = box3f::make_empty();
+  std::mutex merge;
+  const Stopwatch watch;
+  parallel_for_ranges(
+      items,
+      [&](int64_t begin, int64_t end) {
+        box3f b = box3f::make_empty();
+        for (int64_t item = begin; item < end; ++item)
+          visit_elements(item, [&](const box3f& box, const uint32_t*, int) {
+            b.extend(box);
+            const uint32_t cubed = ordered(element_size_cubed(box));
+            for_each_cell(m.grid, box, [&](uint64_t c) { atomic_min(finest[c], cubed); });
+          });
+        const std::lock_guard<std::mutex> lock(merge);
+        bounds.extend(b);
+      },
+      1024);
+  launch_times().add("macrocell sizes", watch.seconds());
+  if (seen) *seen = bounds;
   m.region_of_cell.assign(n, -1);
   for (uint64_t c = 0; c < n; ++c) {
     if (finest[c] == ordered(INFINITY)) continue;  // no element overlaps it
     m.region_of_cell[c] = int32_t(m.cell_of_region.size());
     m.cell_of_region.push_back(uint32_t(c));
-    m.step_width.push_back(std::max(from_ordered(finest[c]), m.min_step()));
+    m.step_width.push_back(std::max(cbrtf(from_ordered(finest[c])), m.min_step()));
   }
   return m;
 }
@@ -165,11 +200,11 @@ auto elements_of(const CompactMesh& mesh) {
 
 }  // namespace
 
-MacroCells build_macrocells(const UMesh& mesh, const MacroGrid* grid) {
-  return build_over(int64_t(mesh.elements.size()), grid, elements_of(mesh));
+MacroCells build_macrocells(const UMesh& mesh, const MacroGrid* grid, box3f* seen) {
+  return build_over(int64_t(mesh.elements.size()), grid, seen, elements_of(mesh));
 }
-MacroCells build_macrocells(const CompactMesh& mesh, const MacroGrid* grid) {
-  return build_over(int64_t(mesh.leaves.size()), grid, elements_of(mesh));
+MacroCells build_macrocells(const CompactMesh& mesh, const MacroGrid* grid, box3f* seen) {
+  return build_over(int64_t(mesh.leaves.size()), grid, seen, elements_of(mesh));
 }
 
 namespace {

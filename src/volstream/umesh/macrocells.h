@@ -106,11 +106,12 @@ struct MacroCells {
 float element_size(const box3f& element_box);
 
 // From either encoding's elements (the same cells: they depend on the element boxes only). With
-// `grid`, on that grid instead of one over the mesh's own bounds: a data-parallel rank's share of
-// a mesh keeps the whole mesh's grid, so that its macrocells are the whole mesh's where it holds
-// every element overlapping them (mpi/mesh_share.h).
-MacroCells build_macrocells(const UMesh& mesh, const MacroGrid* grid = nullptr);
-MacroCells build_macrocells(const CompactMesh& mesh, const MacroGrid* grid = nullptr);
+// `grid`, on that grid instead of one over the mesh's own bounds, in one pass over the elements
+// (`seen` gets their boxes' union): a data-parallel rank's share of a mesh keeps the whole mesh's
+// grid, so that its macrocells are the whole mesh's where it holds every element overlapping them
+// (mpi/mesh_share.h); a whole load takes the grid convert stored (io/dataset.h).
+MacroCells build_macrocells(const UMesh& mesh, const MacroGrid* grid = nullptr, box3f* seen = nullptr);
+MacroCells build_macrocells(const CompactMesh& mesh, const MacroGrid* grid = nullptr, box3f* seen = nullptr);
 
 // Every element's centroid (the mean of its vertices): in element order, or for a compact mesh
 // leaf after leaf in slot order.

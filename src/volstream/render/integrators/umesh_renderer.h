@@ -43,8 +43,8 @@ struct MeshWhole {
 class UMeshRenderer {
  public:
   // Keeps references to `mesh` and `accel` (the dataset's stored BVH and adjacency). With `cells`
-  // (the dataset's stored macrocells of this whole mesh: Dataset::stored_macrocells) they are
-  // copied, not built; with `whole` (a part's) they are built over the part on the whole grid.
+  // (this whole mesh's, as the dataset built them at load: Dataset::macrocells) they are copied,
+  // not built; with `whole` (a part's) they are built over the part on the whole grid.
   UMeshRenderer(const UMesh& mesh, const MeshAccel& accel, const WorldTransform& transform,
                 const MeshWhole* whole = nullptr, const MacroCells* cells = nullptr);
   // Builds its own BVH and adjacency (tests, meshes not read from a dataset).

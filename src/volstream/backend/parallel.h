@@ -53,7 +53,8 @@ int64_t first_failing(int64_t n, Ok&& ok, int64_t grain = 4096) {
         }
       },
       grain);
-  return first.load() == n ? -1 : first.load();
+  const int64_t found = first.load();
+  return found == n ? -1 : found;
 }
 
 // Runs first() and second() in parallel and then throws what the serial order `first(); second();`

@@ -76,19 +76,14 @@ box3f MacroCells::box(size_t region) const {
 
 namespace {
 
-// element_size cubed (no cube root: the macrocells take the smallest of their elements' cubes
-// and one root per cell), as a float at most FLT_MAX.
+// The cube of an element's feature size: its box's volume, at least (1/1000 of its largest
+// extent)^3 (a flat, axis-aligned element has a box of no volume), as a float at most FLT_MAX.
+// A macrocell's step width is the cube root of the smallest of these: one root per cell.
 float element_size_cubed(const box3f& b) {
   const vec3d s(b.size());  // double: the product of three large extents overflows a float
   const double floor = 1e-3 * reduce_max(s);
   return float(std::min(std::max(s.x * s.y * s.z, floor * floor * floor), double(FLT_MAX)));
 }
-
-}  // namespace
-
-float element_size(const box3f& b) { return cbrtf(element_size_cubed(b)); }
-
-namespace {
 
 // The union of the element boxes visit_elements gives (see build_over), and their count.
 template <typename ElementsOf>

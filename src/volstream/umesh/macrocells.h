@@ -89,10 +89,10 @@ struct MacroCells {
   std::vector<uint32_t> cell_of_region;  // region -> grid cell (grid.index)
   std::vector<float> step_width;         // per region: its smallest element's size, at least min_step
   size_t region_count() const { return cell_of_region.size(); }
-  // The finest step a macrocell is marched with: 1/1000 of the grid cell's longest side (as
-  // element_size keeps 1/1000 of an element's). A degenerate element (a damaged dataset: every
-  // corner at one point) would otherwise ask for a step of zero, and each ray for 16.7 M samples
-  // per macrocell; a boundary layer finer than this is sampled at this step.
+  // The finest step a macrocell is marched with: 1/1000 of the grid cell's longest side (as an
+  // element's size is at least 1/1000 of its extent, macrocells.cpp). A degenerate element (a
+  // damaged dataset: every corner at one point) would otherwise ask for a step of zero, and each
+  // ray for 16.7 M samples per macrocell; a boundary layer finer than this is sampled at this step.
   float min_step() const { return 1e-3f * reduce_max(grid.cell_size); }
   box3f box(size_t region) const;  // its grid cell's box
   uint64_t bytes() const {
@@ -100,10 +100,6 @@ struct MacroCells {
            step_width.size() * sizeof(float);
   }
 };
-
-// A feature size of an element: the cube root of its box's volume, at least 1/1000 of its
-// largest extent (a flat, axis-aligned element has a box of no volume).
-float element_size(const box3f& element_box);
 
 // From either encoding's elements (the same cells: they depend on the element boxes only). With
 // `grid`, on that grid instead of one over the mesh's own bounds, in one pass over the elements

@@ -29,9 +29,7 @@ for round in $(seq "$REPEATS"); do
   done
 done | tee "$OUT/runs.txt"
 
-stats() { sort -g | awk '{ v[NR] = $1 } END {
-  m = (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2
-  printf "%.3f [%.3f..%.3f]", m, v[1], v[NR] }'; }
+source "$(dirname "$0")/median_stats.sh"
 echo
 echo "| encoding | base wall s | new wall s | base CPU s | new CPU s | CPU base/new per round |"
 echo "|---|---|---|---|---|---|"

@@ -109,8 +109,8 @@ TEST(CompactDataset, ProbesEqualTheReferenceAtRandomPoints) {
 }
 
 TEST(CompactDataset, MacrocellsAndTheirRangesEqualTheReferences) {
-  const UMeshRenderer a(reference().mesh(), reference().mesh_accel(), reference().manifest().transform);
-  const UMeshRenderer b(compact().compact_mesh(), compact().manifest().transform);
+  UMeshRenderer a(reference().mesh(), reference().mesh_accel(), reference().manifest().transform);
+  UMeshRenderer b(compact().compact_mesh(), compact().manifest().transform);
   ASSERT_EQ(a.region_count(), b.region_count());
   const std::vector<Range> want = a.ranges(reference().load_values(0, 1).data());
   const std::vector<Range> got = b.ranges(compact().load_values(0, 1).data());

@@ -1,12 +1,19 @@
 // The macrocell grid walk (for_each_cell_along) against the brute force: every cell's box tested
 // against the ray. The walk must give every cell the ray passes through, with the interval
 // ray_box gives for that cell's box (what the region BVH it replaced gave), front to back.
+// The macrocells' value ranges, from the pass over the elements and from the per-region vertex
+// lists, against the brute force over every element box and every region.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
+#include <set>
 #include <vector>
 
+#include "volstream/render/integrators/umesh_renderer.h"
+#include "volstream/umesh/demo.h"
+#include "volstream/umesh/from_mesh_data.h"
 #include "volstream/umesh/macrocells.h"
 
 namespace vs {
@@ -113,6 +120,106 @@ TEST(MacroGridWalk, MissesAndStops) {
                       [&](const vec3i&, float, float) { return ++visited < 3; });
   EXPECT_EQ(visited, 3);
 }
+
+UMesh demo_umesh(const std::string& name, uint64_t elements) {
+  const MeshData data = make_mesh_demo({name, elements, 1}, 0);
+  return make_umesh(data, mesh_transform(data), name);
+}
+
+// Random values with the odd ones a field may hold: NaN, infinities, both zeros.
+std::vector<float> random_values(size_t count, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-10.f, 10.f);
+  std::vector<float> v(count);
+  for (size_t i = 0; i < count; ++i) {
+    const uint32_t pick = rng() % 100;
+    v[i] = pick == 0 ? NAN : pick == 1 ? INFINITY : pick == 2 ? -INFINITY : pick == 3 ? -0.f : u(rng);
+  }
+  return v;
+}
+
+// Every region against every element: the vertices of the elements whose box overlaps its grid
+// cell (the overlap test of the macrocells: the cells from cell_of of the box's corners).
+std::vector<std::set<uint32_t>> brute_force_vertices(const UMesh& mesh, const MacroCells& m) {
+  std::vector<std::set<uint32_t>> out(m.region_count());
+  for (size_t r = 0; r < m.region_count(); ++r) {
+    const uint64_t cell = m.cell_of_region[r];
+    for (const UElement& e : mesh.elements) {
+      const box3f b = element_box(mesh.vertices.data(), e);
+      const vec3i lo = m.grid.cell_of(b.lower), hi = m.grid.cell_of(b.upper);
+      bool overlaps = false;
+      for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+          for (int x = lo.x; x <= hi.x; ++x) overlaps |= m.grid.index({x, y, z}) == cell;
+      if (overlaps) out[r].insert(e.v, e.v + e.vertex_count());
+    }
+  }
+  return out;
+}
+
+// The range of the finite values of each region's vertices.
+std::vector<Range> brute_force_ranges(const std::vector<std::set<uint32_t>>& vertices, const float* values) {
+  std::vector<Range> out(vertices.size(), Range{INFINITY, -INFINITY});
+  for (size_t r = 0; r < vertices.size(); ++r)
+    for (uint32_t v : vertices[r])
+      if (std::isfinite(values[v])) out[r] = {std::min(out[r].lo, values[v]), std::max(out[r].hi, values[v])};
+  return out;
+}
+
+void expect_same_ranges(const std::vector<Range>& got, const std::vector<Range>& want, const char* what) {
+  ASSERT_EQ(got.size(), want.size()) << what;
+  for (size_t r = 0; r < want.size(); ++r) {
+    EXPECT_EQ(got[r].lo, want[r].lo) << what << ", region " << r;
+    EXPECT_EQ(got[r].hi, want[r].hi) << what << ", region " << r;
+  }
+}
+
+class MacrocellRangesTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(MacrocellRangesTest, ElementPassAndVertexListsEqualTheBruteForce) {
+  const UMesh mesh = demo_umesh(GetParam(), 4000);
+  const MacroCells cells = build_macrocells(mesh);
+  const RegionVertices lists = region_vertices(mesh, cells);
+  const std::vector<std::set<uint32_t>> want_vertices = brute_force_vertices(mesh, cells);
+  ASSERT_EQ(lists.first.size(), cells.region_count() + 1);
+  for (size_t r = 0; r < cells.region_count(); ++r) {
+    const std::vector<uint32_t> list(lists.vertex.begin() + int64_t(lists.first[r]),
+                                     lists.vertex.begin() + int64_t(lists.first[r + 1]));
+    EXPECT_EQ(std::set<uint32_t>(list.begin(), list.end()), want_vertices[r]) << "region " << r;
+    EXPECT_EQ(list.size(), want_vertices[r].size()) << "a vertex twice in region " << r;
+  }
+  for (uint32_t seed : {1u, 2u}) {
+    const std::vector<float> values = random_values(mesh.vertices.size(), seed);
+    const std::vector<Range> want = brute_force_ranges(want_vertices, values.data());
+    expect_same_ranges(macrocell_ranges(mesh, cells, values.data()), want, "element pass");
+    expect_same_ranges(macrocell_ranges(lists, values.data()), want, "vertex lists");
+  }
+}
+
+// The compact encoding's lists hold local vertices: the same ranges as its element pass.
+TEST_P(MacrocellRangesTest, CompactVertexListsEqualItsElementPass) {
+  const UMesh mesh = demo_umesh(GetParam(), 4000);
+  const CompactMesh compact = build_compact_mesh(mesh);
+  const MacroCells cells = build_macrocells(compact);
+  const std::vector<float> values = random_values(mesh.vertices.size(), 3);
+  const std::vector<float> local = compact.gather(values.data());
+  expect_same_ranges(macrocell_ranges(region_vertices(compact, cells), local.data()),
+                     macrocell_ranges(compact, cells, local.data()), "compact");
+}
+
+// A renderer's first call passes over the elements, later ones read the lists: each step's
+// ranges are its own.
+TEST_P(MacrocellRangesTest, EveryStepOfASeriesGetsItsOwnRanges) {
+  const UMesh mesh = demo_umesh(GetParam(), 4000);
+  UMeshRenderer renderer(mesh, WorldTransform{});
+  for (uint32_t step = 0; step < 3; ++step) {
+    const std::vector<float> values = random_values(mesh.vertices.size(), 10 + step);
+    expect_same_ranges(renderer.ranges(values.data()), macrocell_ranges(mesh, renderer.macrocells(), values.data()),
+                       "step");
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Demos, MacrocellRangesTest, ::testing::Values("tets", "mixed", "holes"));
 
 }  // namespace
 }  // namespace vs

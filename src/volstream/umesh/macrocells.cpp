@@ -6,6 +6,9 @@
 #include <cfloat>
 #include <cmath>
 #include <mutex>
+#include <numeric>
+
+#include <tbb/enumerable_thread_specific.h>
 
 #include "volstream/backend/parallel.h"
 #include "volstream/core/stopwatch.h"
@@ -178,6 +181,64 @@ std::vector<Range> ranges_over(const MacroCells& m, int64_t items, const float* 
   return ranges;
 }
 
+// Calls f(region, vertex indices, vertex count) for every overlap of an element and a region, in
+// parallel (visit_elements as for build_over).
+template <typename ElementsOf, typename F>
+void for_each_overlap(const MacroCells& m, int64_t items, ElementsOf&& visit_elements, F&& f) {
+  parallel_for("region vertices", items, [&](int64_t item) {
+    visit_elements(item, [&](const box3f& box, const uint32_t* vertex, int n) {
+      for_each_cell(m.grid, box, [&](uint64_t c) {
+        const int32_t r = m.region_of_cell[c];
+        if (r >= 0) f(size_t(r), vertex, n);  // r < 0 cannot happen for the cells' own mesh
+      });
+    });
+  });
+}
+
+// Each overlap's corners are counted per region and written into the region's slice; then each
+// slice keeps the first of its repeats (a per-thread stamp per vertex: the region that last kept
+// it), in the order the overlaps wrote them.
+template <typename ElementsOf>
+RegionVertices region_vertices_over(const MacroCells& m, int64_t items, size_t vertex_count,
+                                    ElementsOf&& visit_elements) {
+  const Stopwatch watch;
+  const size_t regions = m.region_count();
+  std::vector<uint64_t> slice(regions + 1, 0);
+  for_each_overlap(m, items, visit_elements, [&](size_t r, const uint32_t*, int n) {
+    std::atomic_ref<uint64_t>(slice[r + 1]).fetch_add(uint64_t(n), std::memory_order_relaxed);
+  });
+  std::partial_sum(slice.begin(), slice.end(), slice.begin());
+  std::vector<uint32_t> all(slice.back());
+  std::vector<uint64_t> cursor(slice.begin(), slice.end() - 1);
+  for_each_overlap(m, items, visit_elements, [&](size_t r, const uint32_t* vertex, int n) {
+    const uint64_t at = std::atomic_ref<uint64_t>(cursor[r]).fetch_add(uint64_t(n), std::memory_order_relaxed);
+    std::copy(vertex, vertex + n, all.begin() + int64_t(at));
+  });
+  RegionVertices lists;
+  lists.first.assign(regions + 1, 0);
+  tbb::enumerable_thread_specific<std::vector<uint32_t>> stamps(vertex_count, 0u);
+  parallel_for("region vertices", int64_t(regions), [&](int64_t r) {
+    std::vector<uint32_t>& stamp = stamps.local();
+    const uint32_t mark = uint32_t(r) + 1;
+    uint64_t kept = slice[size_t(r)];
+    for (uint64_t k = slice[size_t(r)]; k < slice[size_t(r) + 1]; ++k) {
+      const uint32_t v = all[k];
+      if (stamp[v] == mark) continue;
+      stamp[v] = mark;
+      all[kept++] = v;
+    }
+    lists.first[size_t(r) + 1] = kept - slice[size_t(r)];
+  });
+  std::partial_sum(lists.first.begin(), lists.first.end(), lists.first.begin());
+  lists.vertex.resize(lists.first.back());
+  parallel_for("region vertices", int64_t(regions), [&](int64_t r) {
+    std::copy_n(all.begin() + int64_t(slice[size_t(r)]), lists.first[size_t(r) + 1] - lists.first[size_t(r)],
+                lists.vertex.begin() + int64_t(lists.first[size_t(r)]));
+  });
+  launch_times().add("region vertex lists", watch.seconds());
+  return lists;
+}
+
 // Each encoding's elements as the macrocells read them: items of work (an element, a leaf), each
 // calling add(box, vertex indices, vertex count) for its elements.
 auto elements_of(const UMesh& mesh) {
@@ -231,6 +292,27 @@ std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& m, cons
 
 std::vector<Range> macrocell_ranges(const CompactMesh& mesh, const MacroCells& m, const float* local_values) {
   return ranges_over(m, int64_t(mesh.leaves.size()), local_values, elements_of(mesh));
+}
+
+RegionVertices region_vertices(const UMesh& mesh, const MacroCells& m) {
+  return region_vertices_over(m, int64_t(mesh.elements.size()), mesh.vertices.size(), elements_of(mesh));
+}
+RegionVertices region_vertices(const CompactMesh& mesh, const MacroCells& m) {
+  return region_vertices_over(m, int64_t(mesh.leaves.size()), mesh.vertices.size(), elements_of(mesh));
+}
+
+// The order of ranges_over's merges (ordered integers), so that the ranges are the same floats.
+std::vector<Range> macrocell_ranges(const RegionVertices& lists, const float* values) {
+  std::vector<Range> ranges(lists.first.empty() ? 0 : lists.first.size() - 1);
+  parallel_for("macrocell ranges", int64_t(ranges.size()), [&](int64_t r) {
+    uint32_t lo = ordered(INFINITY), hi = ordered(-INFINITY);
+    for (uint64_t k = lists.first[size_t(r)]; k < lists.first[size_t(r) + 1]; ++k) {
+      const float v = values[lists.vertex[k]];
+      if (std::isfinite(v)) lo = std::min(lo, ordered(v)), hi = std::max(hi, ordered(v));
+    }
+    ranges[size_t(r)] = {from_ordered(lo), from_ordered(hi)};
+  });
+  return ranges;
 }
 
 }  // namespace vs

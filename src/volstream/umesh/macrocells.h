@@ -128,4 +128,18 @@ std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& cells, 
 // The same over the compact encoding, with values per local vertex (CompactMesh::gather order).
 std::vector<Range> macrocell_ranges(const CompactMesh& mesh, const MacroCells& cells, const float* local_values);
 
+// Per region, the vertices (value indices) of the elements overlapping it, ascending and without
+// repeats: a time series' ranges from these read each of a region's values once (about 2 per
+// vertex of the mesh), where the pass above reads every element's corners and box and merges
+// with atomics per region (bench/RESULTS.md). Built once per mesh, in about two such passes.
+struct RegionVertices {
+  std::vector<uint64_t> first;   // per region, and one past the last: where its list starts in `vertex`
+  std::vector<uint32_t> vertex;  // the lists, region after region
+  uint64_t bytes() const { return first.size() * sizeof(uint64_t) + vertex.size() * sizeof(uint32_t); }
+};
+RegionVertices region_vertices(const UMesh& mesh, const MacroCells& cells);
+RegionVertices region_vertices(const CompactMesh& mesh, const MacroCells& cells);  // local vertices
+// The same ranges as macrocell_ranges over the mesh the lists were built from.
+std::vector<Range> macrocell_ranges(const RegionVertices& lists, const float* values);
+
 }  // namespace vs

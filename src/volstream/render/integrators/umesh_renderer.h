@@ -55,10 +55,10 @@ class UMeshRenderer {
                 const MacroCells* cells = nullptr);
   bool has_reference() const { return mesh_ != nullptr; }
 
-  // Values as the dataset stores them: per vertex (reference) or per local vertex (compact).
-  std::vector<Range> ranges(const float* values) const {
-    return mesh_ ? macrocell_ranges(*mesh_, cells_, values) : macrocell_ranges(*stored_, cells_, values);
-  }
+  // Values as the dataset stores them: per vertex (reference) or per local vertex (compact). The
+  // first call (one frame) passes over the elements; the second (a time series) builds each
+  // region's vertex list once (RegionVertices), which this and every later call read instead.
+  std::vector<Range> ranges(const float* values);
   // Classifies the macrocells by their ranges (skip = false keeps every one); returns the visible ones.
   uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso, bool skip,
                     SkipStats* stats = nullptr);
@@ -111,6 +111,9 @@ class UMeshRenderer {
   Box3<double> bounds_;  // world box of the vertices (the default reference step), once per mesh
   double build_seconds_ = 0;
   MacroCells cells_;
+  int ranges_calls_ = 0;
+  std::unique_ptr<RegionVertices> region_vertices_;  // from the second ranges() call
+  CountedBytes region_vertices_counted_;
   std::vector<uint8_t> visible_;  // per macrocell, from classify or refit
   CountedBytes counted_;
   std::unique_ptr<CompactMesh> compact_;

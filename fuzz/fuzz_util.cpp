@@ -109,6 +109,11 @@ void exercise_mesh_dataset(const fs::path& dir, TopologyLoad load) {
     r.tf = make_transfer_function(ds.manifest(), 0, {0}, {});
     r.camera = default_view(ds, r.width, r.height);
     (void)renderer.render(r);
+    // Another field: the renderer's second ranges, from the per-region vertex lists it builds then.
+    if (ds.manifest().fields.size() > 1) {
+      r.field = 1;
+      (void)renderer.render(r);
+    }
   });
 }
 

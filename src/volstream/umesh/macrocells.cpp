@@ -199,8 +199,8 @@ void for_each_overlap(const MacroCells& m, int64_t items, ElementsOf&& visit_ele
 // slice keeps the first of its repeats (a per-thread stamp per vertex: the region that last kept
 // it), in the order the overlaps wrote them.
 template <typename ElementsOf>
-RegionVertices region_vertices_over(const MacroCells& m, int64_t items, size_t vertex_count,
-                                    ElementsOf&& visit_elements) {
+std::optional<RegionVertices> region_vertices_over(const MacroCells& m, int64_t items, size_t vertex_count,
+                                                   uint64_t budget, ElementsOf&& visit_elements) {
   const Stopwatch watch;
   const size_t regions = m.region_count();
   std::vector<uint64_t> slice(regions + 1, 0);
@@ -208,6 +208,7 @@ RegionVertices region_vertices_over(const MacroCells& m, int64_t items, size_t v
     std::atomic_ref<uint64_t>(slice[r + 1]).fetch_add(uint64_t(n), std::memory_order_relaxed);
   });
   std::partial_sum(slice.begin(), slice.end(), slice.begin());
+  if (slice.back() > budget / sizeof(uint32_t)) return std::nullopt;
   std::vector<uint32_t> all(slice.back());
   std::vector<uint64_t> cursor(slice.begin(), slice.end() - 1);
   for_each_overlap(m, items, visit_elements, [&](size_t r, const uint32_t* vertex, int n) {
@@ -294,11 +295,11 @@ std::vector<Range> macrocell_ranges(const CompactMesh& mesh, const MacroCells& m
   return ranges_over(m, int64_t(mesh.leaves.size()), local_values, elements_of(mesh));
 }
 
-RegionVertices region_vertices(const UMesh& mesh, const MacroCells& m) {
-  return region_vertices_over(m, int64_t(mesh.elements.size()), mesh.vertices.size(), elements_of(mesh));
+std::optional<RegionVertices> region_vertices(const UMesh& mesh, const MacroCells& m, uint64_t budget) {
+  return region_vertices_over(m, int64_t(mesh.elements.size()), mesh.vertices.size(), budget, elements_of(mesh));
 }
-RegionVertices region_vertices(const CompactMesh& mesh, const MacroCells& m) {
-  return region_vertices_over(m, int64_t(mesh.leaves.size()), mesh.vertices.size(), elements_of(mesh));
+std::optional<RegionVertices> region_vertices(const CompactMesh& mesh, const MacroCells& m, uint64_t budget) {
+  return region_vertices_over(m, int64_t(mesh.leaves.size()), mesh.vertices.size(), budget, elements_of(mesh));
 }
 
 // The order of ranges_over's merges (ordered integers), so that the ranges are the same floats.

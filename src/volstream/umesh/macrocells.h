@@ -10,6 +10,7 @@
 // tree and no boxes, and culled regions cost a flag each (volume/umesh_volume.h).
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "volstream/accel/bvh_traverse.h"
@@ -137,8 +138,14 @@ struct RegionVertices {
   std::vector<uint32_t> vertex;  // the lists, region after region
   uint64_t bytes() const { return first.size() * sizeof(uint64_t) + vertex.size() * sizeof(uint32_t); }
 };
-RegionVertices region_vertices(const UMesh& mesh, const MacroCells& cells);
-RegionVertices region_vertices(const CompactMesh& mesh, const MacroCells& cells);  // local vertices
+// The build first writes every overlap's corners (4 B each, about 42 B per tet) and then drops
+// the repeats: where that would take more than `budget` bytes (a mesh of tens of millions of
+// elements), it gives nothing and a series keeps the pass over the elements.
+inline constexpr uint64_t kRegionVerticesBudget = uint64_t(1) << 30;
+std::optional<RegionVertices> region_vertices(const UMesh& mesh, const MacroCells& cells,
+                                              uint64_t budget = kRegionVerticesBudget);
+std::optional<RegionVertices> region_vertices(const CompactMesh& mesh, const MacroCells& cells,
+                                              uint64_t budget = kRegionVerticesBudget);  // local vertices
 // The same ranges as macrocell_ranges over the mesh the lists were built from.
 std::vector<Range> macrocell_ranges(const RegionVertices& lists, const float* values);
 

@@ -50,15 +50,14 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
 }
 
 std::vector<Range> UMeshRenderer::ranges(const float* values) {
-  if (++ranges_calls_ == 1)
-    return mesh_ ? macrocell_ranges(*mesh_, cells_, values) : macrocell_ranges(*stored_, cells_, values);
-  if (!region_vertices_) {
-    region_vertices_ =
-        std::make_unique<RegionVertices>(mesh_ ? region_vertices(*mesh_, cells_) : region_vertices(*stored_, cells_));
-    region_vertices_counted_ =
-        CountedBytes("mesh region vertices", MemorySpace::host, int64_t(region_vertices_->bytes()));
+  if (++ranges_calls_ == 2) {
+    region_vertices_ = mesh_ ? region_vertices(*mesh_, cells_) : region_vertices(*stored_, cells_);
+    if (region_vertices_)
+      region_vertices_counted_ =
+          CountedBytes("mesh region vertices", MemorySpace::host, int64_t(region_vertices_->bytes()));
   }
-  return macrocell_ranges(*region_vertices_, values);
+  if (region_vertices_) return macrocell_ranges(*region_vertices_, values);
+  return mesh_ ? macrocell_ranges(*mesh_, cells_, values) : macrocell_ranges(*stored_, cells_, values);
 }
 
 uint64_t UMeshRenderer::classify(const std::vector<Range>& ranges, const TransferTable& tf,

@@ -57,7 +57,8 @@ class UMeshRenderer {
 
   // Values as the dataset stores them: per vertex (reference) or per local vertex (compact). The
   // first call (one frame) passes over the elements; the second (a time series) builds each
-  // region's vertex list once (RegionVertices), which this and every later call read instead.
+  // region's vertex list once (RegionVertices, unless over its budget), which this and every
+  // later call read instead.
   std::vector<Range> ranges(const float* values);
   // Classifies the macrocells by their ranges (skip = false keeps every one); returns the visible ones.
   uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso, bool skip,
@@ -112,7 +113,7 @@ class UMeshRenderer {
   double build_seconds_ = 0;
   MacroCells cells_;
   int ranges_calls_ = 0;
-  std::unique_ptr<RegionVertices> region_vertices_;  // from the second ranges() call
+  std::optional<RegionVertices> region_vertices_;  // from the second ranges() call
   CountedBytes region_vertices_counted_;
   std::vector<uint8_t> visible_;  // per macrocell, from classify or refit
   CountedBytes counted_;

@@ -9,12 +9,10 @@
 set -euo pipefail
 BASE="$1" NEW="$2" DATASET="$3" REPEATS="${4:-3}" SIZE="${5:-512x512}"
 OUT="$(mktemp -d)"
-VIEW=(--field density --range 0.02,1.1 --unit-distance 0.01 --camera-pos 2.3,1.6,2.9 --camera-at 0.5,0.5,0.5
-  --camera-up 0,1,0 --fov 35 --background 0.06,0.06,0.08 --tf viridis
-  --opacity 0.02:0,0.15:0,0.5:0.03,1.1:0.12 --size "$SIZE")
+source "$(dirname "$0")/paired_common.sh"
+mesh_view "$SIZE" 0.02:0,0.15:0,0.5:0.03,1.1:0.12
 
-echo "# $(date -u +%FT%TZ) $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
-echo "# base $BASE, new $NEW, dataset $DATASET, $REPEATS rounds"
+paired_header "$BASE" "$NEW" "$DATASET" "$REPEATS"
 echo "round binary ranges_total_ms ranges_median_ms ranges_max_ms render_median_ms frames_per_s"
 for round in $(seq "$REPEATS"); do
   for which in base new; do
@@ -29,7 +27,6 @@ for round in $(seq "$REPEATS"); do
   done
 done | tee "$OUT/runs.txt"
 
-source "$(dirname "$0")/median_stats.sh"
 echo
 echo "| binary | ranges total ms | ranges median ms | render median ms | frames/s |"
 echo "|---|---|---|---|---|"

@@ -10,12 +10,11 @@
 set -euo pipefail
 BASE="$1" NEW="$2" DATASET="$3" REPEATS="${4:-5}" SIZE="${5:-512x512}"
 OUT="$(mktemp -d)"
-VIEW=(--field density --range 0.02,1.1 --unit-distance 0.01 --camera-pos 2.3,1.6,2.9 --camera-at 0.5,0.5,0.5
-  --camera-up 0,1,0 --fov 35 --background 0.06,0.06,0.08 --tf viridis --device cpu
-  --opacity 0.02:0.004,0.15:0.004,0.5:0.03,1.1:0.12 --size "$SIZE")
+source "$(dirname "$0")/paired_common.sh"
+mesh_view "$SIZE" 0.02:0.004,0.15:0.004,0.5:0.03,1.1:0.12
+VIEW+=(--device cpu)
 
-echo "# $(date -u +%FT%TZ) $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
-echo "# base $BASE, new $NEW, dataset $DATASET, $REPEATS rounds"
+paired_header "$BASE" "$NEW" "$DATASET" "$REPEATS"
 echo "round binary encoding wall_s cpu_s M_samples"
 for round in $(seq "$REPEATS"); do
   for encoding in reference compact; do
@@ -29,7 +28,6 @@ for round in $(seq "$REPEATS"); do
   done
 done | tee "$OUT/runs.txt"
 
-source "$(dirname "$0")/median_stats.sh"
 echo
 echo "| encoding | base wall s | new wall s | base CPU s | new CPU s | CPU base/new per round |"
 echo "|---|---|---|---|---|---|"

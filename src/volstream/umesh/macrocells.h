@@ -129,10 +129,11 @@ std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& cells, 
 // The same over the compact encoding, with values per local vertex (CompactMesh::gather order).
 std::vector<Range> macrocell_ranges(const CompactMesh& mesh, const MacroCells& cells, const float* local_values);
 
-// Per region, the vertices (value indices) of the elements overlapping it, ascending and without
-// repeats: a time series' ranges from these read each of a region's values once (about 2 per
-// vertex of the mesh), where the pass above reads every element's corners and box and merges
-// with atomics per region (bench/RESULTS.md). Built once per mesh, in about two such passes.
+// Per region, the vertices (value indices) of the elements overlapping it, without repeats (in no
+// particular order): a time series' ranges from these read each of a region's values once (about
+// 5.5 per vertex of a 1 M-tet mesh), where the pass above reads every element's corners and box
+// and merges with atomics per region. Built once per mesh, at the cost of 5 to 6 such passes
+// (bench/RESULTS.md).
 struct RegionVertices {
   std::vector<uint64_t> first;   // per region, and one past the last: where its list starts in `vertex`
   std::vector<uint32_t> vertex;  // the lists, region after region

@@ -50,7 +50,7 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
 }
 
 std::vector<Range> UMeshRenderer::ranges(const float* values) {
-  if (++ranges_calls_ == 2) {
+  if (ranges_calls_ < 2 && ++ranges_calls_ == 2) {  // counts to 2 only: a series may run for ever
     region_vertices_ = mesh_ ? region_vertices(*mesh_, cells_) : region_vertices(*stored_, cells_);
     if (region_vertices_)
       region_vertices_counted_ =

@@ -112,7 +112,7 @@ class UMeshRenderer {
   Box3<double> bounds_;  // world box of the vertices (the default reference step), once per mesh
   double build_seconds_ = 0;
   MacroCells cells_;
-  int ranges_calls_ = 0;
+  int ranges_calls_ = 0;                           // 0, 1, then 2 from the second call on
   std::optional<RegionVertices> region_vertices_;  // from the second ranges() call
   CountedBytes region_vertices_counted_;
   std::vector<uint8_t> visible_;  // per macrocell, from classify or refit

@@ -124,6 +124,57 @@ TEST_P(ShapeTest, PolynomialFormEqualsTheWeightedCorners) {
   }
 }
 
+#if defined(VS_SHAPE_LANES)
+// The host's Newton step on lanes gives the step on vec3f: the same floats where nothing is
+// contracted into FMA (the default build), else within a few float roundings.
+TEST_P(ShapeTest, NewtonStepOnLanesEqualsTheStepOnVec3) {
+  const int n = GetParam();
+  if (n == 4) GTEST_SKIP() << "tets are located by one affine solve";
+  std::mt19937 rng(700 + n);
+  std::uniform_real_distribution<float> around(-0.5f, 1.5f);
+  for (int trial = 0; trial < 1000; ++trial) {
+    const std::vector<vec3f> x = element(n, rng, 0.2f);
+    const shape::IsoMap map = shape::iso_map(n, x.data());
+    shape::lanes::f4 lanes[8];
+    for (int i = 0; i < 8; ++i) lanes[i] = shape::lanes::load(map.c[i]);
+    const vec3f pc = random_params(n, rng), p(around(rng), around(rng), around(rng));
+    vec3f scalar_delta, lanes_delta;
+    const bool scalar_ok = shape::newton_step(map, p, pc, scalar_delta);
+    ASSERT_EQ(shape::newton_step(lanes, shape::lanes::load(p), pc, lanes_delta), scalar_ok);
+    if (!scalar_ok) continue;
+    for (int a = 0; a < 3; ++a) {
+#if defined(__FMA__)
+      EXPECT_NEAR(lanes_delta[a], scalar_delta[a], 1e-5f * (1.f + std::fabs(scalar_delta[a]))) << "trial " << trial;
+#else
+      EXPECT_EQ(lanes_delta[a], scalar_delta[a]) << "trial " << trial;
+#endif
+    }
+  }
+}
+#endif
+
+// params_outside (selects, not branches) is the first largest face violation, as a plain scan of
+// them says, at parametric points in, on and around every type's domain.
+TEST_P(ShapeTest, ParamsOutsideIsTheFirstLargestViolation) {
+  const int n = GetParam();
+  std::mt19937 rng(800 + n);
+  std::uniform_int_distribution<int> eighths(-4, 12);  // exact ties between faces happen
+  for (int trial = 0; trial < 2000; ++trial) {
+    const float r = eighths(rng) / 8.f, s = eighths(rng) / 8.f, t = eighths(rng) / 8.f;
+    float v[shape::kMaxFaces];
+    const int count = shape::face_violations(n, r, s, t, v);
+    int expected_face = 0;
+    for (int f = 1; f < count; ++f)
+      if (v[f] > v[expected_face]) expected_face = f;
+    float expected = v[expected_face];
+    const bool above_apex = n == 5 && t > 1.f && expected < t - 1.f;
+    if (above_apex) expected = t - 1.f;
+    int face = -7;
+    EXPECT_EQ(shape::params_outside(n, r, s, t, &face), expected) << r << " " << s << " " << t;
+    EXPECT_EQ(face, above_apex ? -7 : expected_face) << r << " " << s << " " << t;
+  }
+}
+
 // A walk's early exit (locate_in_element with early_out) never changes the answer: at random
 // points in and around distorted and twisted elements it finds the same points inside, with the
 // same weights and outside distance, as the iteration run to convergence, and a face for every

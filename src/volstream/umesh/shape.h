@@ -92,17 +92,55 @@ VS_HOST_DEVICE inline int face_violations(int n, float r, float s, float t, floa
 VS_HOST_DEVICE inline float params_outside(int n, float r, float s, float t, int* face = nullptr) {
   float v[kMaxFaces];
   const int count = face_violations(n, r, s, t, v);
+  // The first largest violation, by selects over all kMaxFaces slots rather than branches: which
+  // face wins is as good as random, and Newton asks every iteration.
   int worst = 0;
-  for (int f = 1; f < count; ++f)
-    if (v[f] > v[worst]) worst = f;
-  if (n == 5 && t > 1.f && v[worst] < t - 1.f) return t - 1.f;  // above the apex: no face there
+  float most = v[0];
+  for (int f = 1; f < kMaxFaces; ++f) {
+    const float vf = f < count ? v[f] : -INFINITY;
+    const bool beyond = vf > most;
+    worst = beyond ? f : worst;
+    most = beyond ? vf : most;
+  }
+  if (n == 5 && t > 1.f && most < t - 1.f) return t - 1.f;  // above the apex: no face there
   if (face) *face = worst;
-  return v[worst];
+  return most;
 }
 
-// Solves J x = b for a 3x3 J given by its columns; false when J is (nearly) singular.
-VS_HOST_DEVICE inline bool solve3(const vec3f& c0, const vec3f& c1, const vec3f& c2, const vec3f& b, vec3f& x) {
-  const vec3f r0 = cross(c1, c2), r1 = cross(c2, c0), r2 = cross(c0, c1);
+#if defined(__GNUC__) && !defined(__CUDACC__)
+// The host's 3-vectors on 4 float lanes (x, y, z, unused), GCC/Clang vector extensions, for
+// Newton's step (newton_step): on vec3f the compiler spills the map's 24 coefficients to the
+// stack; on lanes they stay in registers, and the Newton loop of the mixed demo's haze render runs
+// a third fewer instructions (callgrind, bench/RESULTS.md). The lanes compute the same expressions in the same
+// order (cross products lane by lane, dots summed x + y + z), so without contraction into FMA (the
+// default build: none on x86-64-v2) both give the same floats; tests/umesh/shape_test.cpp
+// compares them. CUDA keeps vec3f.
+#define VS_SHAPE_LANES 1
+namespace lanes {
+typedef float f4 __attribute__((vector_size(16)));
+typedef int32_t i4 __attribute__((vector_size(16)));
+inline f4 load(const vec3f& v) { return f4{v.x, v.y, v.z, 0.f}; }
+#if defined(__clang__)
+inline f4 yzx(f4 v) { return __builtin_shufflevector(v, v, 1, 2, 0, 3); }
+inline f4 zxy(f4 v) { return __builtin_shufflevector(v, v, 2, 0, 1, 3); }
+#else
+inline f4 yzx(f4 v) { return __builtin_shuffle(v, i4{1, 2, 0, 3}); }
+inline f4 zxy(f4 v) { return __builtin_shuffle(v, i4{2, 0, 1, 3}); }
+#endif
+inline f4 cross(f4 a, f4 b) { return yzx(a) * zxy(b) - zxy(a) * yzx(b); }
+inline float dot(f4 a, f4 b) {
+  const f4 m = a * b;
+  return m[0] + m[1] + m[2];
+}
+}  // namespace lanes
+using lanes::cross, lanes::dot, vs::cross, vs::dot;  // one overload set for both kinds
+#endif
+
+// Solves J x = b for a 3x3 J given by its columns; false when J is (nearly) singular. V: vec3f,
+// or the host's lanes (above).
+template <typename V>
+VS_HOST_DEVICE inline bool solve3(const V& c0, const V& c1, const V& c2, const V& b, vec3f& x) {
+  const V r0 = cross(c1, c2), r1 = cross(c2, c0), r2 = cross(c0, c1);
   const float det = dot(c0, r0);
   if (!(fabsf(det) > 1e-30f)) return false;
   const float inv = 1.f / det;
@@ -184,14 +222,18 @@ VS_HOST_DEVICE inline IsoMap iso_map(int n, const vec3f* x) {
 
 // One Newton step of the map towards p from the parametric point pc; false when its Jacobian is
 // (nearly) singular there.
-VS_HOST_DEVICE inline bool newton_step(const IsoMap& m, const vec3f& p, const vec3f& pc, vec3f& delta) {
+// c: the map's coefficients as V (vec3f, or the host's lanes).
+template <typename V>
+VS_HOST_DEVICE inline bool newton_step(const V* c, const V& p, const vec3f& pc, vec3f& delta) {
   const float r = pc.x, s = pc.y, t = pc.z;
-  const vec3f* c = m.c;
-  const vec3f dr = c[1] + c[4] * s + (c[5] + c[7] * s) * t;  // dx/dr
-  const vec3f ds = c[2] + c[4] * r + (c[6] + c[7] * r) * t;
-  const vec3f dt = c[3] + c[5] * r + (c[6] + c[7] * r) * s;
-  const vec3f pos = c[0] + c[2] * s + (c[1] + c[4] * s) * r + (c[3] + c[6] * s) * t + (c[5] + c[7] * s) * (r * t);
+  const V dr = c[1] + c[4] * s + (c[5] + c[7] * s) * t;  // dx/dr
+  const V ds = c[2] + c[4] * r + (c[6] + c[7] * r) * t;
+  const V dt = c[3] + c[5] * r + (c[6] + c[7] * r) * s;
+  const V pos = c[0] + c[2] * s + (c[1] + c[4] * s) * r + (c[3] + c[6] * s) * t + (c[5] + c[7] * s) * (r * t);
   return solve3(dr, ds, dt, p - pos, delta);
+}
+VS_HOST_DEVICE inline bool newton_step(const IsoMap& m, const vec3f& p, const vec3f& pc, vec3f& delta) {
+  return newton_step(m.c, p, pc, delta);
 }
 
 // Newton's steps shrink quadratically near the root (each about C times the previous squared),
@@ -238,9 +280,17 @@ VS_HOST_DEVICE inline bool iso_weights(int n, IsoSolve& s, const vec3f& p, float
   const vec3f target = p - s.origin;
   vec3f& pc = s.params;
   float step = 0.f, previous = 0.f;
+#if defined(VS_SHAPE_LANES)
+  lanes::f4 map[8];  // loaded once for every step
+  for (int i = 0; i < 8; ++i) map[i] = lanes::load(s.map.c[i]);
+  const lanes::f4 goal = lanes::load(target);
+#else
+  const vec3f* map = s.map.c;
+  const vec3f& goal = target;
+#endif
   for (int it = 0; it < kNewtonIterations; ++it, previous = step) {
     vec3f delta;
-    if (!newton_step(s.map, target, pc, delta)) return false;
+    if (!newton_step(map, goal, pc, delta)) return false;
     pc = pc + delta;
     step = fabsf(delta.x) + fabsf(delta.y) + fabsf(delta.z);
     if (newton_converged(step, previous)) break;

@@ -87,21 +87,28 @@ VS_HOST_DEVICE inline int face_violations(int n, float r, float s, float t, floa
   return n == 8 ? 6 : 5;
 }
 
-// How far the parametric point lies outside the element's parameter domain (<= 0: inside), and
-// the face it lies beyond most.
-VS_HOST_DEVICE inline float params_outside(int n, float r, float s, float t, int* face = nullptr) {
-  float v[kMaxFaces];
-  const int count = face_violations(n, r, s, t, v);
-  // The first largest violation, by selects over all kMaxFaces slots rather than branches: which
-  // face wins is as good as random, and Newton asks every iteration.
+// The first of v[0..count) that is largest (NaN never wins), and its value in `most`, by selects
+// over all kMaxFaces slots rather than a branch per face: which face a point lies beyond most is
+// as good as random, and every Newton step asks.
+VS_HOST_DEVICE inline int first_largest(const float* v, int count, float& most) {
   int worst = 0;
-  float most = v[0];
+  most = v[0];
   for (int f = 1; f < kMaxFaces; ++f) {
     const float vf = f < count ? v[f] : -INFINITY;
     const bool beyond = vf > most;
     worst = beyond ? f : worst;
     most = beyond ? vf : most;
   }
+  return worst;
+}
+
+// How far the parametric point lies outside the element's parameter domain (<= 0: inside), and
+// the face it lies beyond most.
+VS_HOST_DEVICE inline float params_outside(int n, float r, float s, float t, int* face = nullptr) {
+  float v[kMaxFaces];
+  const int count = face_violations(n, r, s, t, v);
+  float most;
+  const int worst = first_largest(v, count, most);
   if (n == 5 && t > 1.f && most < t - 1.f) return t - 1.f;  // above the apex: no face there
   if (face) *face = worst;
   return most;

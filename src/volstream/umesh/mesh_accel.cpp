@@ -63,7 +63,7 @@ void check_mesh_accel_structure(const MeshAccel& accel, uint64_t elements, const
   input_check(accel.neighbors.size() == elements * shape::kMaxFaces, file, "face neighbours do not match the mesh");
   const int64_t bad = first_failing(int64_t(accel.neighbors.size()), [&](int64_t i) {
     // None (kNoNeighbor + 1 wraps to 0) or an element, in one comparison: a mesh's boundary faces
-    // are scattered, and a branch on each mispredicted (a fifth of a 1 M tet load's mispredicts).
+    // are scattered, and a branch on each was a third of the mispredicts of a 1 M tet mesh's load.
     static_assert(kNoNeighbor == 0xffffffffu);
     return uint64_t(uint32_t(accel.neighbors[size_t(i)] + 1u)) <= elements;
   });

@@ -87,9 +87,9 @@ VS_HOST_DEVICE inline int face_violations(int n, float r, float s, float t, floa
   return n == 8 ? 6 : 5;
 }
 
-// The first of v[0..count) that is largest (NaN never wins), and its value in `most`, by selects
-// over all kMaxFaces slots rather than a branch per face: which face a point lies beyond most is
-// as good as random, and every Newton step asks.
+// The first of v[0..count) that is largest (a NaN after v[0] never wins), and its value in
+// `most`, by selects over all kMaxFaces slots rather than a branch per face: which face a point
+// lies beyond most is as good as random, and every Newton step asks.
 VS_HOST_DEVICE inline int first_largest(const float* v, int count, float& most) {
   int worst = 0;
   most = v[0];
@@ -117,11 +117,11 @@ VS_HOST_DEVICE inline float params_outside(int n, float r, float s, float t, int
 #if defined(__GNUC__) && !defined(__CUDACC__)
 // The host's 3-vectors on 4 float lanes (x, y, z, unused), GCC/Clang vector extensions, for
 // Newton's step (newton_step): on vec3f the compiler spills the map's 24 coefficients to the
-// stack; on lanes they stay in registers, and the Newton loop of the mixed demo's haze render runs
-// a third fewer instructions (callgrind, bench/RESULTS.md). The lanes compute the same expressions in the same
-// order (cross products lane by lane, dots summed x + y + z), so without contraction into FMA (the
-// default build: none on x86-64-v2) both give the same floats; tests/umesh/shape_test.cpp
-// compares them. CUDA keeps vec3f.
+// stack; on lanes they stay in registers, and the Newton loop of the mixed demo's haze render
+// runs a third fewer instructions (callgrind, bench/RESULTS.md). The lanes compute the same
+// expressions in the same order (cross products lane by lane, dots summed x + y + z), so without
+// contraction into FMA (the default build: none on x86-64-v2) both give the same floats;
+// tests/umesh/shape_test.cpp compares them. CUDA keeps vec3f.
 #define VS_SHAPE_LANES 1
 namespace lanes {
 typedef float f4 __attribute__((vector_size(16)));

@@ -103,8 +103,9 @@ VS_HOST_DEVICE inline int first_largest(const float* v, int count, float& most) 
 }
 
 // How far the parametric point lies outside the element's parameter domain (<= 0: inside), and
-// the face it lies beyond most.
-VS_HOST_DEVICE inline float params_outside(int n, float r, float s, float t, int* face = nullptr) {
+// the face it lies beyond most. Forced inline: out of line (where GCC's heuristics put it), the
+// selects above compile to branches again (cachegrind: 0.7 M more mispredicts on the mixed haze).
+VS_HOST_DEVICE VS_FORCE_INLINE float params_outside(int n, float r, float s, float t, int* face = nullptr) {
   float v[kMaxFaces];
   const int count = face_violations(n, r, s, t, v);
   float most;

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "volstream/core/simd.h"
+
 namespace vs {
 namespace {
 
@@ -20,9 +22,7 @@ int ceil_log2(uint32_t n) {
   return k;
 }
 
-// 4 float lanes (x, y, z, unused) as a GCC/Clang vector: one SSE register on x86-64.
-typedef float f4 __attribute__((vector_size(16)));
-typedef int32_t i4 __attribute__((vector_size(16)));
+using simd::f4, simd::i4;  // x, y, z and one unused lane
 
 inline f4 vmin4(f4 a, f4 b) { return a < b ? a : b; }
 inline f4 vmax4(f4 a, f4 b) { return a > b ? a : b; }

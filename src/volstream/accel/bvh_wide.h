@@ -14,6 +14,9 @@
 #include <vector>
 
 #include "volstream/accel/bvh_traverse.h"
+#if !defined(__CUDACC__)
+#include "volstream/core/simd.h"
+#endif
 
 namespace vs {
 
@@ -44,8 +47,7 @@ void refit_bvh4(Bvh4& wide, const std::vector<BvhNode>& binary);
 template <int K>
 inline int bvh4_next_leaves(const Bvh4Node* nodes, uint32_t node_count, const SlabRay& ray, float t_min, float t_max,
                             LeafHit (&hits)[K]) {
-  typedef float f4 __attribute__((vector_size(16)));
-  typedef int32_t i4 __attribute__((vector_size(16)));
+  using simd::f4, simd::i4;
   if (node_count == 0) return 0;
   int found = 0;
   auto bound = [&] { return found < K ? INFINITY : hits[K - 1].t0; };

@@ -21,6 +21,11 @@
 
 namespace vs::simd {
 
+// 4 float lanes (a 3-vector's x, y, z and one unused, or a wide BVH node's 4 children): one SSE
+// register on x86-64.
+typedef float f4 __attribute__((vector_size(16)));
+typedef int32_t i4 __attribute__((vector_size(16)));
+
 inline constexpr uint32_t kLanes = 8;
 typedef float f8 __attribute__((vector_size(kLanes * sizeof(float))));
 typedef int32_t i8 __attribute__((vector_size(kLanes * sizeof(int32_t))));

@@ -14,6 +14,9 @@
 
 #include "volstream/core/math.h"
 #include "volstream/umesh/umesh.h"
+#if defined(__GNUC__) && !defined(__CUDACC__)
+#include "volstream/core/simd.h"  // the host's lanes below
+#endif
 
 namespace vs::shape {
 
@@ -125,8 +128,7 @@ VS_HOST_DEVICE VS_FORCE_INLINE float params_outside(int n, float r, float s, flo
 // tests/umesh/shape_test.cpp compares them. CUDA keeps vec3f.
 #define VS_SHAPE_LANES 1
 namespace lanes {
-typedef float f4 __attribute__((vector_size(16)));
-typedef int32_t i4 __attribute__((vector_size(16)));
+using simd::f4, simd::i4;
 inline f4 load(const vec3f& v) { return f4{v.x, v.y, v.z, 0.f}; }
 #if defined(__clang__)
 inline f4 yzx(f4 v) { return __builtin_shufflevector(v, v, 1, 2, 0, 3); }

@@ -32,6 +32,35 @@ MacroGrid test_grid() {
   return g;
 }
 
+// cell_of clamps the quotient and truncates; the plain formula floors and then clamps. The two
+// agree everywhere: random points, cell faces, far and non-finite coordinates.
+TEST(MacroGrid, CellOfIsTheFlooredQuotientClamped) {
+  const MacroGrid g = test_grid();
+  auto floored_clamped = [&](const vec3f& p) {
+    vec3i c;
+    for (int a = 0; a < 3; ++a) {
+      const float i = std::floor((p[a] - g.bounds.lower[a]) / g.cell_size[a]);
+      c[a] = i >= 0.f ? (i < float(g.dims[a]) ? int(i) : g.dims[a] - 1) : 0;
+    }
+    return c;
+  };
+  std::vector<float> coordinates = {NAN, INFINITY, -INFINITY, 1e30f, -1e30f, -0.f, 0.f};
+  for (int a = 0; a < 3; ++a)
+    for (int k = -1; k <= g.dims[a] + 1; ++k) {
+      const float face = g.bounds.lower[a] + float(k) * g.cell_size[a];
+      coordinates.insert(coordinates.end(), {face, std::nextafter(face, -INFINITY), std::nextafter(face, INFINITY)});
+    }
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> around(-3.f, 6.f);
+  for (int i = 0; i < 2000; ++i) coordinates.push_back(around(rng));
+  std::uniform_int_distribution<size_t> pick(0, coordinates.size() - 1);
+  for (int i = 0; i < 20000; ++i) {
+    const vec3f p(coordinates[pick(rng)], coordinates[pick(rng)], coordinates[pick(rng)]);
+    const vec3i got = g.cell_of(p), want = floored_clamped(p);
+    ASSERT_TRUE(got.x == want.x && got.y == want.y && got.z == want.z) << p.x << " " << p.y << " " << p.z;
+  }
+}
+
 std::vector<Crossing> walked(const MacroGrid& g, const vec3f& org, const vec3f& dir) {
   std::vector<Crossing> out;
   for_each_cell_along(g, org, dir, [&](const vec3i& c, float t0, float t1) {

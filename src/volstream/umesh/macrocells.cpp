@@ -7,6 +7,7 @@
 #include <cmath>
 #include <mutex>
 #include <numeric>
+#include <utility>
 
 #include <tbb/enumerable_thread_specific.h>
 
@@ -37,14 +38,48 @@ void atomic_max(uint32_t& slot, uint32_t v) {
   }
 }
 
-// Calls f(cell index) for every grid cell the box overlaps.
+// Calls f(cell index) for every grid cell in [lo, hi].
 template <typename F>
-void for_each_cell(const MacroGrid& g, const box3f& b, F&& f) {
-  const vec3i lo = g.cell_of(b.lower), hi = g.cell_of(b.upper);
+void for_each_cell(const MacroGrid& g, const vec3i& lo, const vec3i& hi, F&& f) {
   for (int z = lo.z; z <= hi.z; ++z)
     for (int y = lo.y; y <= hi.y; ++y)
       for (int x = lo.x; x <= hi.x; ++x) f(g.index({x, y, z}));
 }
+// Calls f(cell index) for every grid cell the box overlaps.
+template <typename F>
+void for_each_cell(const MacroGrid& g, const box3f& b, F&& f) {
+  for_each_cell(g, g.cell_of(b.lower), g.cell_of(b.upper), f);
+}
+
+// Values merged into the cells their boxes overlap (merge(a, b): their union, a min or a pair of
+// them), one run of boxes with the same cells at a time: consecutive elements of a spatially
+// sorted mesh mostly overlap the same cells, so store(cell, value) (the atomic part) runs once
+// per cell and run instead of once per cell and element. One per task; flush() at its end.
+template <typename Value, typename Merge, typename Store>
+class CellRuns {
+ public:
+  CellRuns(const MacroGrid& grid, Merge merge, Store store) : grid_(grid), merge_(merge), store_(store) {}
+  void add(const box3f& box, const Value& v) {
+    const vec3i lo = grid_.cell_of(box.lower), hi = grid_.cell_of(box.upper);
+    if (lo == lo_ && hi == hi_) {
+      value_ = merge_(value_, v);
+      return;
+    }
+    flush();
+    lo_ = lo, hi_ = hi, value_ = v;
+  }
+  void flush() {
+    for_each_cell(grid_, lo_, hi_, [&](uint64_t c) { store_(c, value_); });
+    lo_ = vec3i(0), hi_ = vec3i(-1);  // no cells
+  }
+
+ private:
+  const MacroGrid& grid_;
+  Merge merge_;
+  Store store_;
+  vec3i lo_{0}, hi_{-1};
+  Value value_{};
+};
 
 }  // namespace
 
@@ -126,6 +161,8 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, box3f* seen, Element
   }
   const uint64_t n = m.grid.cell_count();
   std::vector<uint32_t> finest(n, ordered(INFINITY));  // the smallest element_size_cubed
+  const auto min_of = [](uint32_t a, uint32_t b) { return std::min(a, b); };
+  const auto store = [&](uint64_t c, uint32_t cubed) { atomic_min(finest[c], cubed); };
   box3f bounds = box3f::make_empty();
   std::mutex merge;
   const Stopwatch watch;
@@ -133,12 +170,13 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, box3f* seen, Element
       items,
       [&](int64_t begin, int64_t end) {
         box3f b = box3f::make_empty();
+        CellRuns<uint32_t, decltype(min_of), decltype(store)> runs(m.grid, min_of, store);
         for (int64_t item = begin; item < end; ++item)
           visit_elements(item, [&](const box3f& box, const uint32_t*, int) {
             b.extend(box);
-            const uint32_t cubed = ordered(element_size_cubed(box));
-            for_each_cell(m.grid, box, [&](uint64_t c) { atomic_min(finest[c], cubed); });
+            runs.add(box, ordered(element_size_cubed(box)));
           });
+        runs.flush();
         const std::lock_guard<std::mutex> lock(merge);
         bounds.extend(b);
       },
@@ -159,23 +197,34 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, box3f* seen, Element
 template <typename ElementsOf>
 std::vector<Range> ranges_over(const MacroCells& m, int64_t items, const float* values, ElementsOf&& visit_elements) {
   std::vector<uint32_t> lo(m.region_count(), ordered(INFINITY)), hi(m.region_count(), ordered(-INFINITY));
-  parallel_for("macrocell ranges", items, [&](int64_t item) {
-    visit_elements(item, [&](const box3f& box, const uint32_t* vertex, int n) {
-      float elo = INFINITY, ehi = -INFINITY;
-      for (int k = 0; k < n; ++k) {
-        const float v = values[vertex[k]];
-        if (std::isfinite(v)) elo = std::min(elo, v), ehi = std::max(ehi, v);
-      }
-      if (!(elo <= ehi)) return;
-      const uint32_t olo = ordered(elo), ohi = ordered(ehi);
-      for_each_cell(m.grid, box, [&](uint64_t c) {
-        const int32_t r = m.region_of_cell[c];
-        if (r < 0) return;  // cannot happen for the mesh the cells were built from; never index -1
-        atomic_min(lo[size_t(r)], olo);
-        atomic_max(hi[size_t(r)], ohi);
-      });
-    });
-  });
+  using Ordered = std::pair<uint32_t, uint32_t>;  // a range as ordered integers
+  const auto union_of = [](const Ordered& a, const Ordered& b) {
+    return Ordered{std::min(a.first, b.first), std::max(a.second, b.second)};
+  };
+  const auto store = [&](uint64_t c, const Ordered& range) {
+    const int32_t r = m.region_of_cell[c];
+    if (r < 0) return;  // cannot happen for the mesh the cells were built from; never index -1
+    atomic_min(lo[size_t(r)], range.first);
+    atomic_max(hi[size_t(r)], range.second);
+  };
+  const Stopwatch watch;
+  parallel_for_ranges(
+      items,
+      [&](int64_t begin, int64_t end) {
+        CellRuns<Ordered, decltype(union_of), decltype(store)> runs(m.grid, union_of, store);
+        for (int64_t item = begin; item < end; ++item)
+          visit_elements(item, [&](const box3f& box, const uint32_t* vertex, int n) {
+            float elo = INFINITY, ehi = -INFINITY;
+            for (int k = 0; k < n; ++k) {
+              const float v = values[vertex[k]];
+              if (std::isfinite(v)) elo = std::min(elo, v), ehi = std::max(ehi, v);
+            }
+            if (elo <= ehi) runs.add(box, {ordered(elo), ordered(ehi)});
+          });
+        runs.flush();
+      },
+      1024);
+  launch_times().add("macrocell ranges", watch.seconds());
   std::vector<Range> ranges(m.region_count());
   for (size_t r = 0; r < ranges.size(); ++r) ranges[r] = {from_ordered(lo[r]), from_ordered(hi[r])};
   return ranges;

@@ -18,6 +18,9 @@
 #include "volstream/core/math.h"
 #include "volstream/umesh/compact.h"
 #include "volstream/umesh/umesh.h"
+#if defined(__GNUC__) && !defined(__CUDACC__)
+#include "volstream/core/simd.h"  // cell_of's lanes
+#endif
 
 namespace vs {
 
@@ -27,14 +30,29 @@ struct MacroGrid {
   box3f bounds;
   vec3i dims{1, 1, 1};
   vec3f cell_size{1.f, 1.f, 1.f};
-  // Grid cell of p, clamped into the grid.
-  VS_HOST_DEVICE vec3i cell_of(const vec3f& p) const {
+  // Grid cell of p, clamped into the grid. The quotient is clamped as a float (far points must
+  // not overflow an int; NaN gives 0) to [0, dims - 1] and then truncated: for a quotient in that
+  // range truncation is its floor, so this is floor-then-clamp without a floor or a branch (the
+  // load runs it twice per element and pass).
+  VS_HOST_DEVICE VS_FORCE_INLINE vec3i cell_of(const vec3f& p) const {
+#if defined(__GNUC__) && !defined(__CUDACC__)
+    // The three axes on one SSE register (the same operations per lane; scalar, GCC branches on
+    // each comparison).
+    using simd::f4;
+    const f4 q = (f4{p.x, p.y, p.z, 0.f} - f4{bounds.lower.x, bounds.lower.y, bounds.lower.z, 0.f}) /
+                 f4{cell_size.x, cell_size.y, cell_size.z, 1.f};
+    const f4 last = {float(dims.x - 1), float(dims.y - 1), float(dims.z - 1), 0.f}, zero = {};
+    const f4 above = q > zero ? q : zero;
+    const simd::i4 c = __builtin_convertvector(above < last ? above : last, simd::i4);
+    return {c[0], c[1], c[2]};
+#else
     vec3i c;
-    for (int a = 0; a < 3; ++a) {  // clamped as floats: far points must not overflow an int
-      const float i = floorf((p[a] - bounds.lower[a]) / cell_size[a]);
-      c[a] = i >= 0.f ? (i < float(dims[a]) ? int(i) : dims[a] - 1) : 0;
+    for (int a = 0; a < 3; ++a) {
+      const float q = (p[a] - bounds.lower[a]) / cell_size[a], last = float(dims[a] - 1);
+      c[a] = int(q > 0.f ? (q < last ? q : last) : 0.f);
     }
     return c;
+#endif
   }
   VS_HOST_DEVICE uint64_t index(const vec3i& c) const {
     return (uint64_t(c.z) * uint64_t(dims.y) + uint64_t(c.y)) * uint64_t(dims.x) + uint64_t(c.x);

@@ -267,9 +267,7 @@ struct CompactMeshView {
   struct CornerPoints {
     vec3f x[8];
     VS_HOST_DEVICE box3f box(int n) const {
-      box3f b = box3f::make_empty();
-      for (int i = 0; i < n; ++i) b.extend(x[i]);
-      return b;
+      return corners_box(n, [&](int i) -> const vec3f& { return x[i]; });
     }
   };
   VS_HOST_DEVICE CornerPoints corner_points(uint32_t first_vertex, const uint16_t* v, int n) const {

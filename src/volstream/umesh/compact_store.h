@@ -31,9 +31,7 @@ struct CompactElement {
   int n = 0;
   uint32_t vertex[8];
   box3f box(const vec3f* vertices) const {
-    box3f b = box3f::make_empty();
-    for (int i = 0; i < n; ++i) b.extend(vertices[vertex[i]]);
-    return b;
+    return corners_box(n, [&](int i) -> const vec3f& { return vertices[vertex[i]]; });
   }
 };
 

@@ -18,8 +18,8 @@ int64_t first_failing_serially(const std::vector<uint8_t>& ok) {
 
 TEST(Parallel, FirstFailingIsTheSerialLoopsAnswer) {
   std::mt19937 rng(7);
-  for (const int64_t n : {0, 1, 5, 4096, 4097, 100000}) {
-    for (const int failures : {0, 1, 3, 50}) {
+  for (const int64_t n : {0, 1, 5, 255, 256, 257, 4096, 4097, 100000}) {
+    for (const int failures : {0, 1, 2, 3, 50}) {
       std::vector<uint8_t> ok(size_t(n), 1);
       for (int f = 0; f < failures && n > 0; ++f) ok[rng() % uint64_t(n)] = 0;
       for (const int64_t grain : {int64_t(1), int64_t(4096)}) {

@@ -1,5 +1,6 @@
 // corners_box (element_box) on the host's lanes against box3f::extend, corner by corner: the
-// same floats, signed zeros included, for every corner count of an element.
+// same floats, signed zeros included, for every corner count of an element; box_contains against
+// box3f::contains.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -33,6 +34,24 @@ TEST(UMesh, ElementBoxIsTheBoxExtendedCornerByCorner) {
         ASSERT_TRUE(same_bits(got.upper[a], want.upper[a])) << round << " " << n << " axis " << a;
       }
     }
+  }
+}
+
+// box_contains on lanes against box3f::contains: boxes whose corners share coordinates (ties on
+// every face), cross each other, or hold NaN.
+TEST(UMesh, BoxContainsOnLanesIsBoxContains) {
+  std::mt19937 rng(9);
+  const float pool[] = {0.f, -0.f, 1.f, 2.f, 3.f, NAN};
+  std::uniform_int_distribution<int> pick(0, 5);
+  auto corner = [&] { return vec3f(pool[pick(rng)], pool[pick(rng)], pool[pick(rng)]); };
+  for (int i = 0; i < 20000; ++i) {
+    const box3f outer{corner(), corner()};
+    const vec3f a = corner(), b = corner();
+    const vec3f corners[2] = {a, b};
+    const BoxLanes inner = corners_box_lanes(2, [&](int k) -> const vec3f& { return corners[k]; });
+    box3f plain = box3f::make_empty();
+    plain.extend(a), plain.extend(b);
+    ASSERT_EQ(box_contains(outer, inner), outer.contains(plain)) << i;
   }
 }
 

@@ -84,6 +84,12 @@ VS_FORCE_INLINE bool any(const i8& mask) {
   return acc != 0;
 }
 
+// Are all lanes of a and b equal?
+VS_FORCE_INLINE bool all_equal(const i4& a, const i4& b) {
+  const i4 same = a == b;
+  return (same[0] & same[1] & same[2] & same[3]) != 0;
+}
+
 // True where the AVX2 builds should run: the CPU has AVX2 and the baseline is not forced.
 bool use_avx2();
 // "avx2" or "baseline": what use_avx2() chooses now.

@@ -58,10 +58,11 @@ void for_each_cell(const MacroGrid& g, const box3f& b, F&& f) {
 template <typename Value, typename Merge, typename Store>
 class CellRuns {
  public:
-  CellRuns(const MacroGrid& grid, Merge merge, Store store) : grid_(grid), merge_(merge), store_(store) {}
+  CellRuns(const MacroGrid& grid, Merge merge, Store store)
+      : grid_(grid), lanes_(grid.lanes()), merge_(merge), store_(store) {}
   void add(const box3f& box, const Value& v) {
-    const vec3i lo = grid_.cell_of(box.lower), hi = grid_.cell_of(box.upper);
-    if (lo == lo_ && hi == hi_) {
+    const simd::i4 lo = MacroGrid::cell_of(lanes_, box.lower), hi = MacroGrid::cell_of(lanes_, box.upper);
+    if (simd::all_equal(lo, lo_) && simd::all_equal(hi, hi_)) {
       value_ = merge_(value_, v);
       return;
     }
@@ -69,15 +70,16 @@ class CellRuns {
     lo_ = lo, hi_ = hi, value_ = v;
   }
   void flush() {
-    for_each_cell(grid_, lo_, hi_, [&](uint64_t c) { store_(c, value_); });
-    lo_ = vec3i(0), hi_ = vec3i(-1);  // no cells
+    for_each_cell(grid_, {lo_[0], lo_[1], lo_[2]}, {hi_[0], hi_[1], hi_[2]}, [&](uint64_t c) { store_(c, value_); });
+    lo_ = simd::i4{}, hi_ = simd::i4{} - 1;  // no cells
   }
 
  private:
   const MacroGrid& grid_;
+  const MacroGrid::Lanes lanes_;
   Merge merge_;
   Store store_;
-  vec3i lo_{0}, hi_{-1};
+  simd::i4 lo_{}, hi_ = simd::i4{} - 1;
   Value value_{};
 };
 

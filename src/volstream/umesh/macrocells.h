@@ -34,26 +34,39 @@ struct MacroGrid {
   // not overflow an int; NaN gives 0) to [0, dims - 1] and then truncated: for a quotient in that
   // range truncation is its floor, so this is floor-then-clamp without a floor or a branch (the
   // load runs it twice per element and pass).
-  VS_HOST_DEVICE VS_FORCE_INLINE vec3i cell_of(const vec3f& p) const {
 #if defined(__GNUC__) && !defined(__CUDACC__)
-    // The three axes on one SSE register (the same operations per lane; scalar, GCC branches on
-    // each comparison).
-    using simd::f4;
-    const f4 q = (f4{p.x, p.y, p.z, 0.f} - f4{bounds.lower.x, bounds.lower.y, bounds.lower.z, 0.f}) /
-                 f4{cell_size.x, cell_size.y, cell_size.z, 1.f};
-    const f4 last = {float(dims.x - 1), float(dims.y - 1), float(dims.z - 1), 0.f}, zero = {};
-    const f4 above = q > zero ? q : zero;
-    const simd::i4 c = __builtin_convertvector(above < last ? above : last, simd::i4);
+  // On the host the three axes go on one SSE register (scalar, GCC branches on each comparison),
+  // with the grid's constants as lanes that a pass over the elements makes once (Lanes).
+  struct Lanes {
+    simd::f4 lower, size, last;
+  };
+  Lanes lanes() const {
+    Lanes g;
+    g.lower = simd::f4{bounds.lower.x, bounds.lower.y, bounds.lower.z, 0.f};
+    g.size = simd::f4{cell_size.x, cell_size.y, cell_size.z, 1.f};
+    g.last = simd::f4{float(dims.x - 1), float(dims.y - 1), float(dims.z - 1), 0.f};
+    return g;
+  }
+  // The cell as lanes x, y, z (the fourth is 0).
+  static VS_FORCE_INLINE simd::i4 cell_of(const Lanes& g, const vec3f& p) {
+    const simd::f4 q = (simd::f4{p.x, p.y, p.z, 0.f} - g.lower) / g.size, zero = {};
+    const simd::f4 above = q > zero ? q : zero;
+    return __builtin_convertvector(above < g.last ? above : g.last, simd::i4);
+  }
+  VS_FORCE_INLINE vec3i cell_of(const vec3f& p) const {
+    const simd::i4 c = cell_of(lanes(), p);
     return {c[0], c[1], c[2]};
+  }
 #else
+  VS_HOST_DEVICE VS_FORCE_INLINE vec3i cell_of(const vec3f& p) const {
     vec3i c;
     for (int a = 0; a < 3; ++a) {
       const float q = (p[a] - bounds.lower[a]) / cell_size[a], last = float(dims[a] - 1);
       c[a] = int(q > 0.f ? (q < last ? q : last) : 0.f);
     }
     return c;
-#endif
   }
+#endif
   VS_HOST_DEVICE uint64_t index(const vec3i& c) const {
     return (uint64_t(c.z) * uint64_t(dims.y) + uint64_t(c.y)) * uint64_t(dims.x) + uint64_t(c.x);
   }

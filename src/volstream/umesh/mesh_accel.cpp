@@ -78,7 +78,8 @@ void check_mesh_accel_boxes(const UMesh& mesh, const MeshAccel& accel, const std
       [&](int64_t i) {
         const ElementBvhNode& n = nodes[size_t(i)];
         for (uint32_t k = n.first; k < n.first + n.count; ++k)
-          if (!n.box.contains(element_box(mesh.vertices.data(), mesh.elements[accel.bvh.items[k]]))) return false;
+          if (!box_contains(n.box, element_box_lanes(mesh.vertices.data(), mesh.elements[accel.bvh.items[k]])))
+            return false;
         return true;
       },
       1024);

@@ -42,21 +42,39 @@ struct UMesh {
   uint64_t count_by_type[4] = {};  // type_slot order
 };
 
+#if defined(__GNUC__) && !defined(__CUDACC__)
+// A box as lanes (x, y, z, and 0 in the fourth).
+struct BoxLanes {
+  simd::f4 lower, upper;
+};
+VS_FORCE_INLINE simd::f4 lanes_of(const vec3f& v) { return simd::f4{v.x, v.y, v.z, 0.f}; }
+// corners_box on the host's lanes (below), for callers that go on with lanes.
+template <typename Corner>
+VS_FORCE_INLINE BoxLanes corners_box_lanes(int n, Corner&& corner) {
+  BoxLanes b{{INFINITY, INFINITY, INFINITY, 0.f}, {-INFINITY, -INFINITY, -INFINITY, 0.f}};
+  for (int i = 0; i < n; ++i) {
+    const simd::f4 x = lanes_of(corner(i));
+    b.lower = b.lower < x ? b.lower : x;
+    b.upper = b.upper > x ? b.upper : x;
+  }
+  return b;
+}
+// outer.contains(b) (box3f::contains: both corners of b inside, NaN false) on lanes.
+VS_FORCE_INLINE bool box_contains(const box3f& outer, const BoxLanes& b) {
+  const simd::f4 lo = lanes_of(outer.lower), hi = lanes_of(outer.upper);
+  const simd::i4 in = (b.lower >= lo) & (b.lower <= hi) & (b.upper >= lo) & (b.upper <= hi);
+  return simd::all_equal(in, simd::i4{} - 1);
+}
+#endif
+
 // The box of corners corner(0..n) (each a vec3f). On the host the three axes go on one SSE
 // register, with the comparisons of box3f::extend in the same order, so the floats are the
 // same: a load checks and bins every element's box two or three times over.
 template <typename Corner>
 VS_HOST_DEVICE VS_FORCE_INLINE box3f corners_box(int n, Corner&& corner) {
 #if defined(__GNUC__) && !defined(__CUDACC__)
-  using simd::f4;
-  f4 lower = {INFINITY, INFINITY, INFINITY, 0.f}, upper = {-INFINITY, -INFINITY, -INFINITY, 0.f};
-  for (int i = 0; i < n; ++i) {
-    const vec3f& c = corner(i);
-    const f4 x = {c.x, c.y, c.z, 0.f};
-    lower = lower < x ? lower : x;
-    upper = upper > x ? upper : x;
-  }
-  return {{lower[0], lower[1], lower[2]}, {upper[0], upper[1], upper[2]}};
+  const BoxLanes b = corners_box_lanes(n, corner);
+  return {{b.lower[0], b.lower[1], b.lower[2]}, {b.upper[0], b.upper[1], b.upper[2]}};
 #else
   box3f b = box3f::make_empty();
   for (int i = 0; i < n; ++i) b.extend(corner(i));
@@ -67,5 +85,10 @@ VS_HOST_DEVICE VS_FORCE_INLINE box3f corners_box(int n, Corner&& corner) {
 VS_HOST_DEVICE inline box3f element_box(const vec3f* vertices, const UElement& e) {
   return corners_box(e.vertex_count(), [&](int i) -> const vec3f& { return vertices[e.v[i]]; });
 }
+#if defined(__GNUC__) && !defined(__CUDACC__)
+VS_FORCE_INLINE BoxLanes element_box_lanes(const vec3f* vertices, const UElement& e) {
+  return corners_box_lanes(e.vertex_count(), [&](int i) -> const vec3f& { return vertices[e.v[i]]; });
+}
+#endif
 
 }  // namespace vs

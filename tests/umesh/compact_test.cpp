@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "volstream/render/integrators/umesh_renderer.h"
+#include "volstream/umesh/compact_store.h"
 #include "volstream/umesh/demo.h"
 #include "volstream/umesh/from_mesh_data.h"
 
@@ -61,6 +62,27 @@ TEST_P(CompactTest, EqualsTheReferenceAtRandomPoints) {
     EXPECT_NEAR(got, want[i], 1e-6f * std::max(1.f, std::fabs(want[i]))) << "point " << i;
   }
   EXPECT_GT(inside, 2000);
+}
+
+// for_each_element_of_leaf's pass along the corner runs gives each leaf's elements as
+// CompactMeshView::element decodes them one by one (tet pairs, single tets, every other type).
+TEST_P(CompactTest, ElementsOfALeafInOnePassAreTheElementsOneByOne) {
+  const Encoded e = encode(GetParam(), 20000);
+  const CompactMeshView view = view_of(e.compact);
+  for (uint32_t l = 0; l < e.compact.leaves.size(); ++l) {
+    const CompactLeaf& leaf = e.compact.leaves[l];
+    const uint32_t base = e.compact.submeshes[leaf.submesh].first_vertex;
+    uint32_t k = 0;
+    for_each_element_of_leaf(e.compact, view, l, [&](const CompactElement& got) {
+      uint8_t corner[8];
+      uint16_t v[8];
+      const int n = view.element(leaf, k, corner, v);
+      ASSERT_EQ(got.n, n) << "leaf " << l << " element " << k;
+      for (int i = 0; i < n; ++i) ASSERT_EQ(got.vertex[i], base + v[i]) << "leaf " << l << " element " << k;
+      ++k;
+    });
+    ASSERT_EQ(k, leaf.element_count()) << "leaf " << l;
+  }
 }
 
 TEST_P(CompactTest, QuantizedBoxesHoldTheirChildrenAndLeavesHoldEveryElementOnce) {

@@ -229,8 +229,11 @@ struct CompactMeshView {
     return bytes + submeshes[leaf.submesh].first_byte + leaf.first_byte;
   }
   VS_HOST_DEVICE uint16_t table_entry(const CompactLeaf& leaf, uint32_t c) const {
-    const uint8_t* t = leaf_bytes(leaf) + 2u * c;
-    return uint16_t(t[0] | t[1] << 8);
+    return entry_of(leaf_bytes(leaf), c);
+  }
+  // Entry c of the vertex table at `table` (16 bits, little-endian).
+  VS_HOST_DEVICE static uint16_t entry_of(const uint8_t* table, uint32_t c) {
+    return uint16_t(table[2u * c] | table[2u * c + 1u] << 8);
   }
   VS_HOST_DEVICE const uint8_t* corners(const CompactLeaf& leaf) const {
     return leaf_bytes(leaf) + 2u * leaf.table_size();

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "volstream/core/math.h"
@@ -35,18 +36,33 @@ struct CompactElement {
   }
 };
 
-// Calls f(element) for each element of leaf l, in slot order.
+// Calls f(element) for each element of leaf l, in slot order: the elements of CompactMeshView::
+// element(leaf, k) for k = 0, 1, ..., decoded in one pass along the leaf's corner runs instead of
+// finding each element's run afresh (the load's and the ranges' passes decode every element).
 template <typename F>
 void for_each_element_of_leaf(const CompactMesh& c, const CompactMeshView& view, uint32_t l, F&& f) {
   const CompactLeaf& leaf = c.leaves[l];
   const uint32_t base = c.submeshes[leaf.submesh].first_vertex;
-  for (uint32_t k = 0, count = leaf.element_count(); k < count; ++k) {
-    CompactElement e;
-    uint8_t corner[8] = {};
-    uint16_t v[8] = {};
-    e.n = view.element(leaf, k, corner, v);
-    for (int i = 0; i < e.n; ++i) e.vertex[i] = base + v[i];
-    f(e);
+  const uint8_t* table = view.leaf_bytes(leaf);
+  const uint8_t* corner = table + 2u * leaf.table_size();
+  auto vertex = [&](uint8_t b) { return base + CompactMeshView::entry_of(table, b); };
+  CompactElement e;
+  e.n = 4;
+  for (uint32_t pair = 0; pair < leaf.tet_pairs; ++pair, corner += 5) {  // 3 shared corners, then each tet's own
+    for (int i = 0; i < 3; ++i) e.vertex[i] = vertex(corner[i]);
+    e.vertex[3] = vertex(corner[3]);
+    f(std::as_const(e));
+    e.vertex[3] = vertex(corner[4]);
+    f(std::as_const(e));
+  }
+  const uint32_t counts[4] = {leaf.counts[0] - 2u * leaf.tet_pairs, leaf.counts[1], leaf.counts[2], leaf.counts[3]};
+  constexpr int kVertices[4] = {4, 5, 6, 8};
+  for (int type = 0; type < 4; ++type) {
+    e.n = kVertices[type];
+    for (uint32_t k = 0; k < counts[type]; ++k, corner += e.n) {
+      for (int i = 0; i < e.n; ++i) e.vertex[i] = vertex(corner[i]);
+      f(std::as_const(e));
+    }
   }
 }
 

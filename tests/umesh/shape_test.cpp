@@ -136,11 +136,11 @@ TEST_P(ShapeTest, NewtonStepOnLanesEqualsTheStepOnVec3) {
     const std::vector<vec3f> x = element(n, rng, 0.2f);
     const shape::IsoMap map = shape::iso_map(n, x.data());
     shape::lanes::f4 lanes[8];
-    for (int i = 0; i < 8; ++i) lanes[i] = shape::lanes::load(map.c[i]);
+    for (int i = 0; i < 8; ++i) lanes[i] = simd::lanes_of(map.c[i]);
     const vec3f pc = random_params(n, rng), p(around(rng), around(rng), around(rng));
     vec3f scalar_delta, lanes_delta;
     const bool scalar_ok = shape::newton_step(map, p, pc, scalar_delta);
-    ASSERT_EQ(shape::newton_step(lanes, shape::lanes::load(p), pc, lanes_delta), scalar_ok);
+    ASSERT_EQ(shape::newton_step(lanes, simd::lanes_of(p), pc, lanes_delta), scalar_ok);
     if (!scalar_ok) continue;
     for (int a = 0; a < 3; ++a) {
 #if defined(__FMA__)

@@ -292,8 +292,8 @@ Bvh build_bvh_sah(const std::vector<box3f>& boxes) {
     std::memcpy(&id_bits, &id, sizeof id);
     Prim& p = b.prims[i];
     p.lo = f4{x.lower.x, x.lower.y, x.lower.z, id_bits};
-    p.hi = f4{x.upper.x, x.upper.y, x.upper.z, 0.f};
-    p.c = f4{c.x, c.y, c.z, 0.f};
+    p.hi = simd::lanes_of(x.upper);
+    p.c = simd::lanes_of(c);
   }
   tbb::task_group tasks;
   b.build(0, 0, uint32_t(boxes.size()), 1, 0, nullptr, tasks);

@@ -25,6 +25,8 @@ namespace vs::simd {
 // register on x86-64.
 typedef float f4 __attribute__((vector_size(16)));
 typedef int32_t i4 __attribute__((vector_size(16)));
+// A 3-vector on lanes x, y, z, with 0 in the fourth.
+VS_FORCE_INLINE f4 lanes_of(const vec3f& v) { return f4{v.x, v.y, v.z, 0.f}; }
 
 inline constexpr uint32_t kLanes = 8;
 typedef float f8 __attribute__((vector_size(kLanes * sizeof(float))));

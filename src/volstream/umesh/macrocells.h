@@ -42,14 +42,14 @@ struct MacroGrid {
   };
   Lanes lanes() const {
     Lanes g;
-    g.lower = simd::f4{bounds.lower.x, bounds.lower.y, bounds.lower.z, 0.f};
+    g.lower = simd::lanes_of(bounds.lower);
     g.size = simd::f4{cell_size.x, cell_size.y, cell_size.z, 1.f};
     g.last = simd::f4{float(dims.x - 1), float(dims.y - 1), float(dims.z - 1), 0.f};
     return g;
   }
   // The cell as lanes x, y, z (the fourth is 0).
   static VS_FORCE_INLINE simd::i4 cell_of(const Lanes& g, const vec3f& p) {
-    const simd::f4 q = (simd::f4{p.x, p.y, p.z, 0.f} - g.lower) / g.size, zero = {};
+    const simd::f4 q = (simd::lanes_of(p) - g.lower) / g.size, zero = {};
     const simd::f4 above = q > zero ? q : zero;
     return __builtin_convertvector(above < g.last ? above : g.last, simd::i4);
   }

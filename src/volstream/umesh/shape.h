@@ -129,7 +129,6 @@ VS_HOST_DEVICE VS_FORCE_INLINE float params_outside(int n, float r, float s, flo
 #define VS_SHAPE_LANES 1
 namespace lanes {
 using simd::f4, simd::i4;
-inline f4 load(const vec3f& v) { return f4{v.x, v.y, v.z, 0.f}; }
 #if defined(__clang__)
 inline f4 yzx(f4 v) { return __builtin_shufflevector(v, v, 1, 2, 0, 3); }
 inline f4 zxy(f4 v) { return __builtin_shufflevector(v, v, 2, 0, 1, 3); }
@@ -292,8 +291,8 @@ VS_HOST_DEVICE inline bool iso_weights(int n, IsoSolve& s, const vec3f& p, float
   float step = 0.f, previous = 0.f;
 #if defined(VS_SHAPE_LANES)
   lanes::f4 map[8];  // loaded once for every step
-  for (int i = 0; i < 8; ++i) map[i] = lanes::load(s.map.c[i]);
-  const lanes::f4 goal = lanes::load(target);
+  for (int i = 0; i < 8; ++i) map[i] = simd::lanes_of(s.map.c[i]);
+  const lanes::f4 goal = simd::lanes_of(target);
 #else
   const vec3f* map = s.map.c;
   const vec3f& goal = target;

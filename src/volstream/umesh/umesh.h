@@ -47,7 +47,7 @@ struct UMesh {
 struct BoxLanes {
   simd::f4 lower, upper;
 };
-VS_FORCE_INLINE simd::f4 lanes_of(const vec3f& v) { return simd::f4{v.x, v.y, v.z, 0.f}; }
+using simd::lanes_of;
 // corners_box on the host's lanes (below), for callers that go on with lanes.
 template <typename Corner>
 VS_FORCE_INLINE BoxLanes corners_box_lanes(int n, Corner&& corner) {

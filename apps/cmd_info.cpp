@@ -37,7 +37,8 @@ void add_mesh_resident_bytes(const Dataset& ds, nlohmann::json& summary) {
                                  {"elements", b.elements},
                                  {"element_bvh_nodes", b.bvh_nodes},
                                  {"element_bvh_items", b.bvh_items},
-                                 {"face_neighbors", b.face_neighbors}};
+                                 {"face_neighbors", b.face_neighbors},
+                                 {"tet_walk_records", b.tet_walk}};
     summary["element_bvh_nodes"] = renderer.element_bvh().nodes.size();
   }
   summary["resident_bytes"]["macrocells"] = b.macrocells;

@@ -4,6 +4,7 @@
 // NaN outside; the linear field is reproduced in every element.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -11,6 +12,7 @@
 #include "volstream/render/integrators/umesh_renderer.h"
 #include "volstream/umesh/demo.h"
 #include "volstream/umesh/from_mesh_data.h"
+#include "volstream/umesh/mesh_accel.h"
 
 namespace vs {
 namespace {
@@ -109,6 +111,50 @@ TEST_P(MeshProbeTest, WalkFromTheHintEqualsSearchAlongLines) {
     }
   }
   EXPECT_GT(walked, 5000);
+}
+
+// A tet's walk record holds its solve (the weights at any point, inside or out, are the fresh
+// solve's to float rounding, and so is the most negative of them) and its neighbours as
+// the adjacency has them; another type's record, and a flat tet's, say they are not a tet.
+TEST_P(MeshProbeTest, TetWalkRecordsAreTheTetsSolvesAndNeighbours) {
+  DemoMesh d = demo(GetParam(), 3000);
+  const MeshAccel accel = build_mesh_accel(d.mesh);
+  const TetWalkRecords records = tet_walk_records(d.mesh, accel.neighbors);
+  const uint64_t tets = std::count_if(d.mesh.elements.begin(), d.mesh.elements.end(),
+                                      [](const UElement& el) { return el.vertex_count() == 4; });
+  if (tets == 0) {
+    EXPECT_TRUE(records.empty());
+    return;
+  }
+  ASSERT_EQ(records.size(), d.mesh.elements.size());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> weight(-0.5f, 1.f);
+  int compared = 0;
+  for (size_t e = 0; e < records.size(); ++e) {
+    const UElement& el = d.mesh.elements[e];
+    ASSERT_EQ(records[e].is_tet(), el.vertex_count() == 4) << "element " << e;
+    if (!records[e].is_tet()) continue;
+    vec3f x[4];
+    for (int i = 0; i < 4; ++i) {
+      x[i] = d.mesh.vertices[el.v[i]];
+      EXPECT_EQ(records[e].neighbor[i], accel.neighbors[e * shape::kMaxFaces + size_t(i)]);
+    }
+    for (int k = 0; k < 4; ++k) {  // points inside and outside, from weights that sum to 1
+      const float a = weight(rng), b = weight(rng), c = weight(rng);
+      const vec3f p = x[0] * (1.f - a - b - c) + x[1] * a + x[2] * b + x[3] * c;
+      float want[4], got[4], outside;
+      int want_face = -1, got_face = -1;
+      shape::locate_in_tet(x, p, want, &outside, &want_face);
+      UMeshView::tet_record_weights(records[e], p, got, got_face);
+      for (int i = 0; i < 4; ++i) EXPECT_NEAR(got[i], want[i], 1e-5f) << "element " << e << " weight " << i;
+      EXPECT_NEAR(got[got_face], want[want_face], 1e-5f) << "element " << e;  // the most negative weight
+      ++compared;
+    }
+  }
+  EXPECT_EQ(uint64_t(compared), 4 * tets);
+  // A flat tet (its fourth corner in the plane of the other three) has no solve.
+  d.mesh.vertices[d.mesh.elements[0].v[3]] = d.mesh.vertices[d.mesh.elements[0].v[0]];
+  if (d.mesh.elements[0].vertex_count() == 4) EXPECT_FALSE(tet_walk_records(d.mesh, accel.neighbors)[0].is_tet());
 }
 
 INSTANTIATE_TEST_SUITE_P(Demos, MeshProbeTest, ::testing::Values("tets", "mixed", "holes"));

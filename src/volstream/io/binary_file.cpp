@@ -3,10 +3,6 @@
 #include <cstdio>
 #include <memory>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 #include "volstream/core/error.h"
 #include "volstream/io/atomic_file.h"
 
@@ -38,17 +34,6 @@ uint64_t file_size_checked(const std::filesystem::path& path, uint64_t max_bytes
     input_error(path.string(),
                 "too large (" + std::to_string(size) + " bytes, at most " + std::to_string(max_bytes) + ")");
   return uint64_t(size);
-}
-
-void prefer_huge_pages(void* data, uint64_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr uintptr_t kHugePage = uintptr_t(2) << 20;
-  const uintptr_t begin = (uintptr_t(data) + kHugePage - 1) & ~(kHugePage - 1);
-  const uintptr_t end = (uintptr_t(data) + bytes) & ~(kHugePage - 1);
-  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#else
-  (void)data, (void)bytes;
-#endif
 }
 
 void throw_size_mismatch(const std::filesystem::path& path, uint64_t size, uint64_t expected) {

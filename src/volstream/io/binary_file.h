@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "volstream/core/huge_pages.h"
+
 namespace vs {
 
 // The size of a regular file (links followed); InputError for a missing file, a directory, a
@@ -24,12 +26,6 @@ std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes
 // Writes `bytes` bytes, zero-padded to a multiple of `pad_to` (1 = no padding), atomically
 // (io/atomic_file.h: a temporary renamed into place, every write and the close checked).
 void write_file(const std::filesystem::path& path, const void* data, uint64_t bytes, uint64_t pad_to = 1);
-
-// Asks the kernel to back the 2 MiB-aligned part of a fresh allocation with transparent huge
-// pages (Linux's "madvise" mode): a mesh's load fills 80 MB of arrays, and one page fault per
-// 2 MiB instead of per 4 KiB takes much of the load's kernel time off. Advice only: where it is
-// refused or unknown, nothing changes.
-void prefer_huge_pages(void* data, uint64_t bytes);
 
 [[noreturn]] void throw_size_mismatch(const std::filesystem::path& path, uint64_t size, uint64_t expected);
 

@@ -1,7 +1,12 @@
 #include "volstream/umesh/mesh_accel.h"
 
+#include <algorithm>
+#include <cmath>
+#include <new>
+
 #include "volstream/backend/parallel.h"
 #include "volstream/core/error.h"
+#include "volstream/core/huge_pages.h"
 #include "volstream/umesh/adjacency.h"
 
 namespace vs {
@@ -18,6 +23,45 @@ Box3<double> world_bounds(const std::vector<vec3f>& vertices, const WorldTransfo
   for (const vec3f& v : vertices) b.extend(transform.to_world(vec3d(v)));
   if (b.empty()) b = {vec3d(0), vec3d(1)};
   return b;
+}
+
+TetWalkRecords::TetWalkRecords(size_t count)
+    : records_(static_cast<TetWalkRecord*>(
+          ::operator new[](count * sizeof(TetWalkRecord), std::align_val_t(alignof(TetWalkRecord))))),
+      count_(count) {
+  prefer_huge_pages(records_.get(), count * sizeof(TetWalkRecord));
+}
+
+void TetWalkRecords::Free::operator()(TetWalkRecord* p) const {
+  ::operator delete[](p, std::align_val_t(alignof(TetWalkRecord)));
+}
+
+namespace {
+TetWalkRecord tet_walk_record(const UMesh& mesh, const std::vector<uint32_t>& neighbors, size_t e) {
+  TetWalkRecord r;
+  r.rows[0].x = NAN;  // not a tet, until shown one
+  const UElement& el = mesh.elements[e];
+  vec3f x[4];
+  shape::TetSolve s;
+  if (el.vertex_count() != 4) return r;
+  for (int i = 0; i < 4; ++i) x[i] = mesh.vertices[el.v[i]];
+  if (!shape::tet_solve(x, s)) return r;
+  r.origin = s.origin;
+  for (int i = 0; i < 3; ++i) r.rows[i] = s.rows[i] * s.inv_det;
+  for (int i = 0; i < 4; ++i) r.neighbor[i] = neighbors[e * shape::kMaxFaces + size_t(i)];
+  return r;
+}
+}  // namespace
+
+TetWalkRecords tet_walk_records(const UMesh& mesh, const std::vector<uint32_t>& neighbors) {
+  if (std::none_of(mesh.elements.begin(), mesh.elements.end(),
+                   [](const UElement& el) { return el.vertex_count() == 4; }))
+    return {};
+  TetWalkRecords records(mesh.elements.size());
+  TetWalkRecord* out = records.data();
+  parallel_for("tet walk records", int64_t(records.size()),
+               [&](int64_t e) { new (out + e) TetWalkRecord(tet_walk_record(mesh, neighbors, size_t(e))); });
+  return records;
 }
 
 MeshAccel build_mesh_accel(const UMesh& mesh) {

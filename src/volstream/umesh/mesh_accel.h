@@ -2,6 +2,7 @@
 // with the dataset (docs/formats.md), like the ABRs of AMR: the element BVH (element_bvh.h) and
 // the face adjacency of the walk (adjacency.h). A render only reads them.
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,29 @@ inline Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transf
   return world_bounds(mesh.vertices, transform);
 }
 MeshAccel build_mesh_accel(const UMesh& mesh);
+// The walk records of a mesh's elements (element_bvh.h): 64 MB for 1 M elements, so the array
+// is filled in parallel on huge pages and never zero-filled first (on one thread) as a
+// std::vector would.
+class TetWalkRecords {
+ public:
+  TetWalkRecords() = default;
+  explicit TetWalkRecords(size_t count);
+  TetWalkRecord* data() { return records_.get(); }
+  const TetWalkRecord* data() const { return records_.get(); }
+  size_t size() const { return count_; }
+  bool empty() const { return count_ == 0; }
+  const TetWalkRecord& operator[](size_t i) const { return records_.get()[i]; }
+
+ private:
+  struct Free {
+    void operator()(TetWalkRecord* p) const;
+  };
+  std::unique_ptr<TetWalkRecord, Free> records_;
+  size_t count_ = 0;
+};
+// One walk record per element (another type's, or a degenerate tet's, with is_tet() false),
+// from the mesh and its face adjacency. Empty for a mesh without tets.
+TetWalkRecords tet_walk_records(const UMesh& mesh, const std::vector<uint32_t>& neighbors);
 
 // The sampler's view of a mesh and its structures (host pointers; both must outlive it).
 inline UMeshView view_of(const UMesh& mesh, const MeshAccel& accel) {

@@ -184,16 +184,22 @@ VS_HOST_DEVICE inline bool tet_solve(const vec3f* x, TetSolve& s) {
   s.inv_det = 1.f / det;
   return true;
 }
-// The weights at p (w[0..4)), how far outside p is and the face it lies beyond most, as in
-// locate_in_element; true when p is inside within kParamTolerance.
-VS_HOST_DEVICE inline bool tet_weights(const TetSolve& s, const vec3f& p, float* w, float* outside, int* face) {
-  const vec3f b = p - s.origin;
-  const vec3f pc = {dot(b, s.rows[0]) * s.inv_det, dot(b, s.rows[1]) * s.inv_det, dot(b, s.rows[2]) * s.inv_det};
+// A tet's weights (w[0..4)) from its parametric point pc, and the face p lies beyond most: the
+// one opposite the most negative weight.
+VS_HOST_DEVICE inline int tet_weights_of(const vec3f& pc, float* w) {
   w[0] = 1.f - pc.x - pc.y - pc.z, w[1] = pc.x, w[2] = pc.y, w[3] = pc.z;
   int worst = 0;
   for (int i = 1; i < 4; ++i)
     if (w[i] < w[worst]) worst = i;
-  if (face) *face = worst;  // the face opposite the most negative weight
+  return worst;
+}
+// The weights at p (w[0..4)), how far outside p is and the face it lies beyond most, as in
+// locate_in_element; true when p is inside within kParamTolerance.
+VS_HOST_DEVICE inline bool tet_weights(const TetSolve& s, const vec3f& p, float* w, float* outside, int* face) {
+  const vec3f b = p - s.origin;
+  const int worst =
+      tet_weights_of({dot(b, s.rows[0]) * s.inv_det, dot(b, s.rows[1]) * s.inv_det, dot(b, s.rows[2]) * s.inv_det}, w);
+  if (face) *face = worst;
   if (outside) *outside = -w[worst];
   return -w[worst] <= kParamTolerance;
 }

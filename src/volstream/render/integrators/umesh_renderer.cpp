@@ -41,6 +41,11 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
     cells_ = *cells;
   else
     cells_ = mesh ? build_macrocells(*mesh, grid) : build_macrocells(*stored, grid);
+  if (mesh) {
+    tet_walk_ = tet_walk_records(*mesh, accel_->neighbors);
+    tet_walk_counted_ =
+        CountedBytes("tet walk records", MemorySpace::host, int64_t(tet_walk_.size() * sizeof(TetWalkRecord)));
+  }
   build_seconds_ = watch.seconds();
   visible_.assign(cells_.region_count(), 1);
   const UMeshBytes b = bytes();
@@ -88,7 +93,9 @@ const MeshAccel& UMeshRenderer::reference_accel() const {
 
 UMeshView UMeshRenderer::mesh_view() const {
   const MeshAccel& accel = reference_accel();  // refuses a stored compact mesh before mesh_ is read
-  return view_of(*mesh_, accel);
+  UMeshView view = view_of(*mesh_, accel);
+  view.tet_walk = tet_walk_.empty() ? nullptr : tet_walk_.data();
+  return view;
 }
 
 template <typename Locator>
@@ -163,6 +170,7 @@ UMeshBytes UMeshRenderer::bytes() const {
     b.bvh_nodes = accel_->bvh.nodes.size() * sizeof(ElementBvhNode);
     b.face_neighbors = accel_->neighbors.size() * sizeof(uint32_t);
     b.bvh_items = accel_->bvh.items.size() * sizeof(uint32_t);
+    b.tet_walk = tet_walk_.size() * sizeof(TetWalkRecord);
     b.field = mesh_->vertices.size() * sizeof(float);
   } else {
     b.compact = stored_->bytes_by_part();

@@ -25,10 +25,12 @@ namespace vs {
 // Resident bytes of each structure the renderer keeps for a mesh (info, bytes_per_element): the
 // reference encoding's parts, or the stored compact encoding's (`compact`, its field excluded).
 struct UMeshBytes {
-  uint64_t vertices = 0, elements = 0, bvh_nodes = 0, bvh_items = 0, face_neighbors = 0, macrocells = 0, field = 0;
+  uint64_t vertices = 0, elements = 0, bvh_nodes = 0, bvh_items = 0, face_neighbors = 0, tet_walk = 0, macrocells = 0,
+           field = 0;
   CompactBytes compact;
   uint64_t total() const {
-    return vertices + elements + bvh_nodes + bvh_items + face_neighbors + macrocells + field + compact.total();
+    return vertices + elements + bvh_nodes + bvh_items + face_neighbors + tet_walk + macrocells + field +
+           compact.total();
   }
 };
 
@@ -116,6 +118,8 @@ class UMeshRenderer {
   std::optional<RegionVertices> region_vertices_;  // from the second ranges() call
   CountedBytes region_vertices_counted_;
   std::vector<uint8_t> visible_;  // per macrocell, from classify or refit
+  TetWalkRecords tet_walk_;       // per element where the mesh has tets (element_bvh.h)
+  CountedBytes tet_walk_counted_;
   CountedBytes counted_;
   std::unique_ptr<CompactMesh> compact_;
   CountedBytes compact_counted_;

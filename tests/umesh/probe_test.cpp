@@ -154,7 +154,9 @@ TEST_P(MeshProbeTest, TetWalkRecordsAreTheTetsSolvesAndNeighbours) {
   EXPECT_EQ(uint64_t(compared), 4 * tets);
   // A flat tet (its fourth corner in the plane of the other three) has no solve.
   d.mesh.vertices[d.mesh.elements[0].v[3]] = d.mesh.vertices[d.mesh.elements[0].v[0]];
-  if (d.mesh.elements[0].vertex_count() == 4) EXPECT_FALSE(tet_walk_records(d.mesh, accel.neighbors)[0].is_tet());
+  if (d.mesh.elements[0].vertex_count() == 4) {
+    EXPECT_FALSE(tet_walk_records(d.mesh, accel.neighbors)[0].is_tet());
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Demos, MeshProbeTest, ::testing::Values("tets", "mixed", "holes"));

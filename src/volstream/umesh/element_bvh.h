@@ -118,7 +118,8 @@ struct UMeshView {
 
   // The ray's note of where its last sample was (RayState::hint, volume.h): the element, and
   // the solve that located that sample there (shape::KeptSolve), so that the next sample's
-  // first test, in that element, loads no corners.
+  // first test, in that element, loads no corners (none where a tet's walk record located it:
+  // the record is the solve, and in cache).
   struct Hint {
     int64_t element = -1;
     shape::KeptSolve solve;

@@ -94,7 +94,7 @@ const MeshAccel& UMeshRenderer::reference_accel() const {
 UMeshView UMeshRenderer::mesh_view() const {
   const MeshAccel& accel = reference_accel();  // refuses a stored compact mesh before mesh_ is read
   UMeshView view = view_of(*mesh_, accel);
-  view.tet_walk = tet_walk_.empty() ? nullptr : tet_walk_.data();
+  view.tet_walk = tet_walk_.data();  // null without tets
   return view;
 }
 

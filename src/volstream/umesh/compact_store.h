@@ -49,8 +49,7 @@ void for_each_element_of_leaf(const CompactMesh& c, const CompactMeshView& view,
   CompactElement e;
   e.n = 4;
   for (uint32_t pair = 0; pair < leaf.tet_pairs; ++pair, corner += 5) {  // 3 shared corners, then each tet's own
-    for (int i = 0; i < 3; ++i) e.vertex[i] = vertex(corner[i]);
-    e.vertex[3] = vertex(corner[3]);
+    for (int i = 0; i < 4; ++i) e.vertex[i] = vertex(corner[i]);
     f(std::as_const(e));
     e.vertex[3] = vertex(corner[4]);
     f(std::as_const(e));

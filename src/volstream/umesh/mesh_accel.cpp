@@ -53,10 +53,13 @@ TetWalkRecord tet_walk_record(const UMesh& mesh, const std::vector<uint32_t>& ne
 }
 }  // namespace
 
+bool has_tets(const UMesh& mesh) {
+  return std::any_of(mesh.elements.begin(), mesh.elements.end(),
+                     [](const UElement& el) { return el.vertex_count() == 4; });
+}
+
 TetWalkRecords tet_walk_records(const UMesh& mesh, const std::vector<uint32_t>& neighbors) {
-  if (std::none_of(mesh.elements.begin(), mesh.elements.end(),
-                   [](const UElement& el) { return el.vertex_count() == 4; }))
-    return {};
+  if (!has_tets(mesh)) return {};
   TetWalkRecords records(mesh.elements.size());
   TetWalkRecord* out = records.data();
   parallel_for("tet walk records", int64_t(records.size()),

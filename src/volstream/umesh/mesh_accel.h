@@ -44,6 +44,7 @@ class TetWalkRecords {
   std::unique_ptr<TetWalkRecord, Free> records_;
   size_t count_ = 0;
 };
+bool has_tets(const UMesh& mesh);
 // One walk record per element (another type's, or a degenerate tet's, with is_tet() false),
 // from the mesh and its face adjacency. Empty for a mesh without tets.
 TetWalkRecords tet_walk_records(const UMesh& mesh, const std::vector<uint32_t>& neighbors);

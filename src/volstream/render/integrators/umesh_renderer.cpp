@@ -41,11 +41,6 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
     cells_ = *cells;
   else
     cells_ = mesh ? build_macrocells(*mesh, grid) : build_macrocells(*stored, grid);
-  if (mesh) {
-    tet_walk_ = tet_walk_records(*mesh, accel_->neighbors);
-    tet_walk_counted_ =
-        CountedBytes("tet walk records", MemorySpace::host, int64_t(tet_walk_.size() * sizeof(TetWalkRecord)));
-  }
   build_seconds_ = watch.seconds();
   visible_.assign(cells_.region_count(), 1);
   const UMeshBytes b = bytes();
@@ -93,6 +88,13 @@ const MeshAccel& UMeshRenderer::reference_accel() const {
 
 UMeshView UMeshRenderer::mesh_view() const {
   const MeshAccel& accel = reference_accel();  // refuses a stored compact mesh before mesh_ is read
+  // The walk records are the CPU walk's alone: built on the first view that walks, so that info,
+  // probes (no walk) and CUDA frames (the device walks by corners) do not pay 64 B an element.
+  std::call_once(*tet_walk_once_, [&] {
+    tet_walk_ = tet_walk_records(*mesh_, accel.neighbors);
+    tet_walk_counted_ =
+        CountedBytes("tet walk records", MemorySpace::host, int64_t(tet_walk_.size() * sizeof(TetWalkRecord)));
+  });
   UMeshView view = view_of(*mesh_, accel);
   view.tet_walk = tet_walk_.data();  // null without tets
   return view;
@@ -155,7 +157,7 @@ std::vector<float> UMeshRenderer::probe_compact(const float* values, const std::
 }
 
 std::vector<float> UMeshRenderer::probe(const float* values, const std::vector<vec3f>& points) const {
-  const UMeshView view = mesh_view();
+  const UMeshView view = view_of(*mesh_, reference_accel());  // a search per point: no walk
   std::vector<float> out(points.size());
   parallel_for("probe", int64_t(points.size()),
                [&](int64_t i) { out[size_t(i)] = view.sample(values, points[size_t(i)]); });
@@ -170,7 +172,7 @@ UMeshBytes UMeshRenderer::bytes() const {
     b.bvh_nodes = accel_->bvh.nodes.size() * sizeof(ElementBvhNode);
     b.face_neighbors = accel_->neighbors.size() * sizeof(uint32_t);
     b.bvh_items = accel_->bvh.items.size() * sizeof(uint32_t);
-    b.tet_walk = tet_walk_.size() * sizeof(TetWalkRecord);
+    b.tet_walk = has_tets(*mesh_) ? mesh_->elements.size() * sizeof(TetWalkRecord) : 0;  // once a CPU frame walks
     b.field = mesh_->vertices.size() * sizeof(float);
   } else {
     b.compact = stored_->bytes_by_part();

@@ -7,6 +7,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "volstream/amr/source.h"
@@ -118,8 +119,10 @@ class UMeshRenderer {
   std::optional<RegionVertices> region_vertices_;  // from the second ranges() call
   CountedBytes region_vertices_counted_;
   std::vector<uint8_t> visible_;  // per macrocell, from classify or refit
-  TetWalkRecords tet_walk_;       // per element where the mesh has tets (element_bvh.h)
-  CountedBytes tet_walk_counted_;
+  // Per element where the mesh has tets (element_bvh.h), built by the first mesh_view().
+  mutable TetWalkRecords tet_walk_;
+  mutable CountedBytes tet_walk_counted_;
+  std::unique_ptr<std::once_flag> tet_walk_once_ = std::make_unique<std::once_flag>();
   CountedBytes counted_;
   std::unique_ptr<CompactMesh> compact_;
   CountedBytes compact_counted_;

@@ -1,9 +1,11 @@
 // The one integrator through both volume kinds and both optical models, against closed forms:
 // a homogeneous blackbody slab (emission-absorption integrates exactly per step) and the
-// isosurface of a linear field (a plane, lit head-on).
+// isosurface of a linear field (a plane, lit head-on). The lattice march against its definition.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
+#include <vector>
 
 #include "test_util.h"
 #include "volstream/render/integrators/abr_renderer.h"
@@ -117,6 +119,59 @@ TEST(Integrators, IsosurfaceOfLinearFieldIsThePlaneOnAbrsAndBlocks) {
   frame.integrator = iso;
   const TfView view = tf.view();
   expect_every_pixel(blocks.render(&view, head_on(0), frame), lit, 1.0, 1e-3, "blocks trilinear");
+}
+
+// The lattice points an interval's steps give (March::lattice).
+std::vector<float> lattice_points(float dt, float t0, float t1, float jitter) {
+  IntegratorSettings st;
+  st.march = March::lattice;
+  st.rate = 1.f;
+  detail::Ray ray{};
+  ray.dir_len = 1.f;
+  const detail::Steps steps = detail::make_steps(st, ray, dt, t0, t1, jitter);
+  EXPECT_EQ(steps.march, March::lattice);
+  std::vector<float> t(steps.n);
+  float len_ref;
+  for (uint32_t k = 0; k < steps.n; ++k) steps.at(k, jitter, t[k], len_ref);
+  return t;
+}
+
+// An interval's samples are the points (m + jitter) dt in [t0, t1), whatever the interval: cut
+// anywhere, its two parts give the same floats in the same order, so a run of macrocells samples
+// as one interval would.
+TEST(LatticeMarch, CutIntervalsGiveTheWholeIntervalsPoints) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  for (int i = 0; i < 2000; ++i) {
+    const float dt = 0.001f + 0.1f * u(rng), jitter = u(rng);
+    const float t0 = 50.f * u(rng), t1 = t0 + 3.f * u(rng), cut = t0 + (t1 - t0) * u(rng);
+    const std::vector<float> whole = lattice_points(dt, t0, t1, jitter);
+    std::vector<float> parts = lattice_points(dt, t0, cut, jitter);
+    const std::vector<float> second = lattice_points(dt, cut, t1, jitter);
+    parts.insert(parts.end(), second.begin(), second.end());
+    // A point within rounding of the cut may fall on either side of it in the parts; none did here.
+    ASSERT_EQ(parts, whole) << "dt " << dt << " t0 " << t0 << " t1 " << t1 << " cut " << cut;
+    for (size_t k = 0; k < whole.size(); ++k) {
+      EXPECT_GE(whole[k], t0 * (1.f - 1e-6f));
+      EXPECT_LT(whole[k], t1 * (1.f + 1e-6f));
+      const float m = whole[k] / dt - jitter;
+      EXPECT_NEAR(m, std::round(m), 1e-2f) << "on the lattice";
+    }
+    EXPECT_NEAR(float(whole.size()), (t1 - t0) / dt, 1.f) << "one point per step";
+  }
+}
+
+TEST(LatticeMarch, ShortIntervalsMayHoldNoPointAndFarOnesFallBack) {
+  EXPECT_TRUE(lattice_points(1.f, 10.6f, 10.9f, 0.5f).empty());
+  EXPECT_EQ(lattice_points(1.f, 10.4f, 10.6f, 0.5f), std::vector<float>{10.5f});
+  IntegratorSettings st;
+  st.march = March::lattice;
+  detail::Ray ray{};
+  ray.dir_len = 1.f;
+  // 2^24 steps from the origin floats no longer count steps: equal steps from the entry instead.
+  const detail::Steps far = detail::make_steps(st, ray, 1e-3f * st.rate, 2e4f, 2e4f + 0.01f, 0.5f);
+  EXPECT_EQ(far.march, March::equal_jittered);
+  EXPECT_EQ(far.n, 10u);
 }
 
 }  // namespace

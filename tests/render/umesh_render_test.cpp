@@ -1,5 +1,6 @@
-// The mesh renderer against an exhaustive reference: the same integrator and macrocell intervals,
-// but every sample located by testing every element (no walk, no BVH). On the non-convex demo
+// The mesh renderer against an exhaustive reference: the same integrator, but one interval per
+// macrocell (the renderer merges runs of one step width: its lattice must give the same samples)
+// and every sample located by testing every element (no walk, no BVH). On the non-convex demo
 // (cavity, notch, a second part: rays leave and re-enter the mesh) and the mixed one, with DVR
 // and an isosurface, the images agree.
 #include <gtest/gtest.h>
@@ -30,6 +31,13 @@ struct ExhaustiveMeshVolume : UMeshVolume {
     return f;
   }
   float sample_near(int field, uint32_t region, const vec3f& p) const { return sample(field, region, p); }
+  template <typename Visit>
+  void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
+    for_each_cell_along(grid, org, dir, [&](const vec3i& cell, float t0, float t1) {
+      const int32_t region = region_of_cell[grid.index(cell)];
+      return region < 0 || !visible[region] || visit(RayInterval{uint32_t(region), t0, t1});
+    });
+  }
 };
 static_assert(Volume<ExhaustiveMeshVolume>);
 

@@ -2,7 +2,8 @@
 // against the ray. The walk must give every cell the ray passes through, with the interval
 // ray_box gives for that cell's box (what the region BVH it replaced gave), front to back.
 // The macrocells' value ranges, from the pass over the elements and from the per-region vertex
-// lists, against the brute force over every element box and every region.
+// lists, against the brute force over every element box and every region. The step widths'
+// ladder, and a mesh volume's intervals against the cells they merge.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 #include "volstream/umesh/demo.h"
 #include "volstream/umesh/from_mesh_data.h"
 #include "volstream/umesh/macrocells.h"
+#include "volstream/volume/umesh_volume.h"
 
 namespace vs {
 namespace {
@@ -250,6 +252,64 @@ TEST_P(MacrocellRangesTest, EveryStepOfASeriesGetsItsOwnRanges) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Demos, MacrocellRangesTest, ::testing::Values("tets", "mixed", "holes"));
+
+TEST(StepWidthLadder, RoundsDownToEighthOctaves) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> exponent(-30.f, 30.f);
+  for (int i = 0; i < 10000; ++i) {
+    const float w = std::exp2(exponent(rng));
+    const float l = ladder_width(w);
+    EXPECT_LE(l, w);
+    EXPECT_GT(l, w / std::exp2(0.125f) * (1.f - 1e-6f));
+    EXPECT_EQ(ladder_width(l), l) << "a rung is its own rung";
+    EXPECT_NEAR(std::log2(l) * 8.f, std::round(std::log2(l) * 8.f), 1e-3f);
+  }
+}
+
+// A mesh volume's intervals are the runs of consecutive visible cells of one step width, front
+// to back, named by the run's first cell (brute force: the cells the grid walk gives, joined).
+TEST(MeshVolumeIntervals, AreTheRunsOfVisibleCellsOfOneWidth) {
+  const UMesh mesh = demo_umesh("holes", 20000);
+  const MacroCells cells = build_macrocells(mesh);
+  std::vector<uint8_t> visible(cells.region_count());
+  for (size_t r = 0; r < visible.size(); ++r) visible[r] = r % 7 != 3;  // some culled
+  UMeshVolume volume;
+  volume.visible = visible.data();
+  volume.step_widths = cells.step_width.data();
+  volume.grid = cells.grid;
+  volume.region_of_cell = cells.region_of_cell.data();
+  const box3f& b = cells.grid.bounds;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  size_t merged = 0, runs = 0;
+  for (int i = 0; i < 500; ++i) {
+    const vec3f org = b.lower - b.size() + 3.f * b.size() * vec3f(u(rng), u(rng), u(rng));
+    const vec3f dir = normalize(b.lower + b.size() * vec3f(u(rng), u(rng), u(rng)) - org);
+    std::vector<RayInterval> want;
+    bool after_shown = false;  // the previous cell the walk gave was visible
+    for_each_cell_along(cells.grid, org, dir, [&](const vec3i& c, float t0, float t1) {
+      const int32_t r = cells.region_of_cell[cells.grid.index(c)];
+      const bool shown = r >= 0 && visible[size_t(r)];
+      if (shown && after_shown && cells.step_width[size_t(r)] == cells.step_width[want.back().region]) {
+        want.back().t1 = t1, ++merged;
+      } else if (shown) {
+        want.push_back({uint32_t(r), t0, t1});
+      }
+      after_shown = shown;
+      return true;
+    });
+    std::vector<RayInterval> got;
+    volume.for_each_interval(org, dir, [&](const RayInterval& iv) { return got.push_back(iv), true; });
+    ASSERT_EQ(got.size(), want.size()) << "ray " << i;
+    for (size_t k = 0; k < got.size(); ++k) {
+      EXPECT_EQ(got[k].region, want[k].region);
+      EXPECT_EQ(got[k].t0, want[k].t0);
+      EXPECT_EQ(got[k].t1, want[k].t1);
+    }
+    runs += got.size();
+  }
+  EXPECT_GT(2 * merged, runs) << "too few cells merged to test the runs";
+}
 
 }  // namespace
 }  // namespace vs

@@ -119,7 +119,8 @@ struct MacroCells {
   MacroGrid grid;
   std::vector<int32_t> region_of_cell;   // grid cell -> region, -1 where no element overlaps
   std::vector<uint32_t> cell_of_region;  // region -> grid cell (grid.index)
-  std::vector<float> step_width;         // per region: its smallest element's size, at least min_step
+  std::vector<float> step_width;         // per region: its smallest element's size, at least min_step,
+                                         // rounded down to eighth octaves (ladder_width)
   size_t region_count() const { return cell_of_region.size(); }
   // The finest step a macrocell is marched with: 1/1000 of the grid cell's longest side (as an
   // element's size is at least 1/1000 of its extent, macrocells.cpp). A degenerate element (a
@@ -149,6 +150,9 @@ std::vector<vec3d> element_centroids(const CompactMesh& mesh);
 // The grid build_macrocells makes over elements with these bounds (of their boxes): cubic cells,
 // about kElementsPerMacrocell elements each, at most 256 per axis.
 MacroGrid macro_grid(const box3f& bounds, uint64_t elements);
+
+// A step width rounded down to a power of 2^(1/8) (MacroCells::step_width).
+float ladder_width(float width);
 // The box overlaps a grid cell marked in `cells` (one byte per cell of `grid`), by the overlap
 // test of the macrocells.
 bool box_touches(const MacroGrid& grid, const box3f& box, const std::vector<uint8_t>& cells);

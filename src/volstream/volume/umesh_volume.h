@@ -40,13 +40,31 @@ struct MeshVolume {
     if (!grid.bounds.contains(p)) return -1;
     return region_of_cell[grid.index(grid.cell_of(p))];
   }
+  // Consecutive visible macrocells of one step width make one interval. A ray enters a macrocell
+  // every two or three samples, and each interval costs its own set-up; on the lattice that mesh
+  // frames march (settings.h, March::lattice) the merged interval has the same samples as its
+  // cells, and the widths are on a ladder (MacroCells::step_width), so that neighbours mostly
+  // share one. Culled and empty cells still end an interval.
   template <typename Visit>
   VS_HOST_DEVICE void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
+    RayInterval run{0u, 0.f, 0.f};
+    bool open = false, stopped = false;
     for_each_cell_along(grid, org, dir, [&](const vec3i& cell, float t0, float t1) {
       const int32_t region = region_of_cell[grid.index(cell)];
-      if (region < 0 || !visible[region]) return true;
-      return visit(RayInterval{uint32_t(region), t0, t1});
+      const bool shown = region >= 0 && visible[region];
+      if (shown && open && step_widths[region] == step_widths[run.region]) {  // the walk's next cell
+        run.t1 = t1;
+        return true;
+      }
+      if (open && !visit(run)) {
+        stopped = true;
+        return false;
+      }
+      open = shown;
+      if (shown) run = {uint32_t(region), t0, t1};
+      return true;
     });
+    if (open && !stopped) visit(run);
   }
 };
 using UMeshVolume = MeshVolume<UMeshView>;

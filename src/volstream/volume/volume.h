@@ -7,7 +7,10 @@
 // render/integrators/integrator.h):
 //   v.for_each_interval(org, dir, visit)  visit(RayInterval) for every visible region the ray
 //                                         crosses, front to back, disjoint; visit returns false
-//                                         to stop the walk (early ray termination)
+//                                         to stop the walk (early ray termination); a volume
+//                                         whose sample ignores the region may hand adjacent
+//                                         regions over as one interval, named by the region whose
+//                                         step width it marches (MeshVolume)
 //   v.sample(field, region, p)            field 0 (primary) or 1 (second: colour or temperature)
 //                                         at p inside `region`; NaN where the volume has no data
 //   v.sample_near(field, region, p)       the same for p near `region`, possibly outside it (the

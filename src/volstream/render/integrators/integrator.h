@@ -282,11 +282,14 @@ VS_HOST_DEVICE inline void take_sample(const FrameView<V>& v, const Ray& ray, ui
 struct Steps {
   float t0, t1, dt, inv_ref;
   uint32_t n;
-  bool fixed;
+  March march;
+  float first;  // lattice: the index of the interval's first lattice point
   // Sample k: its distance and the length of its step in reference steps.
   VS_HOST_DEVICE void at(uint32_t k, float jitter, float& t, float& len_ref) const {
-    if (!fixed) {
-      t = t0 + (float(k) + jitter) * dt;
+    if (march != March::fixed_midpoint) {
+      // Lattice: first + k is an exact integer, so a lattice point is the same float in every
+      // interval that holds it.
+      t = march == March::lattice ? (first + float(k) + jitter) * dt : t0 + (float(k) + jitter) * dt;
       len_ref = dt * inv_ref;
       return;
     }
@@ -301,13 +304,28 @@ VS_HOST_DEVICE inline uint32_t step_count(float steps) {  // no float->int overf
   return steps < 1.f ? 1u : (steps < 16777216.f ? uint32_t(steps) : 16777216u);
 }
 
-VS_HOST_DEVICE inline Steps make_steps(const IntegratorSettings& st, const Ray& ray, float width, float t0, float t1) {
+// Lattice points in [t0, t1): m from ceil(t0 / dt - jitter) while (m + jitter) * dt < t1. None
+// (n = 0) where the interval is shorter than a step and holds no point. False beyond 2^23 steps
+// from the ray's origin, where floats no longer count steps exactly (the caller falls back).
+VS_HOST_DEVICE inline bool lattice_steps(Steps& s, float jitter) {
+  const float last = s.t1 / s.dt - jitter;
+  if (!(last < 8388608.f)) return false;
+  s.first = ceilf(s.t0 / s.dt - jitter);
+  const float n = ceilf(last) - s.first;
+  s.n = n > 0.f ? uint32_t(n) : 0u;
+  return true;
+}
+
+VS_HOST_DEVICE inline Steps make_steps(const IntegratorSettings& st, const Ray& ray, float width, float t0, float t1,
+                                       float jitter) {
   const float len = t1 - t0;
   const float max_dt = width / (st.rate * ray.dir_len);
-  Steps s{t0, t1, max_dt, 1.f / st.ref_step, 1u, st.march == March::fixed_midpoint};
-  if (s.fixed) {
+  Steps s{t0, t1, max_dt, 1.f / st.ref_step, 1u, st.march, 0.f};
+  if (s.march == March::lattice && lattice_steps(s, jitter)) return s;
+  if (s.march == March::fixed_midpoint) {
     s.n = step_count(ceilf(len / max_dt * (1.f - 1e-5f)));  // a rounding remainder is no extra step
   } else {
+    s.march = March::equal_jittered;
     s.n = step_count(ceilf(len / max_dt));
     s.dt = len / float(s.n);
   }
@@ -316,9 +334,9 @@ VS_HOST_DEVICE inline Steps make_steps(const IntegratorSettings& st, const Ray& 
 
 // The steps of a region's interval: the region's own step width where sampling is adaptive.
 template <typename V>
-VS_HOST_DEVICE inline Steps interval_steps(const FrameView<V>& v, const Ray& ray, const RayInterval& iv) {
+VS_HOST_DEVICE inline Steps interval_steps(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, float jitter) {
   const float width = v.settings.adaptive ? v.volume.step_width(iv.region) : 1.f;
-  return make_steps(v.settings, ray, width, iv.t0, iv.t1);
+  return make_steps(v.settings, ray, width, iv.t0, iv.t1, jitter);
 }
 
 #if !defined(__CUDA_ARCH__)
@@ -400,7 +418,7 @@ template <typename V>
 inline bool queue_interval(const FrameView<V>& v, const Ray& ray, const RayInterval& iv, float jitter, SampleQueue& q,
                            RayState<V>& s) {
   if (!(iv.t1 - iv.t0 > 0.f)) return true;
-  const Steps steps = interval_steps(v, ray, iv);
+  const Steps steps = interval_steps(v, ray, iv, jitter);
   const bool alone = steps.n >= kMinBatchSteps;
   if (alone && !take_queued(v, ray, q, s)) return false;
   if (!queue_steps(v, ray, iv.region, steps, jitter, q, s)) return false;
@@ -414,7 +432,7 @@ VS_HOST_DEVICE inline void march_interval(const FrameView<V>& v, const Ray& ray,
                                           RayState<V>& s) {
   const IntegratorSettings& st = v.settings;
   if (!(iv.t1 - iv.t0 > 0.f)) return;
-  const Steps steps = interval_steps(v, ray, iv);
+  const Steps steps = interval_steps(v, ray, iv, jitter);
 #if !defined(__CUDA_ARCH__)
   if constexpr (kOptics == OpticsKind::tf) {
     // Volumes without batches across regions (meshes): short intervals are marched one by one.

@@ -16,13 +16,18 @@ enum class March : uint32_t {
   // Paper 004 (blocks): steps of exactly width / rate from the entry, the last one shortened to
   // end at the exit (its opacity uses that true length), samples at the middle of each step.
   fixed_midpoint = 1,
+  // Meshes: steps of width / rate on a lattice fixed along the ray (sample m at (m + jitter) *
+  // step from the ray's origin), so an interval's samples do not depend on where it begins: the
+  // macrocells of one width sample as one interval would, merged or not, skipped or not, on one
+  // rank or several; and no interval rounds its step count up.
+  lattice = 2,
 };
 
 struct IntegratorSettings {
   float rate = 2.f;       // samples per cell width (the region's finest width when adaptive)
   uint32_t adaptive = 1;  // 0: step at the dataset's finest width in every region
   float ref_step = 1.f;   // world length over which a table alpha applies unchanged
-  uint32_t jitter = 1;    // equal_jittered: per-pixel start offset (deterministic hash)
+  uint32_t jitter = 1;    // equal_jittered, lattice: per-pixel start offset (deterministic hash)
   uint32_t shade = 0;     // gradient (headlight) shading of the volume
   uint32_t spp = 1;       // rays per pixel; > 1 spreads them over the pixel
   uint32_t seed = 0;      // varies the jitter pattern

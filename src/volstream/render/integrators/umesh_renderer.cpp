@@ -113,6 +113,9 @@ FrameView<MeshVolume<Locator>> UMeshRenderer::make_view(const Locator& locator, 
   v.volume.grid = cells_.grid;
   v.volume.region_of_cell = cells_.region_of_cell.data();
   fill_frame(v, optics, color_tf, fields.second != nullptr, camera, settings, transform_, bounds_);
+  // A ray crosses a macrocell every few samples: on a lattice the cells of one width march as one
+  // interval (MeshVolume::for_each_interval) and none rounds its step count up (settings.h).
+  v.settings.march = March::lattice;
   return v;
 }
 

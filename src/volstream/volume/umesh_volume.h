@@ -48,7 +48,7 @@ struct MeshVolume {
   template <typename Visit>
   VS_HOST_DEVICE void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
     RayInterval run{0u, 0.f, 0.f};
-    bool open = false, stopped = false;
+    bool open = false;  // run holds cells not yet handed over
     for_each_cell_along(grid, org, dir, [&](const vec3i& cell, float t0, float t1) {
       const int32_t region = region_of_cell[grid.index(cell)];
       const bool shown = region >= 0 && visible[region];
@@ -57,14 +57,14 @@ struct MeshVolume {
         return true;
       }
       if (open && !visit(run)) {
-        stopped = true;
+        open = false;  // the ray is finished: nothing is left to hand over
         return false;
       }
       open = shown;
       if (shown) run = {uint32_t(region), t0, t1};
       return true;
     });
-    if (open && !stopped) visit(run);
+    if (open) visit(run);
   }
 };
 using UMeshVolume = MeshVolume<UMeshView>;

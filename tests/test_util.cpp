@@ -142,7 +142,7 @@ std::string bvh_difference(const std::vector<BvhNode>& a, const std::vector<BvhN
 }  // namespace vs::test
 
 namespace vs::test {
-std::vector<vec3f> points_around(const std::vector<vec3f>& vertices, int count, uint32_t seed) {
+std::vector<vec3f> points_around(std::span<const vec3f> vertices, int count, uint32_t seed) {
   box3f b = box3f::make_empty();
   for (const vec3f& v : vertices) b.extend(v);
   std::mt19937 rng(seed);

@@ -9,6 +9,7 @@ std::filesystem::path scratch_dir(const std::string& name);
 }  // namespace vs::test
 
 #include <functional>
+#include <span>
 #include <vector>
 
 namespace vs::test {
@@ -62,5 +63,5 @@ std::vector<Cell> uniform_cells(vec3i dims, int level = 0, vec3i offset = {0, 0,
 namespace vs::test {
 // `count` random points (deterministic for a seed) in the box of `vertices` grown by 5% of its
 // size on every side: mostly in a mesh, some around it.
-std::vector<vec3f> points_around(const std::vector<vec3f>& vertices, int count, uint32_t seed);
+std::vector<vec3f> points_around(std::span<const vec3f> vertices, int count, uint32_t seed);
 }  // namespace vs::test

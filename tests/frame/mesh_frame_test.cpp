@@ -62,6 +62,20 @@ TEST(MeshFrame, SkippingMacrocellsLeavesThePictureAlone) {
   EXPECT_LT(max_difference(a, b), 1e-6);
 }
 
+// A whole load maps the reference encoding's files (core/host_array.h) and nothing on the way
+// to a picture writes to them, which would copy them.
+TEST(MeshFrame, DrawsFromTheMappedFilesWithoutCopyingThem) {
+  FrameRenderer fr(holes(), Device::cpu);
+  EXPECT_GT(mean_alpha(fr.render(request(holes()))), 0.003);
+  const UMesh& mesh = holes().mesh();
+  const MeshAccel& accel = holes().mesh_accel();
+  EXPECT_TRUE(mesh.vertices.is_view());
+  EXPECT_TRUE(mesh.elements.is_view());
+  EXPECT_TRUE(accel.bvh.nodes.is_view());
+  EXPECT_TRUE(accel.bvh.items.is_view());
+  EXPECT_TRUE(accel.neighbors.is_view());
+}
+
 TEST(MeshFrame, RedoesOnlyWhatAChangeNeeds) {
   FrameRenderer fr(holes(), Device::cpu);
   FrameRequest r = request(holes());

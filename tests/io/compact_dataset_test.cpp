@@ -88,6 +88,19 @@ TEST(CompactDataset, StoresNoReferenceAndRendersWhatTheReferenceDatasetDoes) {
   }
 }
 
+// As the reference's (MeshFrame.DrawsFromTheMappedFilesWithoutCopyingThem): a whole load maps
+// the compact arrays it stores (all but source_vertex), and drawing writes to none of them.
+TEST(CompactDataset, DrawsFromTheMappedFilesWithoutCopyingThem) {
+  FrameRenderer renderer(compact(), Device::cpu);
+  renderer.render(request(compact(), 0));
+  const CompactMesh& mesh = compact().compact_mesh();
+  EXPECT_TRUE(mesh.nodes.is_view());
+  EXPECT_TRUE(mesh.leaves.is_view());
+  EXPECT_TRUE(mesh.bytes.is_view());
+  EXPECT_TRUE(mesh.submeshes.is_view());
+  EXPECT_TRUE(mesh.vertices.is_view());
+}
+
 TEST(CompactDataset, ProbesEqualTheReferenceAtRandomPoints) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-0.2, 1.2);

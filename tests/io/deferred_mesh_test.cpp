@@ -49,10 +49,10 @@ std::vector<uint32_t> share_of(const MeshIndex& index, int rank, int ranks) {
   return mesh_share(index, points, p.regions[size_t(rank)], IntegratorSettings{}).items;
 }
 
-template <typename T>
-void expect_same_bytes(const std::vector<T>& a, const std::vector<T>& b, const char* what) {
+template <typename Array>
+void expect_same_bytes(const Array& a, const Array& b, const char* what) {
   ASSERT_EQ(a.size(), b.size()) << what;
-  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(T)), 0) << what;
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(typename Array::value_type)), 0) << what;
 }
 
 void expect_index_only_at_open(const fs::path& dir) {

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstring>
 #include <memory>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -45,7 +46,7 @@ class Buffer {
     else if (n)
       std::memcpy(static_cast<void*>(ptr_), host, n * sizeof(T));
   }
-  void upload(const std::vector<T>& host) { upload(host.data(), host.size()); }
+  void upload(std::span<const T> host) { upload(host.data(), host.size()); }
   std::vector<T> download() const {
     std::vector<T> host(n_);
     if (device_ == Device::cuda)

@@ -77,7 +77,7 @@ struct DeviceMesh::Impl {
   }
 };
 
-DeviceMesh::DeviceMesh(const UMesh& mesh, const ElementBvh& bvh, const std::vector<uint32_t>& neighbors,
+DeviceMesh::DeviceMesh(const UMesh& mesh, const ElementBvh& bvh, std::span<const uint32_t> neighbors,
                        const MacroCells& cells)
     : impl_(std::make_unique<Impl>(cells)) {
   impl_->vertices.upload(mesh.vertices);

@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "volstream/accel/bvh.h"
@@ -31,7 +32,7 @@ namespace vs::cuda {
 class DeviceMesh {
  public:
   // Uploads the mesh, its BVH, face adjacency and macrocells; keeps no reference.
-  DeviceMesh(const UMesh& mesh, const ElementBvh& bvh, const std::vector<uint32_t>& neighbors, const MacroCells& cells);
+  DeviceMesh(const UMesh& mesh, const ElementBvh& bvh, std::span<const uint32_t> neighbors, const MacroCells& cells);
   ~DeviceMesh();
   DeviceMesh(const DeviceMesh&) = delete;
   DeviceMesh& operator=(const DeviceMesh&) = delete;

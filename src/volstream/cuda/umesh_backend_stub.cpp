@@ -10,7 +10,7 @@ namespace {
 }  // namespace
 
 struct DeviceMesh::Impl {};
-DeviceMesh::DeviceMesh(const UMesh&, const ElementBvh&, const std::vector<uint32_t>&, const MacroCells&) { no_cuda(); }
+DeviceMesh::DeviceMesh(const UMesh&, const ElementBvh&, std::span<const uint32_t>, const MacroCells&) { no_cuda(); }
 DeviceMesh::~DeviceMesh() = default;
 RenderTimes DeviceMesh::render(const FrameView<UMeshVolume>&) { no_cuda(); }
 std::vector<float> DeviceMesh::probe(const float*, const std::vector<vec3f>&) { no_cuda(); }

@@ -3,6 +3,12 @@
 #include <cstdio>
 #include <memory>
 
+#if defined(__linux__)
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
+
 #include "volstream/core/error.h"
 #include "volstream/io/atomic_file.h"
 
@@ -55,6 +61,21 @@ void read_runs(const std::filesystem::path& path, const std::vector<ByteRun>& ru
                                      std::to_string(run.offset));
     out += run.bytes;
   }
+}
+
+std::shared_ptr<const void> map_file(const std::filesystem::path& path, uint64_t bytes) {
+#if defined(__linux__)
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) input_error(path.string(), "cannot open");
+  // MAP_POPULATE maps every page now, in one call, rather than one page fault at a time later.
+  void* p = ::mmap(nullptr, bytes, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+  ::close(fd);  // the mapping keeps the file
+  if (p == MAP_FAILED) return nullptr;
+  return std::shared_ptr<const void>(p, [bytes](const void* q) { ::munmap(const_cast<void*>(q), bytes); });
+#else
+  (void)path, (void)bytes;
+  return nullptr;
+#endif
 }
 
 std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes) {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "volstream/core/host_array.h"
 #include "volstream/core/huge_pages.h"
 
 namespace vs {
@@ -29,19 +30,42 @@ void write_file(const std::filesystem::path& path, const void* data, uint64_t by
 
 [[noreturn]] void throw_size_mismatch(const std::filesystem::path& path, uint64_t size, uint64_t expected);
 
-// Reads a whole file of trivially copyable records; the size must be exactly count * sizeof(T).
+// The bytes of `count` records of T, after checking that the file holds them and less than
+// `allowed_padding` bytes more.
 template <typename T>
-std::vector<T> read_records(const std::filesystem::path& path, uint64_t count, uint64_t allowed_padding = 1) {
+uint64_t checked_record_bytes(const std::filesystem::path& path, uint64_t count, uint64_t allowed_padding) {
   const uint64_t size = file_size_checked(path);
   const uint64_t bytes = count * sizeof(T);
   if (count > (uint64_t(1) << 40) / sizeof(T) || size < bytes || size - bytes >= allowed_padding)
     throw_size_mismatch(path, size, bytes);
+  return bytes;
+}
+
+// Reads a whole file of trivially copyable records; the size must be exactly count * sizeof(T).
+template <typename T>
+std::vector<T> read_records(const std::filesystem::path& path, uint64_t count, uint64_t allowed_padding = 1) {
+  const uint64_t bytes = checked_record_bytes<T>(path, count, allowed_padding);
   std::vector<T> out;
   out.reserve(count);
   prefer_huge_pages(out.data(), bytes);  // before the first touch (the zero fill below)
   out.resize(count);
   if (bytes) read_exact(path, 0, out.data(), bytes);
   return out;
+}
+
+// The first `bytes` bytes of a file mapped read-only into memory, kept mapped while the returned
+// owner lives; null where the system cannot map it (then read it instead).
+std::shared_ptr<const void> map_file(const std::filesystem::path& path, uint64_t bytes);
+
+// read_records' array as a view of the mapped file (core/host_array.h: no fresh memory to
+// fault in and no copy), or read as read_records does where the file cannot be mapped.
+template <typename T>
+HostArray<T> map_records(const std::filesystem::path& path, uint64_t count, uint64_t allowed_padding = 1) {
+  const uint64_t bytes = checked_record_bytes<T>(path, count, allowed_padding);
+  if (bytes == 0) return {};
+  std::shared_ptr<const void> mapping = map_file(path, bytes);
+  if (!mapping) return read_records<T>(path, count, allowed_padding);
+  return HostArray<T>::view(mapping, static_cast<const T*>(mapping.get()), count);
 }
 
 }  // namespace vs

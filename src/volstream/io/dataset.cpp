@@ -313,7 +313,7 @@ void validate_topology(const AmrTopology& t, const std::string& file) {
 
 // Every element's used slots come first (4, 5, 6 or 8), name existing vertices and match the
 // manifest's counts by type; every vertex is finite.
-void check_finite_vertices(const std::vector<vec3f>& vertices, const std::string& file) {
+void check_finite_vertices(std::span<const vec3f> vertices, const std::string& file) {
   const int64_t bad = first_failing(int64_t(vertices.size()), [&](int64_t i) {
     const vec3f& v = vertices[size_t(i)];
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -330,7 +330,7 @@ bool element_valid(const UElement& el, uint64_t vertex_count) {
 }
 
 // Elements of each type (type_slot order), counted in parallel.
-std::array<uint64_t, 4> count_by_type(const std::vector<UElement>& elements) {
+std::array<uint64_t, 4> count_by_type(std::span<const UElement> elements) {
   std::array<std::atomic<uint64_t>, 4> total{};
   parallel_for_ranges(
       int64_t(elements.size()),
@@ -494,6 +494,13 @@ std::vector<T> Dataset::read_topology(const fs::path& path, uint64_t count) {
   return records;
 }
 
+template <typename T>
+HostArray<T> Dataset::map_topology(const fs::path& path, uint64_t count) {
+  HostArray<T> records = map_records<T>(path, count);
+  topology_bytes_read_ += count * sizeof(T);
+  return records;
+}
+
 Dataset::Dataset(const fs::path& dir, TopologyLoad load) : dir_(dir) {
   const fs::path manifest_path = dir / dataset_files::kManifest;
   try {
@@ -568,21 +575,22 @@ void Dataset::load_mesh() {
   if (manifest_.mesh.compact()) return load_compact_mesh();
   if (deferred_) return load_reference_index();
   const std::string nodes_file = (dir_ / dataset_files::kMeshBvhNodes).string();
-  // The BVH and adjacency are read and their structure checked beside the vertices and elements
-  // (it needs only the element count); the macrocells as convert stored them beside both.
+  // The arrays are mapped, not read (core/host_array.h). The BVH and adjacency are checked
+  // beside the vertices and elements (their structure needs only the element count); the
+  // macrocells as convert stored them beside both.
   parallel_invoke_in_order(
       [&] {
-        mesh_.vertices = read_topology<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
-        mesh_.elements = read_topology<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
+        mesh_.vertices = map_topology<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
+        mesh_.elements = map_topology<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
         for (int t = 0; t < 4; ++t) mesh_.count_by_type[t] = manifest_.mesh.by_type[t];
         validate_mesh(mesh_, manifest_.mesh, (dir_ / dataset_files::kMeshElements).string());
       },
       [&] {
         mesh_accel_.bvh.nodes =
-            read_topology<ElementBvhNode>(dir_ / dataset_files::kMeshBvhNodes, manifest_.mesh.bvh_nodes);
-        mesh_accel_.bvh.items = read_topology<uint32_t>(dir_ / dataset_files::kMeshBvhItems, manifest_.mesh.elements);
+            map_topology<ElementBvhNode>(dir_ / dataset_files::kMeshBvhNodes, manifest_.mesh.bvh_nodes);
+        mesh_accel_.bvh.items = map_topology<uint32_t>(dir_ / dataset_files::kMeshBvhItems, manifest_.mesh.elements);
         mesh_accel_.neighbors =
-            read_topology<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
+            map_topology<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
         check_mesh_accel_structure(mesh_accel_, manifest_.mesh.elements, nodes_file);
         if (manifest_.mesh.macrocells > 0) read_stored_macrocells();
       });
@@ -623,7 +631,7 @@ void Dataset::load_compact_mesh() {
   const std::map<std::string, uint64_t>& records = compact_records(manifest_, manifest_path);
   if (deferred_) return load_compact_index();
   for_each_compact_array(compact_, [&](const char* file, auto& array) {
-    array = read_topology<typename std::decay_t<decltype(array)>::value_type>(dir_ / file, records.at(file));
+    array = map_topology<typename std::decay_t<decltype(array)>::value_type>(dir_ / file, records.at(file));
   });
   if (compact_.vertices.size() != manifest_.mesh.local_vertices)
     input_error(manifest_path.string(), "local_vertices does not match compact_vertices.bin");

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -219,7 +220,10 @@ class Dataset {
   bool is_compact_mesh() const { return is_mesh() && manifest_.mesh.compact(); }
   const CompactMesh& compact_mesh() const;  // a mesh stored compact (logic_error otherwise)
   // The mesh's vertices in either encoding (the compact one replicates some: same bounds).
-  const std::vector<vec3f>& mesh_vertices() const { return is_compact_mesh() ? compact_.vertices : mesh_.vertices; }
+  std::span<const vec3f> mesh_vertices() const {
+    if (is_compact_mesh()) return compact_.vertices;
+    return mesh_.vertices;
+  }
   const std::filesystem::path& dir() const { return dir_; }
   std::vector<Cell> load_cells() const;  // device order; for brute-force reference only
   // All values in device order, or with a part only those of its bricks (in its device order).
@@ -261,9 +265,11 @@ class Dataset {
   void read_stored_macrocells();
   void build_macrocells_on_stored_grid();
   void read_compact_part(const std::vector<uint32_t>& leaves, std::vector<uint32_t>& source_vertex);
-  // read_records, counted in topology_bytes_read.
+  // read_records and map_records, counted in topology_bytes_read.
   template <typename T>
   std::vector<T> read_topology(const std::filesystem::path& path, uint64_t count);
+  template <typename T>
+  HostArray<T> map_topology(const std::filesystem::path& path, uint64_t count);
   void restrict_bricks(const DatasetPart& part);
   uint32_t local_abr(uint32_t global) const;  // its position in topology_.abrs
   void read_stored_abr_chunks();

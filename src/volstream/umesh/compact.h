@@ -133,12 +133,12 @@ struct CompactBytes {
 };
 
 struct CompactMesh {
-  std::vector<CompactNode> nodes;  // nodes[0] is the root
-  std::vector<CompactLeaf> leaves;
-  std::vector<uint8_t> bytes;  // every leaf's vertex table and corners (CompactLeaf)
-  std::vector<CompactSubmesh> submeshes;
-  std::vector<vec3f> vertices;            // local vertices, sub-mesh after sub-mesh
-  std::vector<uint32_t> source_vertex;    // local vertex -> the reference vertex (gathers fields)
+  HostArray<CompactNode> nodes;  // nodes[0] is the root
+  HostArray<CompactLeaf> leaves;
+  HostArray<uint8_t> bytes;  // every leaf's vertex table and corners (CompactLeaf)
+  HostArray<CompactSubmesh> submeshes;
+  HostArray<vec3f> vertices;              // local vertices, sub-mesh after sub-mesh
+  HostArray<uint32_t> source_vertex;      // local vertex -> the reference vertex (gathers fields)
   uint64_t elements = 0, replicated = 0;  // local vertices beyond the mesh's own
   uint64_t paired_tets = 0;               // tets stored in pairs
   uint32_t leaf_parents = 0;              // index of the first node whose children are leaves

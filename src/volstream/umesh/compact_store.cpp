@@ -29,7 +29,7 @@ void check_vertices(const CompactMesh& c, const fs::path& dir) {
 
 }  // namespace
 
-SubmeshRuns submesh_runs(const std::vector<CompactSubmesh>& submeshes, uint32_t s, uint64_t vertex_count,
+SubmeshRuns submesh_runs(std::span<const CompactSubmesh> submeshes, uint32_t s, uint64_t vertex_count,
                          uint64_t byte_count) {
   const bool last = s + 1 >= submeshes.size();
   return {(last ? vertex_count : submeshes[s + 1].first_vertex) - submeshes[s].first_vertex, submeshes[s].first_byte,
@@ -44,7 +44,7 @@ std::string leaf_record_problem(const CompactLeaf& leaf, uint64_t submesh_count)
   return {};
 }
 
-void check_submeshes(const std::vector<CompactSubmesh>& submeshes, uint64_t vertex_count, uint64_t byte_count,
+void check_submeshes(std::span<const CompactSubmesh> submeshes, uint64_t vertex_count, uint64_t byte_count,
                      const fs::path& dir) {
   const std::string file = in(dir, "compact_submeshes.bin");
   input_check(!submeshes.empty() && submeshes[0].first_vertex == 0 && submeshes[0].first_byte == 0, file,

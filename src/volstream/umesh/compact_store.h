@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -85,7 +86,7 @@ void check_compact_mesh(const CompactMesh& c, const uint64_t by_type[4], const s
 // one leaf's bytes (table entries inside its sub-mesh of `submesh_vertices`, corners inside
 // its table).
 void check_compact_tree(const CompactMesh& c, const std::filesystem::path& dir);
-void check_submeshes(const std::vector<CompactSubmesh>& submeshes, uint64_t vertex_count, uint64_t byte_count,
+void check_submeshes(std::span<const CompactSubmesh> submeshes, uint64_t vertex_count, uint64_t byte_count,
                      const std::filesystem::path& dir);
 void check_leaf_records(const CompactMesh& c, const uint64_t by_type[4], const std::filesystem::path& dir);
 std::string leaf_record_problem(const CompactLeaf& leaf, uint64_t submesh_count);
@@ -97,7 +98,7 @@ uint64_t leaf_byte_count(const CompactLeaf& leaf);
 struct SubmeshRuns {
   uint64_t vertices, bytes_begin, bytes_end;
 };
-SubmeshRuns submesh_runs(const std::vector<CompactSubmesh>& submeshes, uint32_t s, uint64_t vertex_count,
+SubmeshRuns submesh_runs(std::span<const CompactSubmesh> submeshes, uint32_t s, uint64_t vertex_count,
                          uint64_t byte_count);
 
 }  // namespace vs

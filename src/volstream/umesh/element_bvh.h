@@ -39,8 +39,8 @@ struct alignas(64) TetWalkRecord {
 static_assert(sizeof(TetWalkRecord) == 64);
 
 struct ElementBvh {
-  std::vector<ElementBvhNode> nodes;  // nodes[0] is the root
-  std::vector<uint32_t> items;        // element indices in leaf order
+  HostArray<ElementBvhNode> nodes;  // nodes[0] is the root
+  HostArray<uint32_t> items;        // element indices in leaf order
 };
 
 ElementBvh build_element_bvh(const std::vector<box3f>& element_boxes);

@@ -328,7 +328,7 @@ MacroCells build_macrocells(const CompactMesh& mesh, const MacroGrid* grid, box3
 
 namespace {
 template <typename Mesh>
-std::vector<vec3d> centroids_of(const Mesh& mesh, const std::vector<vec3f>& vertices, int64_t items) {
+std::vector<vec3d> centroids_of(const Mesh& mesh, std::span<const vec3f> vertices, int64_t items) {
   std::vector<vec3d> out;
   const auto visit = elements_of(mesh);
   for (int64_t item = 0; item < items; ++item)

@@ -6,7 +6,6 @@
 
 #include "volstream/backend/parallel.h"
 #include "volstream/core/error.h"
-#include "volstream/core/huge_pages.h"
 #include "volstream/umesh/adjacency.h"
 
 namespace vs {
@@ -18,7 +17,7 @@ std::vector<box3f> element_boxes(const UMesh& mesh) {
   return boxes;
 }
 
-Box3<double> world_bounds(const std::vector<vec3f>& vertices, const WorldTransform& transform) {
+Box3<double> world_bounds(std::span<const vec3f> vertices, const WorldTransform& transform) {
   Box3<double> b{vec3d(INFINITY), vec3d(-INFINITY)};
   for (const vec3f& v : vertices) b.extend(transform.to_world(vec3d(v)));
   if (b.empty()) b = {vec3d(0), vec3d(1)};
@@ -28,16 +27,14 @@ Box3<double> world_bounds(const std::vector<vec3f>& vertices, const WorldTransfo
 TetWalkRecords::TetWalkRecords(size_t count)
     : records_(static_cast<TetWalkRecord*>(
           ::operator new[](count * sizeof(TetWalkRecord), std::align_val_t(alignof(TetWalkRecord))))),
-      count_(count) {
-  prefer_huge_pages(records_.get(), count * sizeof(TetWalkRecord));
-}
+      count_(count) {}
 
 void TetWalkRecords::Free::operator()(TetWalkRecord* p) const {
   ::operator delete[](p, std::align_val_t(alignof(TetWalkRecord)));
 }
 
 namespace {
-TetWalkRecord tet_walk_record(const UMesh& mesh, const std::vector<uint32_t>& neighbors, size_t e) {
+TetWalkRecord tet_walk_record(const UMesh& mesh, std::span<const uint32_t> neighbors, size_t e) {
   TetWalkRecord r;
   r.rows[0].x = NAN;  // not a tet, until shown one
   const UElement& el = mesh.elements[e];
@@ -58,7 +55,7 @@ bool has_tets(const UMesh& mesh) {
                      [](const UElement& el) { return el.vertex_count() == 4; });
 }
 
-TetWalkRecords tet_walk_records(const UMesh& mesh, const std::vector<uint32_t>& neighbors) {
+TetWalkRecords tet_walk_records(const UMesh& mesh, std::span<const uint32_t> neighbors) {
   if (!has_tets(mesh)) return {};
   TetWalkRecords records(mesh.elements.size());
   TetWalkRecord* out = records.data();

@@ -3,6 +3,7 @@
 // the face adjacency of the walk (adjacency.h). A render only reads them.
 #pragma once
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -14,19 +15,21 @@ namespace vs {
 
 struct MeshAccel {
   ElementBvh bvh;
-  std::vector<uint32_t> neighbors;  // kMaxFaces per element
+  HostArray<uint32_t> neighbors;  // kMaxFaces per element
 };
 
 std::vector<box3f> element_boxes(const UMesh& mesh);
 // The world box of the mesh's vertices (in either encoding).
-Box3<double> world_bounds(const std::vector<vec3f>& vertices, const WorldTransform& transform);
+Box3<double> world_bounds(std::span<const vec3f> vertices, const WorldTransform& transform);
 inline Box3<double> world_bounds(const UMesh& mesh, const WorldTransform& transform) {
   return world_bounds(mesh.vertices, transform);
 }
 MeshAccel build_mesh_accel(const UMesh& mesh);
 // The walk records of a mesh's elements (element_bvh.h): 64 MB for 1 M elements, so the array
-// is filled in parallel on huge pages and never zero-filled first (on one thread) as a
-// std::vector would.
+// is filled in parallel and never zero-filled first (on one thread) as a std::vector would. It
+// takes ordinary pages, not huge ones: where free memory has gone back to the host, as on the
+// benchmark machine, a huge page's first touch took 4-5x longer per byte (bench/RESULTS.md,
+// "Topology mapped, not read").
 class TetWalkRecords {
  public:
   TetWalkRecords() = default;
@@ -47,7 +50,7 @@ class TetWalkRecords {
 bool has_tets(const UMesh& mesh);
 // One walk record per element (another type's, or a degenerate tet's, with is_tet() false),
 // from the mesh and its face adjacency. Empty for a mesh without tets.
-TetWalkRecords tet_walk_records(const UMesh& mesh, const std::vector<uint32_t>& neighbors);
+TetWalkRecords tet_walk_records(const UMesh& mesh, std::span<const uint32_t> neighbors);
 
 // The sampler's view of a mesh and its structures (host pointers; both must outlive it).
 inline UMeshView view_of(const UMesh& mesh, const MeshAccel& accel) {

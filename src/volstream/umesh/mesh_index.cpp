@@ -69,7 +69,7 @@ MeshIndex compact_mesh_index(const CompactMesh& mesh, MacroCells cells) {
   return index;
 }
 
-std::vector<box3f> reference_chunk_boxes(const UMesh& mesh, const std::vector<uint32_t>& bvh_items) {
+std::vector<box3f> reference_chunk_boxes(const UMesh& mesh, std::span<const uint32_t> bvh_items) {
   const uint64_t elements = bvh_items.size();
   std::vector<box3f> boxes(chunk_count(elements), box3f::make_empty());
   for (uint32_t c = 0; c < boxes.size(); ++c)
@@ -78,11 +78,13 @@ std::vector<box3f> reference_chunk_boxes(const UMesh& mesh, const std::vector<ui
   return boxes;
 }
 
-std::vector<uint32_t> chunk_elements(const std::vector<uint32_t>& chunks, const std::vector<uint32_t>& bvh_items) {
+std::vector<uint32_t> chunk_elements(const std::vector<uint32_t>& chunks, std::span<const uint32_t> bvh_items) {
   std::vector<uint32_t> elements;
-  for (uint32_t c : chunks)
+  for (uint32_t c : chunks) {
+    if (c >= chunk_count(bvh_items.size())) throw std::out_of_range("chunk_elements: no chunk " + std::to_string(c));
     for (uint64_t i = chunk_first(c); i < chunk_first(c) + chunk_size(c, bvh_items.size()); ++i)
-      elements.push_back(bvh_items.at(i));
+      elements.push_back(bvh_items[i]);
+  }
   std::sort(elements.begin(), elements.end());
   return elements;
 }

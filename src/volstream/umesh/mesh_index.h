@@ -13,6 +13,7 @@
 #pragma once
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -52,10 +53,10 @@ struct MeshIndex {
 // unused) and its macrocells.
 MeshIndex compact_mesh_index(const CompactMesh& mesh, MacroCells cells);
 // The reference encoding's chunk boxes (of `bvh_items`, the element BVH's item order).
-std::vector<box3f> reference_chunk_boxes(const UMesh& mesh, const std::vector<uint32_t>& bvh_items);
+std::vector<box3f> reference_chunk_boxes(const UMesh& mesh, std::span<const uint32_t> bvh_items);
 // From the chunk boxes of a mesh of `elements` elements and its macrocells.
 MeshIndex reference_mesh_index(std::vector<box3f> chunk_boxes, uint64_t elements, MacroCells cells);
 // The elements of the chunks (ascending) of the BVH's item order, ascending.
-std::vector<uint32_t> chunk_elements(const std::vector<uint32_t>& chunks, const std::vector<uint32_t>& bvh_items);
+std::vector<uint32_t> chunk_elements(const std::vector<uint32_t>& chunks, std::span<const uint32_t> bvh_items);
 
 }  // namespace vs

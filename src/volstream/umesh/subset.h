@@ -34,7 +34,7 @@ struct CompactPieces {
   std::vector<CompactLeaf> leaves;
   std::vector<const uint8_t*> bytes;  // each leaf's vertex table and corners
 };
-CompactMesh compact_part(const CompactPieces& pieces, const std::vector<CompactSubmesh>& submeshes,
+CompactMesh compact_part(const CompactPieces& pieces, const HostArray<CompactSubmesh>& submeshes,
                          std::vector<uint32_t>& source_vertex);
 std::vector<box3f> finish_compact_part(CompactMesh& part, std::vector<vec3f> vertices);
 

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "volstream/core/host_array.h"
 #include "volstream/core/math.h"
 #if defined(__GNUC__) && !defined(__CUDACC__)
 #include "volstream/core/simd.h"  // element_box's lanes
@@ -37,8 +38,8 @@ VS_HOST_DEVICE constexpr int type_slot(int vertex_count) {
 inline constexpr const char* kTypeSlotNames[4] = {"tetra", "pyramid", "wedge", "hexahedron"};
 
 struct UMesh {
-  std::vector<vec3f> vertices;  // grid units: world = transform.to_world(vertex)
-  std::vector<UElement> elements;
+  HostArray<vec3f> vertices;  // grid units: world = transform.to_world(vertex)
+  HostArray<UElement> elements;
   uint64_t count_by_type[4] = {};  // type_slot order
 };
 

@@ -92,7 +92,7 @@ class UMeshRenderer {
   UMeshView mesh_view() const;
   const MacroCells& macrocells() const { return cells_; }
   const ElementBvh& element_bvh() const { return reference_accel().bvh; }
-  const std::vector<uint32_t>& face_neighbors() const { return reference_accel().neighbors; }
+  const HostArray<uint32_t>& face_neighbors() const { return reference_accel().neighbors; }
   size_t region_count() const { return cells_.region_count(); }
   UMeshBytes bytes() const;
   double build_seconds() const { return build_seconds_; }

@@ -1,0 +1,70 @@
+// Records read and mapped (io/binary_file.h) and the arrays that hold them (core/host_array.h):
+// a mapped file reads as the read one, a short or long file is refused by both, and writing to
+// a view copies it first, leaving the file alone.
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+#include "test_util.h"
+#include "volstream/core/error.h"
+#include "volstream/io/binary_file.h"
+
+namespace vs {
+namespace {
+
+std::filesystem::path file_of(const std::vector<uint32_t>& values, const char* name) {
+  const auto path = test::scratch_dir("binary_file") / name;
+  write_file(path, values.data(), values.size() * sizeof(uint32_t));
+  return path;
+}
+
+std::vector<uint32_t> counting(size_t n) {
+  std::vector<uint32_t> v(n);
+  std::iota(v.begin(), v.end(), 7u);
+  return v;
+}
+
+TEST(MapRecords, ReadsAsReadRecordsDoes) {
+  const std::vector<uint32_t> values = counting(50000);  // several pages
+  const auto path = file_of(values, "values.bin");
+  const HostArray<uint32_t> mapped = map_records<uint32_t>(path, values.size());
+  EXPECT_TRUE(mapped.is_view());
+  EXPECT_EQ(mapped, HostArray<uint32_t>(read_records<uint32_t>(path, values.size())));
+  EXPECT_EQ(mapped.at(49999), 7u + 49999u);
+  EXPECT_THROW(mapped.at(50000), std::out_of_range);
+}
+
+TEST(MapRecords, RefusesAFileOfAnotherSize) {
+  const auto path = file_of(counting(100), "hundred.bin");
+  EXPECT_THROW(map_records<uint32_t>(path, 99), InputError);
+  EXPECT_THROW(map_records<uint32_t>(path, 101), InputError);
+  EXPECT_THROW(map_records<uint32_t>(path.parent_path() / "missing.bin", 1), InputError);
+  EXPECT_TRUE(map_records<uint32_t>(file_of({}, "empty.bin"), 0).empty());
+}
+
+TEST(HostArray, WritingToAViewCopiesItAndLeavesTheFileAlone) {
+  const auto path = file_of(counting(1000), "kept.bin");
+  HostArray<uint32_t> a = map_records<uint32_t>(path, 1000);
+  const HostArray<uint32_t> b = a;  // shares the mapping
+  a[3] = 0;
+  a.push_back(1);
+  EXPECT_FALSE(a.is_view());
+  EXPECT_TRUE(b.is_view());
+  EXPECT_EQ(a.size(), 1001u);
+  EXPECT_EQ(a[3], 0u);
+  EXPECT_EQ(b[3], 10u);
+  EXPECT_EQ(read_records<uint32_t>(path, 1000)[3], 10u);
+}
+
+TEST(HostArray, AViewOutlivesTheArrayItCameFrom) {
+  const auto path = file_of(counting(3000), "outlives.bin");
+  HostArray<uint32_t> copy;
+  {
+    const HostArray<uint32_t> mapped = map_records<uint32_t>(path, 3000);
+    copy = mapped;
+  }
+  EXPECT_EQ(copy.back(), 7u + 2999u);
+}
+
+}  // namespace
+}  // namespace vs

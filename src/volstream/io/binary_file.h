@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "volstream/core/host_array.h"
-#include "volstream/core/huge_pages.h"
 
 namespace vs {
 
@@ -45,10 +44,7 @@ uint64_t checked_record_bytes(const std::filesystem::path& path, uint64_t count,
 template <typename T>
 std::vector<T> read_records(const std::filesystem::path& path, uint64_t count, uint64_t allowed_padding = 1) {
   const uint64_t bytes = checked_record_bytes<T>(path, count, allowed_padding);
-  std::vector<T> out;
-  out.reserve(count);
-  prefer_huge_pages(out.data(), bytes);  // before the first touch (the zero fill below)
-  out.resize(count);
+  std::vector<T> out(count);
   if (bytes) read_exact(path, 0, out.data(), bytes);
   return out;
 }

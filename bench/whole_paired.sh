@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Two volstream binaries' whole `render` command on mesh datasets, paired: REPEATS rounds, in each
-# every dataset with both binaries one after the other, each command after PAUSE seconds of idle.
+# Two volstream binaries' whole `render` command on datasets (meshes or AMR), paired: REPEATS
+# rounds, in each every dataset with both binaries one after the other, each command after PAUSE
+# seconds of idle.
 # PAUSE matters on virtual machines that hand free memory back to the host (free page
 # reporting): after a few idle seconds a process's fresh memory faults on the host at first
 # touch, which back-to-back runs (PAUSE=0) mostly do not see.
@@ -8,9 +9,12 @@
 # volstream prints), then per dataset the median [min..max] of each for both binaries and of the
 # per-round ratio base/new of the wall time.
 #
-# usage: bench/umesh_whole_paired.sh BASE NEW DATASET... [REPEATS=5 PAUSE=4 SIZE=512x512 LOOK=haze]
+# LOOK: haze or blobs (the mesh looks of bench/umesh_vs_vtk.sh), or default (the dataset's
+# default field, transfer function and view: any dataset).
+#
+# usage: bench/whole_paired.sh BASE NEW DATASET... [REPEATS=5 PAUSE=4 SIZE=512x512 LOOK=haze]
 set -euo pipefail
-[ $# -ge 3 ] || { sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -ge 3 ] || { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 BASE="$1" NEW="$2"
 shift 2
 REPEATS="${REPEATS:-5}" PAUSE="${PAUSE:-4}" SIZE="${SIZE:-512x512}" LOOK="${LOOK:-haze}"
@@ -19,6 +23,7 @@ source "$(dirname "$0")/paired_common.sh"
 case "$LOOK" in
   haze) mesh_view "$SIZE" 0.02:0.004,0.15:0.004,0.5:0.03,1.1:0.12 ;;
   blobs) mesh_view "$SIZE" 0.02:0,0.15:0,0.5:0.03,1.1:0.12 ;;
+  default) VIEW=(--size "$SIZE") ;;
   *) echo "unknown LOOK $LOOK" >&2; exit 2 ;;
 esac
 VIEW+=(--device cpu)

@@ -28,7 +28,7 @@ MeshAccel build_mesh_accel(const UMesh& mesh);
 // The walk records of a mesh's elements (element_bvh.h): 64 MB for 1 M elements, so the array
 // is filled in parallel and never zero-filled first (on one thread) as a std::vector would. It
 // takes ordinary pages, not huge ones: where free memory has gone back to the host, as on the
-// benchmark machine, a huge page's first touch took 4-5x longer per byte (bench/RESULTS.md,
+// benchmark machine, a huge page's first touch took 3-4x longer per byte (bench/RESULTS.md,
 // "Topology mapped, not read").
 class TetWalkRecords {
  public:

@@ -70,12 +70,16 @@ class HostArray {
   T* data() { return owned().data(); }
   T& operator[](size_t i) { return owned()[i]; }
   T* begin() { return owned().data(); }
-  T* end() { return owned().data() + owned_.size(); }
+  T* end() { return begin() + owned_.size(); }
   T& back() { return owned().back(); }
   void resize(size_t n) { owned().resize(n); }
   void reserve(size_t n) { owned().reserve(n); }
   void clear() { owned().clear(); }
   void push_back(const T& value) { owned().push_back(value); }
+  void append(const T* first, const T* last) {
+    std::vector<T>& values = owned();
+    values.insert(values.end(), first, last);
+  }
   template <typename... Args>
   T& emplace_back(Args&&... args) {
     return owned().emplace_back(std::forward<Args>(args)...);

@@ -202,8 +202,7 @@ void add_leaf(const UMesh& mesh, const std::vector<uint32_t>& order, size_t begi
     c.bytes.push_back(uint8_t(it->second & 0xff));
     c.bytes.push_back(uint8_t(it->second >> 8));
   }
-  std::vector<uint8_t>& bytes = c.bytes.owned();
-  bytes.insert(bytes.end(), corner_bytes.begin(), corner_bytes.end());
+  c.bytes.append(corner_bytes.data(), corner_bytes.data() + corner_bytes.size());
   c.paired_tets += 2 * pairs.size();
   c.leaves.push_back(leaf);
 }

@@ -65,7 +65,7 @@ CompactMesh compact_part(const CompactPieces& pieces, const HostArray<CompactSub
       CompactLeaf leaf = pieces.leaves[i];
       const uint8_t* bytes = pieces.bytes[i];
       const uint64_t at = part.bytes.size();
-      part.bytes.owned().insert(part.bytes.owned().end(), bytes, bytes + leaf_byte_count(leaf));
+      part.bytes.append(bytes, bytes + leaf_byte_count(leaf));
       for (uint32_t t = 0; t < leaf.table_size(); ++t) {  // renumbered table entries
         const uint32_t local = position_in(used, table_entry(bytes, t));
         part.bytes[at + 2 * t] = uint8_t(local & 0xff);

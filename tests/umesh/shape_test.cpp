@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -65,6 +66,24 @@ TEST_P(ShapeTest, LinearFieldIsReproducedAtRandomInteriorPoints) {
     for (int i = 0; i < n; ++i) f += found[i] * linear(x[size_t(i)]);
     EXPECT_NEAR(f, linear(p), 2e-5f) << "type " << n << " trial " << trial;
   }
+}
+
+// Newton's answer is the root to float noise, also where it stops after two steps on the
+// convergence estimate (newton_converged): the weights at the parameters a point was made from.
+TEST_P(ShapeTest, NewtonFindsTheRootToFloatNoise) {
+  const int n = GetParam();
+  std::mt19937 rng(100 + n);
+  float worst = 0.f;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const std::vector<vec3f> x = element(n, rng, 0.12f);
+    const vec3f pc = random_params(n, rng);
+    float exact[8], found[8];
+    vec3f d[8];
+    shape::weights(n, pc.x, pc.y, pc.z, exact, d);
+    ASSERT_TRUE(shape::locate_in_element(n, x.data(), point_at(n, x, pc), found)) << "trial " << trial;
+    for (int i = 0; i < n; ++i) worst = std::max(worst, std::fabs(found[i] - exact[i]));
+  }
+  EXPECT_LT(worst, 2e-6f) << "type " << n;
 }
 
 TEST_P(ShapeTest, PointsOutsideAreRefused) {

@@ -256,8 +256,8 @@ VS_HOST_DEVICE inline bool newton_step(const IsoMap& m, const vec3f& p, const ve
 // that is below float noise, the point just reached is the root (this saves the step that only
 // measured noise), given a step already small (a large one says nothing of the root). The gate
 // of 1e-2 lets the second step from an element's centre end the iteration: on the mixed demo's
-// haze its hexes' and wedges' second steps are 1e-5 to 1e-2 and their third ones only measured
-// float noise, 1e-8 to 1e-7 (bench/RESULTS.md). Where the iteration converges only linearly
+// haze its hexes' and wedges' second steps are mostly 1e-5 to 1e-2, and their third ones only
+// measured float noise, 1e-8 to 1e-7 (bench/RESULTS.md). Where the iteration converges only linearly
 // (ratio r, about 1/2 at a singular root), the estimate is step * r^2: it passes only with
 // r < sqrt(1e-7 / step), at most 3.2e-3, far below what such a root gives. The first step
 // (previous = 0) has no estimate.

@@ -1,4 +1,4 @@
-# Sourced by the paired mesh drivers (umesh_paired.sh, mesh_play_paired.sh).
+# Sourced by the paired drivers (umesh_paired.sh, mesh_play_paired.sh, whole_paired.sh).
 # mesh_view SIZE OPACITY: sets VIEW to the view and transfer function of bench/umesh_vs_vtk.sh at
 # SIZE with the opacity points OPACITY (haze: 0.02:0.004,0.15:0.004,0.5:0.03,1.1:0.12; blobs:
 # 0.02:0,0.15:0,0.5:0.03,1.1:0.12).
@@ -15,3 +15,7 @@ paired_header() {
 stats() { sort -g | awk '{ v[NR] = $1 } END {
   m = (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2
   printf "%.3f [%.3f..%.3f]", m, v[1], v[NR] }'; }
+# round_ratios RUNS KEY COLUMN: from RUNS' lines "round binary key ...", the per-round ratio
+# base/new of COLUMN on the lines whose key is KEY, one per line (for stats).
+round_ratios() { awk -v k="$2" -v c="$3" '$3 == k { v[$1 " " $2] = $c } END {
+  for (r in v) { split(r, p, " "); if (p[2] == "base") print v[r] / v[p[1] " new"] } }' "$1"; }

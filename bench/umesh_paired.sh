@@ -33,8 +33,7 @@ echo "| encoding | base wall s | new wall s | base CPU s | new CPU s | CPU base/
 echo "|---|---|---|---|---|---|"
 for encoding in reference compact; do
   col() { awk -v w="$1" -v e="$encoding" -v c="$2" '$2 == w && $3 == e { print $c }' "$OUT/runs.txt" | stats; }
-  ratio="$(awk -v e="$encoding" '$3 == e { cpu[$1 " " $2] = $5 } END {
-    for (k in cpu) { split(k, p, " "); if (p[2] == "base") print cpu[k] / cpu[p[1] " new"] } }' "$OUT/runs.txt" | stats)"
+  ratio="$(round_ratios "$OUT/runs.txt" "$encoding" 5 | stats)"
   echo "| $encoding | $(col base 4) | $(col new 4) | $(col base 5) | $(col new 5) | ${ratio}x |"
 done
 rm -rf "$OUT"

@@ -53,8 +53,7 @@ for dataset in "$@"; do
     col() { awk -v w="$which" -v d="$name" -v c="$1" '$2 == w && $3 == d { print $c }' "$OUT/runs.txt" | stats; }
     echo "| $name | $which | $(col 4) | $(col 5) | $(col 6) | $(col 7) |"
   done
-  ratio="$(awk -v d="$name" '$3 == d { wall[$1 " " $2] = $4 } END {
-    for (k in wall) { split(k, p, " "); if (p[2] == "base") print wall[k] / wall[p[1] " new"] } }' "$OUT/runs.txt" | stats)"
+  ratio="$(round_ratios "$OUT/runs.txt" "$name" 4 | stats)"
   echo "| $name | wall base/new per round | ${ratio}x | | | |"
 done
 rm -rf "$OUT"

@@ -20,6 +20,16 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr float kTolerance = 1e-4f;  // max abs difference per channel (linear RGB)
+// The references were rendered by a g++ 12 build, and the suite holds it to them exactly. Other
+// compilers round the demos' and samplers' float expressions a little differently, which moves
+// a jittered sample across a transfer-function edge here and there: g++ 13 (the GPU machine's)
+// put 2 of jet_spp4's values 7.6e-4 off. There a few such values are allowed, none over 1e-2.
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ == 12
+constexpr size_t kStrayValuesAllowed = 0;
+#else
+constexpr size_t kStrayValuesAllowed = 8;
+#endif
+constexpr float kStrayTolerance = 1e-2f;
 
 // Dataset-making commands; {VS} is the binary, {DIR} the dataset directory to write, {PY} python3,
 // {SRC} the source tree. Shared by the cases below (each is made once per process).
@@ -155,15 +165,16 @@ TEST_P(GoldenImages, MatchesReference) {
   for (size_t i = 0; i < want.rgba.size(); ++i) {
     const float d = std::fabs(got.rgba[i] - want.rgba[i]);
     if (!(d <= kTolerance) && over++ == 0) first_bad = i;  // NaN counts as over
-    if (d > max_diff) max_diff = d, worst = i;
+    if (!(d <= max_diff)) max_diff = d, worst = i;  // a NaN sticks, and fails below
   }
   const size_t px = worst / 4;
   std::printf("[ golden   ] %-32s max abs diff %.3g (pixel %zu,%zu channel %zu), %zu values over %.0e\n", c.name,
               double(max_diff), px % want.width, px / want.width, worst % 4, over, double(kTolerance));
-  EXPECT_EQ(over, 0u) << c.name << ": max abs diff " << max_diff << "; first value over the tolerance: pixel ("
+  EXPECT_LE(over, kStrayValuesAllowed) << c.name << ": max abs diff " << max_diff << "; first value over the tolerance: pixel ("
                       << first_bad / 4 % want.width << ", " << first_bad / 4 / want.width << ") channel "
                       << first_bad % 4 << ": got " << got.rgba[first_bad] << ", want " << want.rgba[first_bad]
                       << "; new image " << out << ", reference " << golden;
+  EXPECT_LE(max_diff, over ? kStrayTolerance : kTolerance) << c.name;
 }
 
 INSTANTIATE_TEST_SUITE_P(Golden, GoldenImages, ::testing::ValuesIn(kCases),

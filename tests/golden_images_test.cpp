@@ -165,15 +165,16 @@ TEST_P(GoldenImages, MatchesReference) {
   for (size_t i = 0; i < want.rgba.size(); ++i) {
     const float d = std::fabs(got.rgba[i] - want.rgba[i]);
     if (!(d <= kTolerance) && over++ == 0) first_bad = i;  // NaN counts as over
-    if (!(d <= max_diff)) max_diff = d, worst = i;  // a NaN sticks, and fails below
+    if (!(d <= max_diff)) max_diff = d, worst = i;         // a NaN sticks, and fails below
   }
   const size_t px = worst / 4;
   std::printf("[ golden   ] %-32s max abs diff %.3g (pixel %zu,%zu channel %zu), %zu values over %.0e\n", c.name,
               double(max_diff), px % want.width, px / want.width, worst % 4, over, double(kTolerance));
-  EXPECT_LE(over, kStrayValuesAllowed) << c.name << ": max abs diff " << max_diff << "; first value over the tolerance: pixel ("
-                      << first_bad / 4 % want.width << ", " << first_bad / 4 / want.width << ") channel "
-                      << first_bad % 4 << ": got " << got.rgba[first_bad] << ", want " << want.rgba[first_bad]
-                      << "; new image " << out << ", reference " << golden;
+  EXPECT_LE(over, kStrayValuesAllowed) << c.name << ": max abs diff " << max_diff
+                                       << "; first value over the tolerance: pixel (" << first_bad / 4 % want.width
+                                       << ", " << first_bad / 4 / want.width << ") channel " << first_bad % 4
+                                       << ": got " << got.rgba[first_bad] << ", want " << want.rgba[first_bad]
+                                       << "; new image " << out << ", reference " << golden;
   EXPECT_LE(max_diff, over ? kStrayTolerance : kTolerance) << c.name;
 }
 

@@ -93,7 +93,7 @@ void add_probe_command(CLI::App& app) {
     if (a->brute) {
       out = probe_brute_force(ds, field, a->step, world);
     } else {
-      FrameRenderer renderer(ds, resolve_device(a->device, ds));
+      FrameRenderer renderer(ds, resolve_device(a->device, ds, parse_mesh_encoding(a->encoding)));
       const std::vector<float> v = renderer.probe(field, a->step, world, parse_mesh_encoding(a->encoding));
       std::copy(v.begin(), v.end(), out.begin());
     }

@@ -251,7 +251,7 @@ RenderPlan make_render_plan(const RenderOptions& o, const Dataset& ds, const std
     r.color_tf = make_color_field_transfer_function(m, r.second_field, range_steps, r.tf, o.log);
   }
   apply_integrator_options(o, ds, r);
-  p.device = resolve_device(o.device, ds);
+  p.device = resolve_device(o.device, ds, r.mesh_encoding);
   return p;
 }
 

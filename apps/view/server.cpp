@@ -74,7 +74,7 @@ class Viewer {
       : dataset_path(args.dir),
         dataset(ds),
         initial{args.render, 0, false},
-        renderer_(ds, resolve_device(args.render.device, ds)) {
+        renderer_(ds, resolve_device(args.render.device, ds, parse_mesh_encoding(args.render.encoding))) {
     cli::make_render_plan(initial.options, ds, {0});  // bad options: one line before the server starts
   }
 

@@ -172,6 +172,17 @@ TEST(CompactDatasetCuda, EqualsTheCpu) {
   }
 }
 
+// --device auto takes the GPU wherever the encoding has a CUDA path: a stored compact mesh has
+// one, a compact mesh built at load from a reference dataset has not.
+TEST(CompactDataset, AutoDeviceIsTheGpuWhereTheEncodingRunsThere) {
+  const Device gpu_if_any = cuda::cuda_available() ? Device::cuda : Device::cpu;
+  EXPECT_EQ(resolve_device("auto", compact(), MeshEncoding::stored), gpu_if_any);
+  EXPECT_EQ(resolve_device("auto", compact(), MeshEncoding::compact), gpu_if_any);
+  EXPECT_EQ(resolve_device("auto", reference(), MeshEncoding::stored), gpu_if_any);
+  EXPECT_EQ(resolve_device("auto", reference(), MeshEncoding::compact), Device::cpu);
+  EXPECT_EQ(resolve_device("cpu", compact(), MeshEncoding::stored), Device::cpu);
+}
+
 // A copy of the compact dataset with `file` changed by `damage`; the InputError it gives.
 std::string open_damaged(const std::string& name, const std::string& file,
                          const std::function<void(std::vector<char>&)>& damage) {

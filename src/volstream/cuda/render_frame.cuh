@@ -8,7 +8,10 @@
 namespace vs::cuda {
 
 // The tables a frame's optics read (transfer function, blackbody colours, isosurface colours),
-// copied to the device: the host view points at host memory, which a kernel must not read.
+// copied to the device: the host view points at host memory, which a kernel must not read. For
+// frames launched on the default stream (the mesh frames): a synchronous copy from pageable
+// memory may still be in flight when it returns, and only that stream is ordered after it.
+// DeviceScene copies its tables asynchronously on its own stream instead.
 struct DeviceOpticsTables {
   Buffer<Rgba> tf{Device::cuda, "transfer tables"}, color_tf{Device::cuda, "transfer tables"};
   Buffer<vec3f> bb{Device::cuda, "transfer tables"};

@@ -545,8 +545,9 @@ std::vector<float> FrameRenderer::probe(int field, int step, const std::vector<v
   return probe_points(dataset_.topology(), abr.template_bvh(), m.kernel_values(0), grid);
 }
 
-Device resolve_device(const std::string& name, const Dataset& dataset) {
-  return name == "auto" && dataset.is_compact_mesh() ? Device::cpu : resolve_device(name);
+Device resolve_device(const std::string& name, const Dataset& dataset, MeshEncoding encoding) {
+  const bool compact_at_load = dataset.is_mesh() && !dataset.is_compact_mesh() && encoding == MeshEncoding::compact;
+  return name == "auto" && compact_at_load ? Device::cpu : resolve_device(name);
 }
 
 std::vector<double> probe_brute_force(const Dataset& ds, int field, int step, const std::vector<vec3d>& world) {

@@ -110,9 +110,9 @@ class FrameRenderer {
   uint64_t visible_ = 0;
 };
 
-// resolve_device, except that "auto" is the CPU for a mesh stored compact: its CUDA path
-// (--device cuda) has not run on a GPU yet.
-Device resolve_device(const std::string& name, const Dataset& dataset);
+// resolve_device, except that "auto" is the CPU where `encoding` builds the compact mesh at load
+// from a reference dataset: that one has no CUDA path (a stored compact mesh has).
+Device resolve_device(const std::string& name, const Dataset& dataset, MeshEncoding encoding);
 
 // The reference for probe(): the tent-basis sum over every cell, no bricks or ABRs (double
 // precision; amr/sampler.h's sample_brute_force).

@@ -264,10 +264,9 @@ part_render() {
   return "$failed"
 }
 
-# A mesh demo of one step with its reference encoding (compact is built from it at load), kept
-# in DATA_DIR like the jet demos.
-# One dataset per encoding, stored so: a compact mesh built at load from a reference dataset
-# renders on the CPU only, a stored one on CUDA too.
+# A mesh demo of one step, kept in DATA_DIR like the jet demos: one dataset per encoding, stored
+# so (a compact mesh built at load from a reference dataset renders on the CPU only, a stored one
+# on CUDA too).
 ensure_mesh_demo() {
   local kind="$1" elements="$2" enc="$3" dir="$DATA_DIR/${1}_${2}_${3}"
   if [ ! -f "$dir/.run_gpu_complete" ] || [ "${REGEN:-0}" = 1 ]; then

@@ -16,7 +16,8 @@
 #   scripts/gpu_check.sh L bench-data; scripts/gpu_check.sh L bench-stream; scripts/gpu_check.sh L bench-render
 # and, should the stream benchmark still not fit, spread its levels over commands with
 # LEVELS=baseline,async-io,... (bench/run_gpu.sh merges the runs). Environment: CUDA_ARCH (90),
-# CTEST_JOBS (4), CTEST_TIMEOUT (600 s per test: a kernel that never ends must not stop the rest), and bench/run_gpu.sh's (CELLS, STEPS, DEVICE, ...).
+# CTEST_JOBS (4), CTEST_TIMEOUT (600 s per test: a kernel that never ends must not stop the
+# rest), and bench/run_gpu.sh's (CELLS, STEPS, DEVICE, ...).
 set -uo pipefail
 usage() { echo "usage: scripts/gpu_check.sh LOG_DIR [build|test|bench|bench-data|bench-stream|bench-render|bench-mesh|bench-view|all ...]" >&2; exit 2; }
 

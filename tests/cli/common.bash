@@ -35,7 +35,8 @@ random_points() {
 
 # compare_probes A B: same count, NaN exactly where the other is NaN, and |a - b| <= 1e-5 |b|
 # plus 1e-6 of the largest magnitude: a float sum of weighted cell values rounds relative to
-# its terms, not its result (g++ 13 missed 1e-5 |b| + 1e-7 max by 2% at one vorticity of 10^4).
+# its terms, not its result (g++ 13 missed 1e-5 |b| + 1e-7 max by 2% at one of 10^4 points, a
+# vorticity of 121.5 where the largest is about 1600).
 compare_probes() {
   paste "$1" "$2" | awk '
     function abs(x) { return x < 0 ? -x : x }

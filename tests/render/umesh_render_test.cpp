@@ -8,6 +8,7 @@
 #include <cmath>
 #include <ostream>
 
+#include "volstream/backend/memory.h"
 #include "volstream/frame/look.h"
 #include "volstream/render/integrators/umesh_renderer.h"
 #include "volstream/umesh/demo.h"
@@ -92,6 +93,25 @@ TEST_P(MeshRenderTest, EqualsExhaustiveElementSearch) {
   for (size_t i = 3; i < fast.rgba.size(); i += 4) alpha += fast.rgba[i];
   EXPECT_GT(alpha / double(fs.width * fs.height), 0.005);  // something drawn
   EXPECT_LT(worst, 1e-5);
+}
+
+// The tets' walk records (64 B an element) are the CPU walk's: a CUDA frame's view has none, and
+// asking for one builds none; a CPU frame's view has them.
+TEST(MeshRender, WalkRecordsOnlyForTheCpu) {
+  const MeshData data = make_mesh_demo({"tets", 1500, 1}, 0);
+  const WorldTransform transform = mesh_transform(data);
+  const UMesh mesh = make_umesh(data, transform, "tets");
+  const UMeshRenderer renderer(mesh, transform);
+  const auto walk_record_bytes = [] {
+    for (const MemoryEntry& e : memory_ledger().snapshot())
+      if (e.structure == "tet walk records") return e.bytes[int(MemorySpace::host)];
+    return int64_t(0);
+  };
+  const int64_t before = walk_record_bytes();
+  EXPECT_EQ(renderer.mesh_view(Device::cuda).tet_walk, nullptr);
+  EXPECT_EQ(walk_record_bytes(), before);
+  EXPECT_NE(renderer.mesh_view(Device::cpu).tet_walk, nullptr);
+  EXPECT_EQ(walk_record_bytes(), before + int64_t(mesh.elements.size() * sizeof(TetWalkRecord)));
 }
 
 INSTANTIATE_TEST_SUITE_P(Meshes, MeshRenderTest,

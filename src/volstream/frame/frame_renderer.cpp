@@ -466,7 +466,7 @@ Image FrameRenderer::render_image(const FrameRequest& r, FrameReport* report) {
       img = m.render_mesh(view, local);
     } else {
       FrameView<UMeshVolume> view =
-          mesh.view({m.kernel_values(0), m.kernel_values(1)}, optics, colors, r.camera, frame_settings(r));
+          mesh.view({m.kernel_values(0), m.kernel_values(1)}, optics, colors, r.camera, frame_settings(r), m.device);
       own_part(view, dataset_.part());
       img = m.render_mesh(view, local);
     }

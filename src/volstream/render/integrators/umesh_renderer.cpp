@@ -86,10 +86,11 @@ const MeshAccel& UMeshRenderer::reference_accel() const {
   return *accel_;
 }
 
-UMeshView UMeshRenderer::mesh_view() const {
+UMeshView UMeshRenderer::mesh_view(Device device) const {
   const MeshAccel& accel = reference_accel();  // refuses a stored compact mesh before mesh_ is read
   // The walk records are the CPU walk's alone: built on the first view that walks, so that info,
   // probes (no walk) and CUDA frames (the device walks by corners) do not pay 64 B an element.
+  if (device == Device::cuda) return view_of(*mesh_, accel);
   std::call_once(*tet_walk_once_, [&] {
     tet_walk_ = tet_walk_records(*mesh_, accel.neighbors);
     tet_walk_counted_ =
@@ -120,8 +121,8 @@ FrameView<MeshVolume<Locator>> UMeshRenderer::make_view(const Locator& locator, 
 }
 
 FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
-                                           const Camera& camera, const FrameSettings& settings) const {
-  return make_view(mesh_view(), fields, optics, color_tf, camera, settings);
+                                           const Camera& camera, const FrameSettings& settings, Device device) const {
+  return make_view(mesh_view(device), fields, optics, color_tf, camera, settings);
 }
 
 const CompactMesh& UMeshRenderer::compact() {

@@ -69,8 +69,9 @@ class UMeshRenderer {
   // Keeps the macrocells with keep[i] != 0 (empty: all); returns the visible ones.
   uint64_t refit(const std::vector<uint8_t>& keep, SkipStats* stats = nullptr);
 
+  // For `device`'s kernel: a CUDA frame's view has no walk records (mesh_view).
   FrameView<UMeshVolume> view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
-                              const Camera& camera, const FrameSettings& settings) const;
+                              const Camera& camera, const FrameSettings& settings, Device device = Device::cpu) const;
   Image render(const FrameView<UMeshVolume>& view, FrameStats* stats = nullptr) const {
     return render_view_cpu(view, stats);
   }
@@ -89,7 +90,9 @@ class UMeshRenderer {
                                             const FrameSettings& settings);
   std::vector<float> probe_compact(const float* values, const std::vector<vec3f>& grid_points);  // stored order
 
-  UMeshView mesh_view() const;
+  // The reference encoding's locator; for the CPU with the tets' walk records (built on the first
+  // such call), for CUDA without (the device walks by corners, and gets the mesh's own arrays).
+  UMeshView mesh_view(Device device = Device::cpu) const;
   const MacroCells& macrocells() const { return cells_; }
   const ElementBvh& element_bvh() const { return reference_accel().bvh; }
   const HostArray<uint32_t>& face_neighbors() const { return reference_accel().neighbors; }

@@ -44,7 +44,7 @@ struct MeshFrameBuffers {
     d.volume.visible = visible.data();
     d.volume.step_widths = step_widths.data();
     d.volume.region_of_cell = region_of_cell.data();
-    tables.upload(h, d);
+    tables.upload(h, d, 0);  // the stream render_frame runs on below
     d.rgba = rgba.data();
     d.sample_counts = h.sample_counts ? counts.data() : nullptr;
     RenderTimes t;

@@ -68,8 +68,7 @@ struct DeviceScene::Impl {
   DeviceBuffer<uint8_t> keep{"ABR ranges"};
   DeviceBuffer<uint32_t> opaque_prefix{"transfer tables"};
   DeviceBuffer<unsigned long long> counter{"ABR ranges"};
-  DeviceBuffer<Rgba> tf{"transfer tables"}, color_tf{"transfer tables"};
-  DeviceBuffer<vec3f> bb{"transfer tables"};  // blackbody colour table
+  DeviceOpticsTables tables;  // the frame's; classification reads tables.tf too
   DeviceBuffer<KdNode> kd_nodes{"kd-tree blocks"};
   DeviceBuffer<Block> blocks{"kd-tree blocks"};
   DeviceBuffer<uint64_t> vertex_offsets{"vertex values"};
@@ -88,15 +87,10 @@ struct DeviceScene::Impl {
   template <typename V>
   FrameView<V> device_view(const FrameView<V>& h) {
     const size_t pixels = size_t(h.width) * h.height;
-    if (h.optics.tf.table) tf.upload_async(h.optics.tf.table, h.optics.tf.size, stream.s);
-    if (h.color_isosurfaces) color_tf.upload_async(h.color_tf.table, h.color_tf.size, stream.s);
-    if (h.optics.bb.table) bb.upload_async(h.optics.bb.table, h.optics.bb.size, stream.s);
+    FrameView<V> d = h;
+    tables.upload(h, d, stream.s);
     rgba.ensure(4 * pixels);
     if (h.sample_counts) counts.ensure(pixels);
-    FrameView<V> d = h;
-    d.optics.tf.table = h.optics.tf.table ? tf.data() : nullptr;
-    d.optics.bb.table = h.optics.bb.table ? bb.data() : nullptr;
-    d.color_tf.table = h.color_isosurfaces ? color_tf.data() : nullptr;
     d.rgba = rgba.data();
     d.sample_counts = h.sample_counts ? counts.data() : nullptr;
     return d;
@@ -175,10 +169,10 @@ uint64_t DeviceScene::classify_and_refit(const TransferTable& table, const Integ
   uint8_t* keep = nullptr;
   uint64_t visible = m.abr_count;
   if (skip) {
-    m.tf.upload_async(table.entries().data(), table.entries().size(), m.stream.s);
+    m.tables.tf.upload_async(table.entries().data(), table.entries().size(), m.stream.s);
     m.opaque_prefix.upload_async(table.opaque_prefix().data(), table.opaque_prefix().size(), m.stream.s);
     OpacityIndex opacity = table.opacity_index();
-    opacity.tf.table = m.tf.data();
+    opacity.tf.table = m.tables.tf.data();
     opacity.opaque_prefix = m.opaque_prefix.data();
     VS_CUDA_CHECK(cudaMemsetAsync(m.counter.data(), 0, sizeof(unsigned long long), m.stream.s));
     keep = m.keep.data();

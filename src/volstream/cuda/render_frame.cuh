@@ -1,27 +1,25 @@
 // One launch of the integrator (render/integrators/integrator.h) for any volume kind: one thread
 // per pixel over a view whose pointers are all device pointers, timed with CUDA events.
 #pragma once
-#include "volstream/backend/buffer.h"
 #include "volstream/cuda/launch.cuh"
 #include "volstream/render/integrators/integrator.h"
 
 namespace vs::cuda {
 
 // The tables a frame's optics read (transfer function, blackbody colours, isosurface colours),
-// copied to the device: the host view points at host memory, which a kernel must not read. For
-// frames launched on the default stream (the mesh frames): a synchronous copy from pageable
-// memory may still be in flight when it returns, and only that stream is ordered after it.
-// DeviceScene copies its tables asynchronously on its own stream instead.
+// copied to the device for every volume kind's frames (DeviceScene's and the meshes'): the host
+// view points at host memory, which a kernel must not read.
 struct DeviceOpticsTables {
-  Buffer<Rgba> tf{Device::cuda, "transfer tables"}, color_tf{Device::cuda, "transfer tables"};
-  Buffer<vec3f> bb{Device::cuda, "transfer tables"};
+  DeviceBuffer<Rgba> tf{"transfer tables"}, color_tf{"transfer tables"};
+  DeviceBuffer<vec3f> bb{"transfer tables"};  // blackbody colour table
 
-  // Uploads the tables of host view h and points device view d at them.
+  // Copies host view h's tables on `stream`, which the frame's kernel then runs on, and points
+  // device view d at them.
   template <typename V>
-  void upload(const FrameView<V>& h, FrameView<V>& d) {
-    if (h.optics.tf.table) tf.upload(h.optics.tf.table, h.optics.tf.size);
-    if (h.optics.bb.table) bb.upload(h.optics.bb.table, h.optics.bb.size);
-    if (h.color_isosurfaces) color_tf.upload(h.color_tf.table, h.color_tf.size);
+  void upload(const FrameView<V>& h, FrameView<V>& d, cudaStream_t stream) {
+    if (h.optics.tf.table) tf.upload_async(h.optics.tf.table, h.optics.tf.size, stream);
+    if (h.color_isosurfaces) color_tf.upload_async(h.color_tf.table, h.color_tf.size, stream);
+    if (h.optics.bb.table) bb.upload_async(h.optics.bb.table, h.optics.bb.size, stream);
     d.optics.tf.table = h.optics.tf.table ? tf.data() : nullptr;
     d.optics.bb.table = h.optics.bb.table ? bb.data() : nullptr;
     d.color_tf.table = h.color_isosurfaces ? color_tf.data() : nullptr;

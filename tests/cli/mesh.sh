@@ -86,4 +86,20 @@ cp -r mixed broken
 head -c 1000 mixed/compact_bytes.bin >broken/compact_bytes.bin
 expect_bad_input "truncated compact indices" probe broken --points pts_mixed.txt
 grep -q compact_bytes.bin "$WORK/err.txt" || fail "the error does not name the damaged file"
+# The reference encoding stores the tets' walk records; a dataset without them (written before
+# they were stored) builds them and draws the same picture; a damaged record file is one line.
+"$VS" demo tets --elements 4000 --steps 1 -o tets_ref -q --encoding reference
+[ -s tets_ref/mesh_tet_walk.bin ] || fail "no walk records stored"
+cp -r tets_ref tets_old && rm tets_old/mesh_tet_walk.bin
+/usr/bin/python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); del m["tet_walk_records"]; json.dump(m, open(sys.argv[1],"w"))' \
+  tets_old/manifest.json
+"$VS" render tets_ref -o stored.png --size 64x64 >/dev/null
+"$VS" render tets_old -o built.png --size 64x64 >/dev/null
+cmp -s stored.png built.png || fail "stored walk records draw another picture"
+cp -r tets_ref walk_short && truncate -s -64 walk_short/mesh_tet_walk.bin
+expect_bad_input "truncated walk records" render walk_short -o x.png --size 16x16
+grep -q mesh_tet_walk.bin "$WORK/err.txt" || fail "the error does not name the walk records"
+cp -r tets_ref walk_bad && printf '\377\377\377\377' | dd of=walk_bad/mesh_tet_walk.bin bs=1 seek=640 conv=notrunc 2>/dev/null
+expect_bad_input "a walk record that is not its element's" render walk_bad -o x.png --size 16x16
+"$VS" probe walk_bad --field density --points pts_tets.txt >/dev/null || fail "probes need no walk records"
 echo "mesh CLI ok"

@@ -74,6 +74,10 @@ TEST(MeshFrame, DrawsFromTheMappedFilesWithoutCopyingThem) {
   EXPECT_TRUE(accel.bvh.nodes.is_view());
   EXPECT_TRUE(accel.bvh.items.is_view());
   EXPECT_TRUE(accel.neighbors.is_view());
+  ASSERT_TRUE(accel.stored_tet_walk);  // holes is made of tets: convert stores their walk records
+  const TetWalkRecords walk = accel.stored_tet_walk(mesh, accel.neighbors);
+  EXPECT_TRUE(walk.is_view());
+  EXPECT_EQ(walk.size(), mesh.elements.size());
 }
 
 TEST(MeshFrame, RedoesOnlyWhatAChangeNeeds) {

@@ -159,6 +159,44 @@ TEST_P(MeshProbeTest, TetWalkRecordsAreTheTetsSolvesAndNeighbours) {
   }
 }
 
+// Stored records (a dataset's mesh_tet_walk.bin) pass the check when they are the mesh's own,
+// also with rows off by rounding; a record that differs where the walk reads it (a neighbour, a
+// row beyond rounding, a corner, a tet flag) or a count that differs is refused, naming it.
+TEST_P(MeshProbeTest, StoredWalkRecordsAreCheckedAgainstTheMesh) {
+  const DemoMesh d = demo(GetParam(), 3000);
+  const MeshAccel accel = build_mesh_accel(d.mesh);
+  const TetWalkRecords built = tet_walk_records(d.mesh, accel.neighbors);
+  if (built.empty()) return;  // no tets: nothing is stored
+  std::vector<TetWalkRecord> stored(built.data(), built.data() + built.size());
+  const auto check = [&] { check_tet_walk_records(d.mesh, accel.neighbors, stored, "walk.bin"); };
+  EXPECT_NO_THROW(check());
+  const size_t e =
+      size_t(std::find_if(stored.begin(), stored.end(), [](auto& r) { return r.is_tet(); }) - stored.begin());
+  ASSERT_LT(e, stored.size());
+  stored[e].rows[1] = stored[e].rows[1] * (1.f + 1e-6f);  // rounding
+  EXPECT_NO_THROW(check());
+  const std::vector<TetWalkRecord> good = stored;
+  const auto refused = [&](const char* what, auto&& spoil) {
+    stored = good;
+    spoil(stored[e]);
+    EXPECT_THROW(
+        try { check(); } catch (const InputError& err) {
+          EXPECT_NE(std::string(err.what()).find("walk record " + std::to_string(e)), std::string::npos) << what;
+          throw;
+        },
+        InputError)
+        << what;
+  };
+  refused("neighbour", [](TetWalkRecord& r) { r.neighbor[2] = r.neighbor[2] == 0 ? 1u : 0u; });
+  refused("row", [](TetWalkRecord& r) { r.rows[0] = r.rows[0] * 1.01f; });
+  refused("corner", [](TetWalkRecord& r) { r.origin.y += 1e-3f; });
+  refused("NaN row", [](TetWalkRecord& r) { r.rows[2].z = NAN; });
+  refused("no tet", [](TetWalkRecord& r) { r.rows[0].x = NAN; });
+  stored = good;
+  stored.pop_back();
+  EXPECT_THROW(check(), InputError);
+}
+
 INSTANTIATE_TEST_SUITE_P(Demos, MeshProbeTest, ::testing::Values("tets", "mixed", "holes"));
 
 TEST(MeshProbe, HolesAndGapsAreNan) {

@@ -11,8 +11,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 
 #include "volstream/accel/refit.h"
 #include "volstream/amr/abrs.h"
@@ -92,6 +94,7 @@ json manifest_to_json(const DatasetManifest& m) {
     } else {
       j["mesh_encoding"] = "reference";
       j["bvh_node_count"] = m.mesh.bvh_nodes;
+      if (m.mesh.tet_walk_records) j["tet_walk_records"] = m.mesh.tet_walk_records;
     }
   } else {
     j["kind"] = "amr";
@@ -145,6 +148,7 @@ DatasetManifest manifest_from_json(const json& j) {
       m.mesh.compact_records = c.at("records").get<std::map<std::string, uint64_t>>();
     } else if (encoding == "reference") {
       m.mesh.bvh_nodes = j.at("bvh_node_count").get<uint64_t>();
+      m.mesh.tet_walk_records = j.value("tet_walk_records", uint64_t(0));  // absent before 2026-11-27
     } else {
       throw std::runtime_error("unknown mesh_encoding '" + encoding + "'");
     }
@@ -227,6 +231,8 @@ void validate_manifest(const DatasetManifest& m) {
         if (records > 8 * c.elements + c.local_vertices + 1) fail("compact record count of " + file + " out of range");
     } else if (c.bvh_nodes == 0 || c.bvh_nodes > 2 * c.elements) {
       fail("counts out of range");
+    } else if (c.tet_walk_records != 0 && c.tet_walk_records != c.elements) {
+      fail("tet_walk_records is neither 0 nor element_count");
     }
     if (c.macrocells > uint64_t(256 * 256 * 256)) fail("macrocell count out of range");
     if (c.by_type[0] + c.by_type[1] + c.by_type[2] + c.by_type[3] != c.elements)
@@ -416,6 +422,12 @@ void DatasetWriter::write_mesh(const UMesh& mesh) {
              accel.bvh.nodes.size() * sizeof(ElementBvhNode));
   write_file(dir_ / dataset_files::kMeshBvhItems, accel.bvh.items.data(), accel.bvh.items.size() * sizeof(uint32_t));
   write_file(dir_ / dataset_files::kMeshNeighbors, accel.neighbors.data(), accel.neighbors.size() * sizeof(uint32_t));
+  // The CPU walk's records, so that a render maps them instead of building 64 B an element in
+  // fresh memory (bench/RESULTS.md, "Walk records stored").
+  const TetWalkRecords walk = tet_walk_records(mesh, accel.neighbors);
+  manifest_.mesh.tet_walk_records = walk.size();
+  if (!walk.empty())
+    write_file(dir_ / dataset_files::kMeshTetWalk, std::as_const(walk).data(), walk.size() * sizeof(TetWalkRecord));
   // The vertices' bounds (those of a vertex of no element too: one process's world bounds),
   // then the chunk boxes: what a rank chooses its elements by (umesh/mesh_index.h).
   box3f bounds = box3f::make_empty();
@@ -571,6 +583,21 @@ std::vector<AbrChunk> Dataset::abr_chunks() const {
   return stored_abr_chunks_.empty() ? vs::abr_chunks(topology_.abrs) : stored_abr_chunks_;
 }
 
+namespace {
+// The stored walk records, mapped and checked when a CPU walk first asks for them: info, probes
+// and CUDA frames never do, so they never pay for the pages.
+TetWalkSource stored_tet_walk(fs::path path, uint64_t count) {
+  return [path = std::move(path), count](const UMesh& mesh, std::span<const uint32_t> neighbors) {
+    const Stopwatch watch;
+    // Const: a HostArray's non-const members copy a view (core/host_array.h).
+    const auto records = std::make_shared<const HostArray<TetWalkRecord>>(map_records<TetWalkRecord>(path, count));
+    check_tet_walk_records(mesh, neighbors, *records, path.string());
+    launch_times().add("stored tet walk records", watch.seconds());
+    return TetWalkRecords::view(records, records->data(), records->size());
+  };
+}
+}  // namespace
+
 void Dataset::load_mesh() {
   if (manifest_.mesh.compact()) return load_compact_mesh();
   if (deferred_) return load_reference_index();
@@ -595,6 +622,8 @@ void Dataset::load_mesh() {
         if (manifest_.mesh.macrocells > 0) read_stored_macrocells();
       });
   check_mesh_accel_boxes(mesh_, mesh_accel_, nodes_file);
+  if (manifest_.mesh.tet_walk_records > 0)
+    mesh_accel_.stored_tet_walk = stored_tet_walk(dir_ / dataset_files::kMeshTetWalk, manifest_.mesh.tet_walk_records);
   if (manifest_.mesh.macrocells > 0) build_macrocells_on_stored_grid();
   count_mesh_bytes();
 }

@@ -55,6 +55,9 @@ struct MeshCounts {
   uint64_t vertices = 0, elements = 0;
   uint64_t by_type[4] = {};  // umesh.h type_slot order: tetra, pyramid, wedge, hexahedron
   uint64_t bvh_nodes = 0;    // reference: element BVH nodes stored (mesh_accel.h)
+  // reference: walk records stored in mesh_tet_walk.bin, one per element, or 0 where the mesh has
+  // no tets (manifest key "tet_walk_records"; absent in older datasets, whose renders build them).
+  uint64_t tet_walk_records = 0;
   // Manifest key "mesh_encoding" (absent in older datasets: reference).
   MeshEncoding encoding = MeshEncoding::reference;
   // compact: the records in each array file (umesh/compact_files.h), the local vertices (the
@@ -117,6 +120,7 @@ inline constexpr const char* kMeshElements = "mesh_elements.bin";    // umesh: U
 inline constexpr const char* kMeshBvhNodes = "mesh_bvh_nodes.bin";   // umesh: ElementBvhNode per node
 inline constexpr const char* kMeshBvhItems = "mesh_bvh_items.bin";   // umesh: uint32 per element
 inline constexpr const char* kMeshNeighbors = "mesh_neighbors.bin";  // umesh: 6 uint32 per element
+inline constexpr const char* kMeshTetWalk = "mesh_tet_walk.bin";     // umesh: TetWalkRecord per element
 // umesh: the macrocell grid (MacroGrid), then StoredMacrocell per non-empty macrocell
 inline constexpr const char* kMeshMacrocells = "mesh_macrocells.bin";
 // umesh, reference: box3f of the vertices' bounds, then one per chunk of the BVH's item order

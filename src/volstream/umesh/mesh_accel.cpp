@@ -24,13 +24,21 @@ Box3<double> world_bounds(std::span<const vec3f> vertices, const WorldTransform&
   return b;
 }
 
-TetWalkRecords::TetWalkRecords(size_t count)
-    : records_(static_cast<TetWalkRecord*>(
-          ::operator new[](count * sizeof(TetWalkRecord), std::align_val_t(alignof(TetWalkRecord))))),
-      count_(count) {}
+TetWalkRecords::TetWalkRecords(size_t count) : count_(count) {
+  auto* records = static_cast<TetWalkRecord*>(
+      ::operator new[](count * sizeof(TetWalkRecord), std::align_val_t(alignof(TetWalkRecord))));
+  owner_ = std::shared_ptr<const void>(records, [](const void* p) {
+    ::operator delete[](const_cast<void*>(p), std::align_val_t(alignof(TetWalkRecord)));
+  });
+  data_ = writable_ = records;
+}
 
-void TetWalkRecords::Free::operator()(TetWalkRecord* p) const {
-  ::operator delete[](p, std::align_val_t(alignof(TetWalkRecord)));
+TetWalkRecords TetWalkRecords::view(std::shared_ptr<const void> owner, const TetWalkRecord* data, size_t count) {
+  TetWalkRecords r;
+  r.owner_ = std::move(owner);
+  r.data_ = data;
+  r.count_ = count;
+  return r;
 }
 
 namespace {
@@ -64,8 +72,37 @@ TetWalkRecords tet_walk_records(const UMesh& mesh, std::span<const uint32_t> nei
   return records;
 }
 
+namespace {
+bool rows_close(const vec3f& stored, const vec3f& built) {
+  const vec3f d = stored - built;
+  return dot(d, d) <= 1e-8f * dot(built, built);  // |d| <= 1e-4 |built|
+}
+
+bool same_record(const TetWalkRecord& stored, const TetWalkRecord& built) {
+  if (stored.is_tet() != built.is_tet()) return false;
+  for (int i = 0; i < 4; ++i)
+    if (stored.neighbor[i] != built.neighbor[i]) return false;
+  if (!built.is_tet()) return true;  // another type's record: the walk reads nothing else of it
+  return stored.origin.x == built.origin.x && stored.origin.y == built.origin.y && stored.origin.z == built.origin.z &&
+         rows_close(stored.rows[0], built.rows[0]) && rows_close(stored.rows[1], built.rows[1]) &&
+         rows_close(stored.rows[2], built.rows[2]);
+}
+}  // namespace
+
+void check_tet_walk_records(const UMesh& mesh, std::span<const uint32_t> neighbors,
+                            std::span<const TetWalkRecord> stored, const std::string& file) {
+  input_check(stored.size() == mesh.elements.size(), file, "walk records do not match the mesh");
+  const int64_t bad = first_failing(int64_t(stored.size()), [&](int64_t e) {
+    return same_record(stored[size_t(e)], tet_walk_record(mesh, neighbors, size_t(e)));
+  });
+  if (bad >= 0) input_error(file, "walk record " + std::to_string(bad) + " does not match its element");
+}
+
 MeshAccel build_mesh_accel(const UMesh& mesh) {
-  return {build_element_bvh(element_boxes(mesh)), build_face_neighbors(mesh)};
+  MeshAccel accel;
+  accel.bvh = build_element_bvh(element_boxes(mesh));
+  accel.neighbors = build_face_neighbors(mesh);
+  return accel;
 }
 
 namespace {

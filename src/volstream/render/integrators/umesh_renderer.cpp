@@ -92,7 +92,8 @@ UMeshView UMeshRenderer::mesh_view(Device device) const {
   // probes (no walk) and CUDA frames (the device walks by corners) do not pay 64 B an element.
   if (device == Device::cuda) return view_of(*mesh_, accel);
   std::call_once(*tet_walk_once_, [&] {
-    tet_walk_ = tet_walk_records(*mesh_, accel.neighbors);
+    tet_walk_ = accel.stored_tet_walk ? accel.stored_tet_walk(*mesh_, accel.neighbors)
+                                      : tet_walk_records(*mesh_, accel.neighbors);
     tet_walk_counted_ =
         CountedBytes("tet walk records", MemorySpace::host, int64_t(tet_walk_.size() * sizeof(TetWalkRecord)));
   });

@@ -4,12 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "test_util.h"
 #include "volstream/cuda/backend.h"
 #include "volstream/frame/frame_renderer.h"
 #include "volstream/frame/look.h"
 #include "volstream/io/mesh_convert.h"
+#include "volstream/render/integrators/umesh_renderer.h"
 
 namespace vs {
 namespace {
@@ -78,6 +80,11 @@ TEST(MeshFrame, DrawsFromTheMappedFilesWithoutCopyingThem) {
   const TetWalkRecords walk = accel.stored_tet_walk(mesh, accel.neighbors);
   EXPECT_TRUE(walk.is_view());
   EXPECT_EQ(walk.size(), mesh.elements.size());
+  // ... and a CPU frame's walk reads them (a view has no writable pointer to hand out instead).
+  const UMeshRenderer renderer(mesh, accel, holes().manifest().transform);
+  const TetWalkRecord* records = renderer.mesh_view(Device::cpu).tet_walk;
+  ASSERT_NE(records, nullptr);
+  EXPECT_EQ(std::memcmp(records, walk.data(), walk.size() * sizeof(TetWalkRecord)), 0);
 }
 
 TEST(MeshFrame, RedoesOnlyWhatAChangeNeeds) {

@@ -426,8 +426,7 @@ void DatasetWriter::write_mesh(const UMesh& mesh) {
   // fresh memory (bench/RESULTS.md, "Walk records stored").
   const TetWalkRecords walk = tet_walk_records(mesh, accel.neighbors);
   manifest_.mesh.tet_walk_records = walk.size();
-  if (!walk.empty())
-    write_file(dir_ / dataset_files::kMeshTetWalk, std::as_const(walk).data(), walk.size() * sizeof(TetWalkRecord));
+  if (!walk.empty()) write_file(dir_ / dataset_files::kMeshTetWalk, walk.data(), walk.size() * sizeof(TetWalkRecord));
   // The vertices' bounds (those of a vertex of no element too: one process's world bounds),
   // then the chunk boxes: what a rank chooses its elements by (umesh/mesh_index.h).
   box3f bounds = box3f::make_empty();

@@ -66,7 +66,7 @@ bool has_tets(const UMesh& mesh) {
 TetWalkRecords tet_walk_records(const UMesh& mesh, std::span<const uint32_t> neighbors) {
   if (!has_tets(mesh)) return {};
   TetWalkRecords records(mesh.elements.size());
-  TetWalkRecord* out = records.data();
+  TetWalkRecord* out = records.writable_data();
   parallel_for("tet walk records", int64_t(records.size()),
                [&](int64_t e) { new (out + e) TetWalkRecord(tet_walk_record(mesh, neighbors, size_t(e))); });
   return records;

@@ -44,7 +44,7 @@ class TetWalkRecords {
   explicit TetWalkRecords(size_t count);  // uninitialised, for tet_walk_records to fill
   // count records at `data`, which `owner` keeps valid and unchanged while any copy lives.
   static TetWalkRecords view(std::shared_ptr<const void> owner, const TetWalkRecord* data, size_t count);
-  TetWalkRecord* data() { return writable_; }  // null for a view
+  TetWalkRecord* writable_data() { return writable_; }  // null for a view
   const TetWalkRecord* data() const { return data_; }
   size_t size() const { return count_; }
   bool empty() const { return count_ == 0; }

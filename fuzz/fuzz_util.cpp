@@ -45,8 +45,14 @@ void copy_tree(const fs::path& from, const fs::path& to) {
 }
 
 bool apply_patch(const std::vector<fs::path>& files, const uint8_t* data, size_t size) {
+  size_t patched = 0;
+  return apply_patch(files, data, size, patched);
+}
+
+bool apply_patch(const std::vector<fs::path>& files, const uint8_t* data, size_t size, size_t& patched) {
   if (size < 5 || files.empty()) return false;
-  const fs::path& file = files[(data[0] & 0x7f) % files.size()];
+  patched = (data[0] & 0x7f) % files.size();
+  const fs::path& file = files[patched];
   uint32_t offset;
   std::memcpy(&offset, data + 1, 4);
   std::string content;

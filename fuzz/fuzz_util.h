@@ -19,6 +19,8 @@ void copy_file_contents(const std::filesystem::path& from, const std::filesystem
 void copy_tree(const std::filesystem::path& from, const std::filesystem::path& to);  // replaces `to`
 // Applies the patch in data to one of `files`; returns false if data is too short.
 bool apply_patch(const std::vector<std::filesystem::path>& files, const uint8_t* data, size_t size);
+// The same, telling which of `files` was patched (its index).
+bool apply_patch(const std::vector<std::filesystem::path>& files, const uint8_t* data, size_t size, size_t& patched);
 // Runs f; InputError and UsageError are the expected outcomes of bad input, anything else aborts.
 void expect_clean(const std::function<void()>& f);
 // Opens the mesh dataset in `dir` (either encoding) and, under expect_clean, probes it (through

@@ -1,33 +1,48 @@
-// The native dataset reader on a mesh dataset (kind umesh): a small mixed mesh with one of its
-// files patched, then opened, its BVH and macrocells built, probed (also by brute force) and rendered;
-// and opened deferred as a data-parallel rank does (chunk boxes, macrocells), restricted to a
-// share read part by part, probed and rendered.
+// The native dataset reader on a mesh dataset (kind umesh): a small mixed mesh, or a small tet
+// mesh (whose walk records are stored), with one of its files patched, then opened, its BVH and
+// macrocells built, probed (also by brute force) and rendered (the tets' stored walk records
+// mapped and checked); and opened deferred as a data-parallel rank does (chunk boxes,
+// macrocells), restricted to a share read part by part, probed and rendered.
 #include "fuzz_util.h"
 #include "volstream/io/dataset.h"
 #include "volstream/io/mesh_convert.h"
 
+#include <string>
 #include <vector>
 
 namespace {
-std::filesystem::path make_base(const std::filesystem::path& dir) {
+const char* const kDemos[] = {"mixed", "tets"};
+
+std::filesystem::path make_base(const std::filesystem::path& dir, const std::string& demo) {
   using namespace vs;
-  auto series = make_mesh_demo_series({"mixed", 60, 1});
-  convert_mesh_to_dataset(*series, dir / "base", ConvertOptions::silent());
-  return dir / "base";
+  auto series = make_mesh_demo_series({demo, 60, 1});
+  convert_mesh_to_dataset(*series, dir / ("base_" + demo), ConvertOptions::silent());
+  return dir / ("base_" + demo);
+}
+
+// Each demo's files, the tets' walk records among them.
+std::vector<std::filesystem::path> files_of(const std::filesystem::path& work, const std::string& demo) {
+  std::vector<std::filesystem::path> files = {
+      work / "manifest.json",      work / "mesh_vertices.bin",   work / "mesh_elements.bin",
+      work / "mesh_bvh_nodes.bin", work / "mesh_bvh_items.bin",  work / "mesh_neighbors.bin",
+      work / "mesh_chunks.bin",    work / "mesh_macrocells.bin", work / "fields/0_density/step_000000.f32"};
+  if (demo == "tets") files.push_back(work / "mesh_tet_walk.bin");
+  return files;
 }
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace vs;
   static const auto dir = fuzz::scratch("mesh_dataset");
-  static const auto base = make_base(dir);
-  const auto work = dir / "work";
-  fuzz::copy_tree(base, work);
-  const std::vector<std::filesystem::path> files = {
-      work / "manifest.json",      work / "mesh_vertices.bin",   work / "mesh_elements.bin",
-      work / "mesh_bvh_nodes.bin", work / "mesh_bvh_items.bin",  work / "mesh_neighbors.bin",
-      work / "mesh_chunks.bin",    work / "mesh_macrocells.bin", work / "fields/0_density/step_000000.f32"};
-  if (!fuzz::apply_patch(files, data, size)) return 0;
-  fuzz::exercise_mesh_dataset(work);
+  static const std::filesystem::path bases[] = {make_base(dir, kDemos[0]), make_base(dir, kDemos[1])};
+  std::vector<std::filesystem::path> files, works;
+  for (int d = 0; d < 2; ++d) {
+    works.push_back(dir / ("work_" + std::string(kDemos[d])));
+    fuzz::copy_tree(bases[d], works.back());
+    for (const auto& f : files_of(works.back(), kDemos[d])) files.push_back(f);
+  }
+  size_t patched = 0;
+  if (!fuzz::apply_patch(files, data, size, patched)) return 0;
+  fuzz::exercise_mesh_dataset(files[patched].string().starts_with(works[1].string()) ? works[1] : works[0]);
   return 0;
 }

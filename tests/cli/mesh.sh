@@ -90,6 +90,9 @@ grep -q compact_bytes.bin "$WORK/err.txt" || fail "the error does not name the d
 # they were stored) builds them and draws the same picture; a damaged record file is one line.
 "$VS" demo tets --elements 4000 --steps 1 -o tets_ref -q --encoding reference
 [ -s tets_ref/mesh_tet_walk.bin ] || fail "no walk records stored"
+for f in mesh_tet_walk mesh_neighbors mesh_bvh_nodes; do  # info's bytes are the files' sizes
+  "$VS" info tets_ref --json | grep -q "\"$f\": $(stat -c %s tets_ref/$f.bin)," || fail "info's bytes of $f.bin"
+done
 cp -r tets_ref tets_old && rm tets_old/mesh_tet_walk.bin
 /usr/bin/python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); del m["tet_walk_records"]; json.dump(m, open(sys.argv[1],"w"))' \
   tets_old/manifest.json

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "volstream/umesh/compact_store.h"
+#include "volstream/umesh/element_bvh.h"
 
 namespace vs {
 using json = nlohmann::json;
@@ -55,8 +56,13 @@ json mesh_summary(const Dataset& ds) {
       j["bytes"][file] = array.size() * sizeof(array[0]);
     });
   } else {
+    // Every file of the reference encoding (docs/formats.md), the stored walk records among them.
     j["bytes"] = {{"mesh_vertices", m.mesh.vertices * sizeof(vec3f)},
-                  {"mesh_elements", m.mesh.elements * sizeof(UElement)}};
+                  {"mesh_elements", m.mesh.elements * sizeof(UElement)},
+                  {"mesh_bvh_nodes", m.mesh.bvh_nodes * sizeof(ElementBvhNode)},
+                  {"mesh_bvh_items", m.mesh.elements * sizeof(uint32_t)},
+                  {"mesh_neighbors", m.mesh.elements * shape::kMaxFaces * sizeof(uint32_t)},
+                  {"mesh_tet_walk", m.mesh.tet_walk_records * sizeof(TetWalkRecord)}};
   }
   j["bytes"]["values_per_field_step"] = values;
   j["bytes"]["values_total"] = values * m.fields.size() * uint64_t(m.step_count());

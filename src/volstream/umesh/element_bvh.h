@@ -27,9 +27,10 @@ struct ElementBvhNode {
 // adjacency). Found in a tet, a walk fetches its neighbours' records (and their elements, whose
 // corner indices the sample's interpolation reads) while the ray composites: the next sample
 // lies in one of them about half the time. Without them a step is a chain of dependent misses
-// (element, corners, neighbour row). The renderer builds them (tet_walk_records,
-// mesh_accel.h); another type's record, or a degenerate tet's, has NaN rows (is_tet() false)
-// and that element is walked through its corners as before.
+// (element, corners, neighbour row). Convert stores them (mesh_tet_walk.bin) and the renderer
+// maps them, or builds them for a mesh without them (tet_walk_records, mesh_accel.h); another
+// type's record, or a degenerate tet's, has NaN rows (is_tet() false) and that element is
+// walked through its corners as before. The layout is the file's (docs/formats.md).
 struct alignas(64) TetWalkRecord {
   vec3f origin;
   vec3f rows[3];

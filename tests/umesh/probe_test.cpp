@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "io/mixed_mesh.h"
 #include "test_util.h"
 #include "volstream/render/integrators/umesh_renderer.h"
 #include "volstream/umesh/demo.h"
@@ -195,6 +196,28 @@ TEST_P(MeshProbeTest, StoredWalkRecordsAreCheckedAgainstTheMesh) {
   stored = good;
   stored.pop_back();
   EXPECT_THROW(check(), InputError);
+}
+
+// A mesh of tets and other types (FUN3D's kind): the other types' records say they are not a
+// tet and have no neighbours, every byte defined (a dataset stores them), so stored records of
+// such a mesh pass the check.
+TEST(MeshProbe, WalkRecordsOfAMixedMeshWithTets) {
+  const MeshData data = test::mixed_mesh();
+  const WorldTransform transform = mesh_transform(data);
+  const UMesh mesh = make_umesh(data, transform, "mixed");
+  const MeshAccel accel = build_mesh_accel(mesh);
+  const TetWalkRecords records = tet_walk_records(mesh, accel.neighbors);
+  ASSERT_EQ(records.size(), mesh.elements.size());
+  int tets = 0;
+  for (size_t e = 0; e < records.size(); ++e) {
+    ASSERT_EQ(records[e].is_tet(), mesh.elements[e].vertex_count() == 4) << "element " << e;
+    tets += records[e].is_tet();
+    if (records[e].is_tet()) continue;
+    for (uint32_t n : records[e].neighbor) EXPECT_EQ(n, UMeshView::kNoNeighborIndex) << "element " << e;
+  }
+  EXPECT_EQ(tets, 1);
+  const std::vector<TetWalkRecord> stored(records.data(), records.data() + records.size());
+  EXPECT_NO_THROW(check_tet_walk_records(mesh, accel.neighbors, stored, "walk.bin"));
 }
 
 INSTANTIATE_TEST_SUITE_P(Demos, MeshProbeTest, ::testing::Values("tets", "mixed", "holes"));

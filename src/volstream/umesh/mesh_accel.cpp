@@ -44,7 +44,8 @@ TetWalkRecords TetWalkRecords::view(std::shared_ptr<const void> owner, const Tet
 namespace {
 TetWalkRecord tet_walk_record(const UMesh& mesh, std::span<const uint32_t> neighbors, size_t e) {
   TetWalkRecord r;
-  r.rows[0].x = NAN;  // not a tet, until shown one
+  r.rows[0].x = NAN;  // not a tet, until shown one; nor any neighbour (stored: every byte defined)
+  for (uint32_t& n : r.neighbor) n = UMeshView::kNoNeighborIndex;
   const UElement& el = mesh.elements[e];
   vec3f x[4];
   shape::TetSolve s;

@@ -35,14 +35,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace vs;
   static const auto dir = fuzz::scratch("mesh_dataset");
   static const std::filesystem::path bases[] = {make_base(dir, kDemos[0]), make_base(dir, kDemos[1])};
-  std::vector<std::filesystem::path> files, works;
-  for (int d = 0; d < 2; ++d) {
-    works.push_back(dir / ("work_" + std::string(kDemos[d])));
-    fuzz::copy_tree(bases[d], works.back());
-    for (const auto& f : files_of(works.back(), kDemos[d])) files.push_back(f);
+  // Each demo's working copy, made once; after an input only the copy it patched is restored.
+  static const std::filesystem::path works[] = {dir / ("work_" + std::string(kDemos[0])),
+                                                dir / ("work_" + std::string(kDemos[1]))};
+  static std::vector<std::filesystem::path> files;
+  static std::vector<int> file_demo;  // which demo files[i] belongs to
+  if (files.empty()) {
+    for (int d = 0; d < 2; ++d) {
+      fuzz::copy_tree(bases[d], works[d]);
+      for (const auto& f : files_of(works[d], kDemos[d])) files.push_back(f), file_demo.push_back(d);
+    }
   }
   size_t patched = 0;
   if (!fuzz::apply_patch(files, data, size, patched)) return 0;
-  fuzz::exercise_mesh_dataset(files[patched].string().starts_with(works[1].string()) ? works[1] : works[0]);
+  const int d = file_demo[patched];
+  fuzz::exercise_mesh_dataset(works[d]);
+  fuzz::copy_tree(bases[d], works[d]);
   return 0;
 }

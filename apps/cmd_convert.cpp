@@ -16,6 +16,7 @@ struct ConvertArgs {
   bool quiet = false, file_order = false;
   std::vector<std::string> fields;
   std::string encoding = "compact";  // meshes
+  bool split_into_tets = false;
 };
 }  // namespace
 
@@ -50,13 +51,14 @@ void add_convert_command(CLI::App& app) {
                   "element BVH and face adjacency: CUDA renders, comparisons)")
       ->check(CLI::IsMember({"compact", "reference"}))
       ->capture_default_str();
+  add_split_into_tets_flag(cmd, a->split_into_tets);
   cmd->add_flag("-q,--quiet", a->quiet, "no progress bar");
   cmd->add_option("--scalars", a->scalars,
                   "meshes (UGRID): NAME=FILE, a raw little-endian float32 file of one value per point; repeatable");
   cmd->callback([a] {
     a->in.inputs.assign(a->inputs.begin(), a->inputs.end());
     for (const std::string& s : a->scalars) a->in.scalars.push_back(parse_raw_scalars(s));
-    ConvertOptions options{a->quiet, a->file_order, a->fields, parse_mesh_encoding(a->encoding)};
+    ConvertOptions options{a->quiet, a->file_order, a->fields, parse_mesh_encoding(a->encoding), a->split_into_tets};
     const std::string report = import_to_dataset(a->in, a->out, options);
     std::printf("wrote %s %s\n", a->out.c_str(), report.c_str());
   });

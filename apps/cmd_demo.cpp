@@ -40,6 +40,7 @@ void add_demo_command(CLI::App& app) {
     bool file_order = false;
     std::vector<std::string> fields;
     std::string encoding = "compact";  // meshes
+    bool split_into_tets = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd =
@@ -65,6 +66,7 @@ void add_demo_command(CLI::App& app) {
                   "mesh demos: compact (paper 002's encoding) or reference (element BVH and face adjacency)")
       ->check(CLI::IsMember({"compact", "reference"}))
       ->capture_default_str();
+  add_split_into_tets_flag(cmd, args->split_into_tets);
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar");
   cmd->callback([args] {
     if (is_mesh_demo(args->name)) {
@@ -72,7 +74,8 @@ void add_demo_command(CLI::App& app) {
       for (const std::string& file : args->mesh_files) write_mesh_file(file, make_mesh_demo(o, 0));
       auto series = make_mesh_demo_series(o);
       const MeshConvertStats stats = convert_mesh_to_dataset(
-          *series, args->out, {args->quiet, args->file_order, args->fields, parse_mesh_encoding(args->encoding)});
+          *series, args->out,
+          {args->quiet, args->file_order, args->fields, parse_mesh_encoding(args->encoding), args->split_into_tets});
       std::printf(
           "wrote %s: demo %s, %llu elements, %llu vertices, %d steps (mesh %.2fs, encode %.2fs, values %.2fs)\n",
           args->out.c_str(), args->name.c_str(), (unsigned long long)stats.elements, (unsigned long long)stats.vertices,

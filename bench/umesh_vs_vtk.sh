@@ -23,6 +23,8 @@
 #        LOOKS="haze blobs"
 #        VTK_INTEGRATOR=auto (see vtk_umesh_render.py --integrator) VTK_RENDERS=2
 #        ENCODING=reference (convert --encoding: the figures in RESULTS.md are the reference's)
+#        SPLIT=0 (1: convert --split-into-tets, volstream renders the mesh split into tets as VTK
+#        does; the rows say "split")
 # Installs python3-vtk9, xvfb and xauth with apt-get when they are missing (apt-get update first).
 set -euo pipefail
 [ $# -ge 1 ] || { sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
@@ -39,6 +41,9 @@ LOOKS=(${LOOKS:-haze blobs})
 VTK_INTEGRATOR="${VTK_INTEGRATOR:-auto}"
 VTK_RENDERS="${VTK_RENDERS:-2}"
 ENCODING="${ENCODING:-reference}"
+SPLIT="${SPLIT:-0}"
+SPLIT_ARGS=()
+[ "$SPLIT" = 1 ] && SPLIT_ARGS=(--split-into-tets)
 PY=/usr/bin/python3
 
 # The view and the transfer function, given to both renderers in the same words. The Gaussian
@@ -95,7 +100,7 @@ echo "# $(date -u +%FT%TZ) umesh_vs_vtk: $(nproc) cores, $(grep -m1 'model name'
   "$(awk '/MemTotal/ { printf "%.0f GiB", $2 / 1048576 }' /proc/meminfo), load average $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "# commit $(git -C "$REPO" rev-parse --short HEAD)$(git -C "$REPO" diff --quiet HEAD -- src apps 2>/dev/null || echo ' (+ uncommitted changes in src/apps)'),"\
   "binary $VS ($(stat -c %y "$VS" | cut -d. -f1), sha256 $(sha256sum "$VS" | cut -c1-12))"
-echo "# VTK $("$PY" -c 'import vtk; print(vtk.vtkVersion.GetVTKVersion())'), integrator $VTK_INTEGRATOR, size $SIZE, repeats $REPEATS"
+echo "# VTK $("$PY" -c 'import vtk; print(vtk.vtkVersion.GetVTKVersion())'), integrator $VTK_INTEGRATOR, size $SIZE, repeats $REPEATS, encoding $ENCODING, split $SPLIT"
 echo "# view: ${VIEW[*]}"
 for look in "${LOOKS[@]}"; do echo "# look $look: --opacity $(opacity_of "$look")"; done
 
@@ -108,6 +113,7 @@ TABLE="$OUT/table.md"
 run_mesh() {
   local name="$1" n="$2"
   local tag="${name}_${n}" vtu="$OUT/${name}_${n}.vtu" demo="$OUT/${name}_${n}.demo" ds="$OUT/${name}_${n}.vs"
+  [ "$SPLIT" = 1 ] && tag="${tag}_split" ds="$OUT/${name}_${n}_split.vs"
   local L="$OUT/logs/$tag"
   mkdir -p "$L"
   if [ ! -f "$vtu" ]; then
@@ -122,7 +128,7 @@ run_mesh() {
   for ((i = 1; i <= REPEATS; ++i)); do
     rm -rf "$ds"
     t0=$(now)
-    "$VS" convert "$vtu" -o "$ds" --encoding "$ENCODING" >"$L/convert_$i.log" 2>&1
+    "$VS" convert "$vtu" -o "$ds" --encoding "$ENCODING" "${SPLIT_ARGS[@]}" >"$L/convert_$i.log" 2>&1
     t1=$(now)
     conv+=("$(elapsed "$t0" "$t1")")
   done
@@ -193,7 +199,7 @@ run_look() {
   echo "VTK read + tetrahedralize + first render s: $(echo "${vtk_pic[*]}" | stats) (import vtk: $(echo "${vtk_import[*]}" | stats))"
   echo "VTK whole script s: $(echo "${vtk_whole[*]}" | stats), peak RSS MiB: $(echo "${vtk_rss[*]}" | median)"
   echo "ratios of medians: second render VTK/volstream $r_second, whole VTK/volstream $r_whole"
-  echo "| $name | $look | $elements | $conv_stats | $bpe | $(echo "${vs_render[*]}" | stats) | $(echo "${vs_whole[*]}" | stats) |"\
+  echo "| $name$([ "$SPLIT" = 1 ] && echo ' (split into tets)') | $look | $elements | $conv_stats | $bpe | $(echo "${vs_render[*]}" | stats) | $(echo "${vs_whole[*]}" | stats) |"\
     "$(echo "${vtk_read[*]}" | stats) | $(echo "${vtk_tet[*]}" | stats) | $(echo "${vtk_first[*]}" | stats) | $(echo "${vtk_second[*]}" | stats) |"\
     "$(echo "${vtk_whole[*]}" | stats) | $r_second | $r_whole | $(echo "${vs_rss[*]}" | median | cut -d. -f1) / $(echo "${vtk_rss[*]}" | median | cut -d. -f1) |"\
     "$rmse / $rmse_cov |" >>"$TABLE"

@@ -33,19 +33,19 @@ random_points() {
     }'
 }
 
-# compare_probes A B: same count, NaN exactly where the other is NaN, and |a - b| <= 1e-5 |b|
+# compare_probes A B [N]: same count, NaN exactly where the other is NaN (but for N points), and |a - b| <= 1e-5 |b|
 # plus 1e-6 of the largest magnitude: a float sum of weighted cell values rounds relative to
 # its terms, not its result (g++ 13 missed 1e-5 |b| + 1e-7 max by 2% at one of 10^4 points, a
 # vorticity of 121.5 where the largest is about 1600).
 compare_probes() {
-  paste "$1" "$2" | awk '
+  paste "$1" "$2" | awk -v nan_allowed="${3:-0}" '
     function abs(x) { return x < 0 ? -x : x }
     { n++; a[n] = $1; b[n] = $2; if ($2 != "nan" && abs($2) > big) big = abs($2) }
     END {
       for (i = 1; i <= n; i++) {
-        if (a[i] == "nan" || b[i] == "nan") { if (a[i] != b[i]) { bad++; if (bad < 5) print "nan mismatch line " i ": " a[i] " " b[i] } else nan++; continue }
+        if (a[i] == "nan" || b[i] == "nan") { if (a[i] != b[i]) { if (++nan_bad > nan_allowed) { bad++; if (bad < 5) print "nan mismatch line " i ": " a[i] " " b[i] } } else nan++; continue }
         if (abs(a[i] - b[i]) > 1e-5 * abs(b[i]) + 1e-6 * big) { bad++; if (bad < 5) print "line " i ": " a[i] " vs " b[i] }
       }
-      print n " points, " nan + 0 " outside, " bad + 0 " mismatches"; exit (bad > 0 || n == 0)
+      print n " points, " nan + 0 " outside, " bad + 0 " mismatches" (nan_bad ? ", " nan_bad + 0 " inside one only (" nan_allowed " allowed)" : ""); exit (bad > 0 || n == 0)
     }'
 }

@@ -48,6 +48,20 @@ head -c 100 linear.f32 >short.f32
 expect_bad_input "raw scalars of the wrong size" convert m.lb8.ugrid --scalars linear=short.f32 -o bad0
 "$VS" info conv_m.vtu | grep -q "bytes_per_element" || fail "info shows no bytes_per_element"
 "$VS" info conv_m.vtu --json | grep -q '"wedge"' || fail "info --json has no element counts by type"
+# Split into tets at convert: the linear field is still exact (a point near the boundary, where
+# the split cuts a curved face in two flat triangles, may lie in one mesh only: 9 of 10^4 here),
+# info says what the source held, render works; AMR input refuses the flag.
+"$VS" convert m.vtu -o split -q --split-into-tets --encoding reference
+"$VS" probe split --field linear --points pts_mixed.txt >got.txt
+echo -n "split into tets: "
+compare_probes got.txt expected.txt 30 || fail "the mesh split into tets probes another linear field"
+"$VS" info split | grep -q "split into tets at convert, from" || fail "info does not say the mesh was split"
+"$VS" info split --json | grep -q '"split_from"' || fail "info --json has no split_from"
+"$VS" render split -o split.png --size 64x64 >/dev/null || fail "render of a mesh split into tets failed"
+"$VS" demo mixed --elements 2000 --steps 1 -o split_demo -q --split-into-tets
+grep -q '"split_from"' split_demo/manifest.json || fail "demo --split-into-tets stored no split_from"
+head -c 256 /dev/zero >grid.raw
+expect_bad_input "--split-into-tets of AMR input" convert grid.raw --dims 4,4,4 --type float32 --split-into-tets -o bad_s
 
 # Render, play, and a .pvd time series of three steps over one mesh.
 "$VS" render holes -o holes.png --size 64x64 >render.txt || fail "render of a mesh failed"

@@ -85,6 +85,8 @@ json manifest_to_json(const DatasetManifest& m) {
     j["vertex_count"] = m.mesh.vertices;
     j["element_count"] = m.mesh.elements;
     for (int t = 0; t < 4; ++t) j["elements_by_type"][kTypeSlotNames[t]] = m.mesh.by_type[t];
+    if (m.mesh.split())
+      for (int t = 0; t < 4; ++t) j["split_from"][kTypeSlotNames[t]] = m.mesh.split_from[t];
     if (m.mesh.macrocells) j["macrocells"] = m.mesh.macrocells;
     if (m.mesh.compact()) {
       j["mesh_encoding"] = "compact";
@@ -138,6 +140,8 @@ DatasetManifest manifest_from_json(const json& j) {
     m.mesh.vertices = j.at("vertex_count").get<uint64_t>();
     m.mesh.elements = j.at("element_count").get<uint64_t>();
     for (int t = 0; t < 4; ++t) m.mesh.by_type[t] = j.at("elements_by_type").at(kTypeSlotNames[t]).get<uint64_t>();
+    if (j.contains("split_from"))  // absent unless convert split the elements into tets
+      for (int t = 0; t < 4; ++t) m.mesh.split_from[t] = j.at("split_from").at(kTypeSlotNames[t]).get<uint64_t>();
     m.mesh.macrocells = j.value("macrocells", uint64_t(0));              // absent before issue 17's mesh index
     const std::string encoding = j.value("mesh_encoding", "reference");  // absent before issue 13
     if (encoding == "compact") {

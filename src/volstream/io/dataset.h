@@ -54,7 +54,11 @@ MeshEncoding parse_mesh_encoding(const std::string& name);
 struct MeshCounts {
   uint64_t vertices = 0, elements = 0;
   uint64_t by_type[4] = {};  // umesh.h type_slot order: tetra, pyramid, wedge, hexahedron
-  uint64_t bvh_nodes = 0;    // reference: element BVH nodes stored (mesh_accel.h)
+  // The source's elements by type where convert split them into tets (umesh/split_tets.h;
+  // manifest key "split_from", present only then); all 0 otherwise.
+  uint64_t split_from[4] = {};
+  bool split() const { return split_from[0] + split_from[1] + split_from[2] + split_from[3] > 0; }
+  uint64_t bvh_nodes = 0;  // reference: element BVH nodes stored (mesh_accel.h)
   // reference: walk records stored in mesh_tet_walk.bin, one per element, or 0 where the mesh has
   // no tets (manifest key "tet_walk_records"; absent in older datasets, whose renders build them).
   uint64_t tet_walk_records = 0;
@@ -316,6 +320,8 @@ struct ConvertOptions {
   // Meshes: the encoding stored (reference or compact; `stored` means reference). The CLI's
   // default is compact.
   MeshEncoding mesh_encoding = MeshEncoding::reference;
+  // Meshes: pyramids, wedges and hexahedra stored as tets (umesh/split_tets.h).
+  bool split_into_tets = false;
   static ConvertOptions silent() {  // everything, no progress bar
     ConvertOptions o;
     o.quiet = true;

@@ -45,6 +45,8 @@ json mesh_summary(const Dataset& ds) {
   j["vertices"] = m.mesh.vertices;
   j["elements"] = m.mesh.elements;
   for (int t = 0; t < 4; ++t) j["elements_by_type"][kTypeSlotNames[t]] = m.mesh.by_type[t];
+  if (m.mesh.split())  // convert --split-into-tets: the source's elements
+    for (int t = 0; t < 4; ++t) j["split_from"][kTypeSlotNames[t]] = m.mesh.split_from[t];
   j["steps"] = m.step_count();
   j["step_times"] = m.step_times;
   j["fields"] = field_summary(m);
@@ -163,6 +165,13 @@ std::string format_mesh_summary(const json& j) {
          (unsigned long long)j["elements"].get<uint64_t>(), j.value("encoding", "reference").c_str());
   for (const auto& [type, count] : j["elements_by_type"].items())
     append(s, "  %-12s %12llu\n", type.c_str(), (unsigned long long)count.get<uint64_t>());
+  if (j.contains("split_from")) {
+    std::string from;
+    for (const auto& [type, count] : j["split_from"].items())
+      if (count.get<uint64_t>() > 0)
+        from += (from.empty() ? "" : ", ") + std::to_string(count.get<uint64_t>()) + " " + type;
+    append(s, "  split into tets at convert, from %s\n", from.c_str());
+  }
   append(s, "steps     %d (t = %g .. %g)\n", j["steps"].get<int>(), j["step_times"].front().get<double>(),
          j["step_times"].back().get<double>());
   return s + format_fields_list(j) + format_bytes(j);

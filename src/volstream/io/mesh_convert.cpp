@@ -14,6 +14,7 @@
 #include "volstream/umesh/compact.h"
 #include "volstream/umesh/from_mesh_data.h"
 #include "volstream/umesh/spatial_order.h"
+#include "volstream/umesh/split_tets.h"
 
 namespace vs {
 namespace fs = std::filesystem;
@@ -132,8 +133,13 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
   // Stored in spatial order (umesh/spatial_order.h): elements and vertices are renumbered, each
   // step's values with them; inputs are checked in the file's numbering, which messages name.
   MeshOrder order;
+  DatasetManifest manifest;
   const UMesh mesh = [&] {
-    const UMesh as_read = make_umesh(first, transform, origin);
+    UMesh as_read = make_umesh(first, transform, origin);
+    if (options.split_into_tets) {
+      for (int t = 0; t < 4; ++t) manifest.mesh.split_from[t] = as_read.count_by_type[t];
+      as_read = split_into_tets(as_read);
+    }
     order = spatial_order(as_read);
     return reordered(as_read, order);
   }();
@@ -145,7 +151,6 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
   check_free_space(target_dir, 0, 0, false);
 
   StagedDirectory staged(target_dir, dataset_files::kManifest);
-  DatasetManifest manifest;
   manifest.source = series.description();
   manifest.transform = transform;
   for (int s = 0; s < series.step_count(); ++s) manifest.step_times.push_back(series.step_time(s));

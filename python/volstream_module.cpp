@@ -136,7 +136,7 @@ vs::MeshEncoding stored_encoding(const std::string& name) {
 DatasetPtr load(const py::object& path, const std::string& format, const std::optional<std::array<int, 3>>& dims,
                 const std::string& type, bool big_endian, const Vec3Tuple& origin, const Vec3Tuple& spacing,
                 bool series, const std::string& field, const std::map<std::string, std::string>& scalars,
-                const std::vector<std::string>& fields, const std::string& encoding) {
+                const std::vector<std::string>& fields, const std::string& encoding, bool split_into_tets) {
   vs::ImportRequest in;
   in.inputs = paths_of(path);
   // A native dataset is opened where it is; anything else is converted (a missing path too, so
@@ -160,11 +160,13 @@ DatasetPtr load(const py::object& path, const std::string& format, const std::op
   vs::ConvertOptions options = vs::ConvertOptions::silent();
   options.fields = fields;
   options.mesh_encoding = stored_encoding(encoding);
+  options.split_into_tets = split_into_tets;
   vs::import_format(in);  // what cannot be converted fails here, before a temporary directory exists
   return convert_to_temp("load", [&](const std::filesystem::path& dir) { vs::import_to_dataset(in, dir, options); });
 }
 
-DatasetPtr demo(const std::string& name, double cells, int steps, double elements, const std::string& encoding) {
+DatasetPtr demo(const std::string& name, double cells, int steps, double elements, const std::string& encoding,
+                bool split_into_tets) {
   if (steps < 1 || steps > 1000) throw vs::UsageError("demo steps must be in [1, 1000]");
   if (vs::is_mesh_demo(name)) {
     if (!(elements >= 6 && elements <= 5e8)) throw vs::UsageError("demo elements must be in [6, 5e8]");
@@ -172,11 +174,13 @@ DatasetPtr demo(const std::string& name, double cells, int steps, double element
     vs::check_mesh_demo(o);
     vs::ConvertOptions options = vs::ConvertOptions::silent();
     options.mesh_encoding = stored_encoding(encoding);
+    options.split_into_tets = split_into_tets;
     return convert_to_temp(name, [&](const std::filesystem::path& dir) {
       auto series = vs::make_mesh_demo_series(o);
       vs::convert_mesh_to_dataset(*series, dir, options);
     });
   }
+  if (split_into_tets) throw vs::UsageError("split_into_tets applies to mesh demos");
   if (!(cells >= 1e4 && cells <= 2e9)) throw vs::UsageError("demo cells must be in [1e4, 2e9]");
   auto source = vs::make_demo({name, uint64_t(cells), steps});  // UsageError for an unknown name
   return convert_to_temp(name, [&](const std::filesystem::path& dir) {
@@ -520,7 +524,7 @@ PYBIND11_MODULE(volstream, m) {
         py::arg("type") = "float32", py::arg("big_endian") = false, py::arg("origin") = Vec3Tuple{0, 0, 0},
         py::arg("spacing") = Vec3Tuple{1, 1, 1}, py::arg("series") = false, py::arg("field") = "scalar",
         py::arg("scalars") = std::map<std::string, std::string>{}, py::arg("fields") = std::vector<std::string>{},
-        py::arg("encoding") = "compact",
+        py::arg("encoding") = "compact", py::arg("split_into_tets") = false,
         "Open a native dataset directory (written by `volstream convert` or `volstream demo`), or convert\n"
         "what `volstream convert` takes into a private temporary dataset, removed when the Dataset is\n"
         "garbage-collected: an AMReX plotfile directory (a list of them: time steps), [cells, scalars...]\n"
@@ -528,14 +532,15 @@ PYBIND11_MODULE(volstream, m) {
         "fields, or steps with series=True, named by field=), meshes (.vtu, .vtk, .pvd, .ugrid; a list:\n"
         "time steps) with scalars={'name': 'file.f32'} for UGRID. format: auto | plotfile | exabrick | raw\n"
         "| mesh; fields: keep only these; encoding: how a converted mesh is stored, 'compact' (paper 002's\n"
-        "encoding, as `volstream convert`) or 'reference'. OSError('<file>: <what>') for a missing or\n"
+        "encoding, as `volstream convert`) or 'reference'; split_into_tets: store a mesh's pyramids, wedges\n"
+        "and hexahedra as tets (convert --split-into-tets). OSError('<file>: <what>') for a missing or\n"
         "damaged input.");
   m.def("demo", &demo, py::arg("name"), py::arg("cells") = 1e5, py::arg("steps") = 2, py::arg("elements") = 1e5,
-        py::arg("encoding") = "compact",
+        py::arg("encoding") = "compact", py::arg("split_into_tets") = false,
         "A built-in demo, AMR ('jet' or 'cosmo', about `cells` leaf cells) or a mesh ('tets', 'mixed' or\n"
         "'holes', about `elements` elements, stored in `encoding`: 'compact' or 'reference'), of `steps`\n"
         "time steps, written to a private temporary directory that is removed when the Dataset is\n"
-        "garbage-collected.");
+        "garbage-collected. split_into_tets: a mesh's other elements stored as tets.");
 
   py::class_<CameraRef>(m, "Camera",
                         "The scene's camera. Unset position, focus and up come from the default view fitted to\n"

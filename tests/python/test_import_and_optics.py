@@ -107,6 +107,20 @@ def test_mesh_encodings_probe_the_same():
         vs.demo("tets", elements=2000, encoding="stored")
 
 
+def test_mesh_split_into_tets_keeps_the_linear_field():
+    exact = vs.demo("mixed", elements=3000, steps=1)
+    split = vs.demo("mixed", elements=3000, steps=1, split_into_tets=True)
+    assert split.element_count > 2 * exact.element_count  # 2, 3 and 6 tets per element
+    pts = random_points(exact, n=2000)
+    got, want = split.probe("linear", pts), exact.probe("linear", pts)
+    both = ~np.isnan(got) & ~np.isnan(want)
+    assert both.sum() > 500
+    assert (np.isnan(got) != np.isnan(want)).sum() < 0.01 * len(pts)  # the curved sides cut flat
+    np.testing.assert_allclose(got[both], want[both], rtol=1e-5, atol=1e-5)
+    with pytest.raises(ValueError):
+        vs.demo("jet", cells=1e4, split_into_tets=True)
+
+
 # --- AMReX plotfiles ---------------------------------------------------------------------------
 
 

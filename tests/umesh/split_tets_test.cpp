@@ -37,10 +37,10 @@ UMesh affine_element(int n, const double (&a)[3][3], const vec3d& o, const std::
   std::fill(std::begin(e.v), std::end(e.v), kNoVertex);
   for (int i = 0; i < n; ++i) {
     const vec3d p = n == 6 ? wedge[i] : (n == 5 && i == 4) ? vec3d(0.5, 0.5, 1.0) : box[i];
-    m.vertices[ids[size_t(i)]] = vec3f(vec3d(a[0][0] * p.x + a[0][1] * p.y + a[0][2] * p.z,
-                                             a[1][0] * p.x + a[1][1] * p.y + a[1][2] * p.z,
-                                             a[2][0] * p.x + a[2][1] * p.y + a[2][2] * p.z) +
-                                       o);
+    m.vertices[ids[size_t(i)]] =
+        vec3f(vec3d(a[0][0] * p.x + a[0][1] * p.y + a[0][2] * p.z, a[1][0] * p.x + a[1][1] * p.y + a[1][2] * p.z,
+                    a[2][0] * p.x + a[2][1] * p.y + a[2][2] * p.z) +
+              o);
     e.v[i] = ids[size_t(i)];
   }
   m.elements.push_back(e);
@@ -169,8 +169,8 @@ TEST(SplitTets, TetsStayAsTheyAre) {
   const Split s = split_demo("tets", 2000);
   ASSERT_EQ(s.tets.elements.size(), s.mesh.elements.size());
   for (size_t i = 0; i < s.mesh.elements.size(); ++i)
-    ASSERT_TRUE(std::equal(std::begin(s.tets.elements[i].v), std::end(s.tets.elements[i].v),
-                           std::begin(s.mesh.elements[i].v)))
+    ASSERT_TRUE(
+        std::equal(std::begin(s.tets.elements[i].v), std::end(s.tets.elements[i].v), std::begin(s.mesh.elements[i].v)))
         << "tet " << i;
 }
 

@@ -152,3 +152,35 @@ std::vector<vec3f> points_around(std::span<const vec3f> vertices, int count, uin
   return points;
 }
 }  // namespace vs::test
+
+#include "volstream/render/integrators/umesh_renderer.h"
+#include "volstream/umesh/demo.h"
+#include "volstream/umesh/from_mesh_data.h"
+
+namespace vs::test {
+DemoMesh demo_mesh(const std::string& name, uint64_t elements) {
+  DemoMesh d;
+  d.data = make_mesh_demo({name, elements, 1}, 0);
+  d.transform = mesh_transform(d.data);
+  d.mesh = make_umesh(d.data, d.transform, name);
+  const auto fields = mesh_fields(d.data);
+  d.density = mesh_field_values(d.data, fields[0]);
+  d.linear = mesh_field_values(d.data, fields[1]);
+  return d;
+}
+
+int expect_probe_is_brute_force(const UMesh& mesh, const WorldTransform& transform, const float* values,
+                                const std::vector<vec3f>& points) {
+  const UMeshRenderer renderer(mesh, transform);
+  const std::vector<float> fast = renderer.probe(values, points);
+  const std::vector<double> reference = probe_brute_force(mesh, values, points);
+  int inside = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    EXPECT_EQ(std::isnan(fast[i]), std::isnan(reference[i])) << "point " << i;
+    if (std::isnan(fast[i]) || std::isnan(reference[i])) continue;
+    ++inside;
+    EXPECT_NEAR(fast[i], reference[i], 1e-5 * std::max(1.0, std::fabs(reference[i]))) << "point " << i;
+  }
+  return inside;
+}
+}  // namespace vs::test

@@ -65,3 +65,21 @@ namespace vs::test {
 // size on every side: mostly in a mesh, some around it.
 std::vector<vec3f> points_around(std::span<const vec3f> vertices, int count, uint32_t seed);
 }  // namespace vs::test
+
+#include "volstream/umesh/mesh_data.h"
+#include "volstream/umesh/umesh.h"
+
+namespace vs::test {
+// A demo mesh (umesh/demo.h) of one step as the renderer takes it, with its two point fields.
+struct DemoMesh {
+  MeshData data;
+  WorldTransform transform;
+  UMesh mesh;
+  std::vector<float> density, linear;
+};
+DemoMesh demo_mesh(const std::string& name, uint64_t elements);
+// Expects the element BVH's probe of `values` at `points` to equal the brute force (NaN at the
+// same points, else relative 1e-5); returns how many points lie in an element.
+int expect_probe_is_brute_force(const UMesh& mesh, const WorldTransform& transform, const float* values,
+                                const std::vector<vec3f>& points);
+}  // namespace vs::test

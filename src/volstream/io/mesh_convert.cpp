@@ -138,7 +138,7 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
     UMesh as_read = make_umesh(first, transform, origin);
     if (options.split_into_tets) {
       for (int t = 0; t < 4; ++t) manifest.mesh.split_from[t] = as_read.count_by_type[t];
-      as_read = split_into_tets(as_read);
+      as_read = split_into_tets(std::move(as_read));
     }
     order = spatial_order(as_read);
     return reordered(as_read, order);

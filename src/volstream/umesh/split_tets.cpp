@@ -67,17 +67,18 @@ void split_element(const UElement& e, UElement* out) {
 
 }  // namespace
 
-UMesh split_into_tets(const UMesh& mesh) {
-  const int64_t count = int64_t(mesh.elements.size());
+UMesh split_into_tets(UMesh mesh) {
+  const HostArray<UElement>& elements = mesh.elements;  // read only: a view stays a view
+  const int64_t count = int64_t(elements.size());
   std::vector<uint64_t> first(size_t(count) + 1, 0);  // where each element's tets start
   for (int64_t i = 0; i < count; ++i)
-    first[size_t(i) + 1] = first[size_t(i)] + tets_per_element(mesh.elements[size_t(i)].vertex_count());
+    first[size_t(i) + 1] = first[size_t(i)] + tets_per_element(elements[size_t(i)].vertex_count());
   UMesh out;
-  out.vertices = mesh.vertices;
+  out.vertices = std::move(mesh.vertices);
   out.elements = HostArray<UElement>(first.back());
   UElement* tets = out.elements.data();
   parallel_for_ranges(count, [&](int64_t begin, int64_t end) {
-    for (int64_t i = begin; i < end; ++i) split_element(mesh.elements[size_t(i)], tets + first[size_t(i)]);
+    for (int64_t i = begin; i < end; ++i) split_element(elements[size_t(i)], tets + first[size_t(i)]);
   });
   out.count_by_type[type_slot(4)] = first.back();
   return out;

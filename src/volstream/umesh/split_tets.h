@@ -24,9 +24,9 @@ constexpr uint64_t tets_per_element(int vertex_count) {
   return vertex_count == 4 ? 1 : vertex_count == 5 ? 2 : vertex_count == 6 ? 3 : 6;
 }
 
-// The mesh's elements as tets (element i's tets in a row, in order), the vertices unchanged, so
-// every per-vertex field goes with it as it is. Each tet is ordered as VTK's tet with the
-// orientation its element has (positive in the element's parametric space).
-UMesh split_into_tets(const UMesh& mesh);
+// The mesh's elements as tets (element i's tets in a row, in order), the vertices unchanged (moved
+// over, not copied), so every per-vertex field goes with it as it is. Each tet is ordered as
+// VTK's tet with the orientation its element has (positive in the element's parametric space).
+UMesh split_into_tets(UMesh mesh);
 
 }  // namespace vs

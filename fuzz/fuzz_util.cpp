@@ -20,6 +20,9 @@ namespace fs = std::filesystem;
 fs::path scratch(const char* name) {
   fs::path dir = fs::temp_directory_path() / ("volstream_fuzz_" + std::string(name) + "_" + std::to_string(getpid()));
   fs::create_directories(dir);
+  // Check stamps (io/check_stamp.h) in the scratch directory, not the user's cache: datasets the
+  // harness leaves unchanged for a while are then opened through their stamps too.
+  setenv("VOLSTREAM_CHECK_STAMPS", (dir / "check_stamps").c_str(), 1);
   return dir;
 }
 

@@ -26,6 +26,7 @@
 #include "volstream/core/stopwatch.h"
 #include "volstream/io/atomic_file.h"
 #include "volstream/io/binary_file.h"
+#include "volstream/io/check_stamp.h"
 #include "volstream/umesh/compact_store.h"
 #include "volstream/umesh/subset.h"
 
@@ -589,13 +590,22 @@ std::vector<AbrChunk> Dataset::abr_chunks() const {
 namespace {
 // The stored walk records, mapped and checked when a CPU walk first asks for them: info, probes
 // and CUDA frames never do, so they never pay for the pages.
-TetWalkSource stored_tet_walk(fs::path path, uint64_t count) {
-  return [path = std::move(path), count](const UMesh& mesh, std::span<const uint32_t> neighbors) {
+// `mesh_files`: those the records are checked against (a stamp covers both, io/check_stamp.h).
+TetWalkSource stored_tet_walk(fs::path path, uint64_t count, std::vector<fs::path> mesh_files) {
+  return [path = std::move(path), count, mesh_files = std::move(mesh_files)](const UMesh& mesh,
+                                                                             std::span<const uint32_t> neighbors) {
     const Stopwatch watch;
     // Const: a HostArray's non-const members copy a view (core/host_array.h).
     const auto records = std::make_shared<const HostArray<TetWalkRecord>>(map_records<TetWalkRecord>(path, count));
-    check_tet_walk_records(mesh, neighbors, *records, path.string());
-    launch_times().add("stored tet walk records", watch.seconds());
+    std::vector<fs::path> files = mesh_files;
+    files.push_back(path);
+    const CheckStamp stamp("tet walk records", files);
+    const bool checked = stamp.passed_before();
+    if (!checked) {
+      check_tet_walk_records(mesh, neighbors, *records, path.string());
+      stamp.record();
+    }
+    launch_times().add(checked ? "stored tet walk records (stamp)" : "stored tet walk records", watch.seconds());
     return TetWalkRecords::view(records, records->data(), records->size());
   };
 }
@@ -605,6 +615,10 @@ void Dataset::load_mesh() {
   if (manifest_.mesh.compact()) return load_compact_mesh();
   if (deferred_) return load_reference_index();
   const std::string nodes_file = (dir_ / dataset_files::kMeshBvhNodes).string();
+  // Checked once per version of the files (io/check_stamp.h).
+  const Stopwatch watch;
+  const CheckStamp stamp("reference mesh", mesh_files(manifest_.mesh.macrocells > 0));
+  const bool checked = stamp.passed_before();
   // The arrays are mapped, not read (core/host_array.h). The BVH and adjacency are checked
   // beside the vertices and elements (their structure needs only the element count); the
   // macrocells as convert stored them beside both.
@@ -613,7 +627,7 @@ void Dataset::load_mesh() {
         mesh_.vertices = map_topology<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
         mesh_.elements = map_topology<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
         for (int t = 0; t < 4; ++t) mesh_.count_by_type[t] = manifest_.mesh.by_type[t];
-        validate_mesh(mesh_, manifest_.mesh, (dir_ / dataset_files::kMeshElements).string());
+        if (!checked) validate_mesh(mesh_, manifest_.mesh, (dir_ / dataset_files::kMeshElements).string());
       },
       [&] {
         mesh_accel_.bvh.nodes =
@@ -621,14 +635,27 @@ void Dataset::load_mesh() {
         mesh_accel_.bvh.items = map_topology<uint32_t>(dir_ / dataset_files::kMeshBvhItems, manifest_.mesh.elements);
         mesh_accel_.neighbors =
             map_topology<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
-        check_mesh_accel_structure(mesh_accel_, manifest_.mesh.elements, nodes_file);
+        if (!checked) check_mesh_accel_structure(mesh_accel_, manifest_.mesh.elements, nodes_file);
         if (manifest_.mesh.macrocells > 0) read_stored_macrocells();
       });
-  check_mesh_accel_boxes(mesh_, mesh_accel_, nodes_file);
   if (manifest_.mesh.tet_walk_records > 0)
-    mesh_accel_.stored_tet_walk = stored_tet_walk(dir_ / dataset_files::kMeshTetWalk, manifest_.mesh.tet_walk_records);
-  if (manifest_.mesh.macrocells > 0) build_macrocells_on_stored_grid();
+    mesh_accel_.stored_tet_walk =
+        stored_tet_walk(dir_ / dataset_files::kMeshTetWalk, manifest_.mesh.tet_walk_records, mesh_files(false));
   count_mesh_bytes();
+  if (checked) return launch_times().add("mesh checked before (stamp)", watch.seconds());
+  check_mesh_accel_boxes(mesh_, mesh_accel_, nodes_file);
+  if (manifest_.mesh.macrocells == 0 || build_macrocells_on_stored_grid()) stamp.record();
+}
+
+// The files a reference mesh's load checks (with or without mesh_macrocells.bin), and the
+// manifest, whose counts they are checked against.
+std::vector<fs::path> Dataset::mesh_files(bool with_macrocells) const {
+  std::vector<fs::path> files;
+  for (const char* name : {dataset_files::kManifest, dataset_files::kMeshVertices, dataset_files::kMeshElements,
+                           dataset_files::kMeshBvhNodes, dataset_files::kMeshBvhItems, dataset_files::kMeshNeighbors})
+    files.push_back(dir_ / name);
+  if (with_macrocells) files.push_back(dir_ / dataset_files::kMeshMacrocells);
+  return files;
 }
 
 void Dataset::count_mesh_bytes() {
@@ -662,8 +689,11 @@ void Dataset::load_compact_mesh() {
   const fs::path manifest_path = dir_ / dataset_files::kManifest;
   const std::map<std::string, uint64_t>& records = compact_records(manifest_, manifest_path);
   if (deferred_) return load_compact_index();
+  const Stopwatch watch;
+  std::vector<fs::path> files{manifest_path};
   for_each_compact_array(compact_, [&](const char* file, auto& array) {
     array = map_topology<typename std::decay_t<decltype(array)>::value_type>(dir_ / file, records.at(file));
+    files.push_back(dir_ / file);
   });
   if (compact_.vertices.size() != manifest_.mesh.local_vertices)
     input_error(manifest_path.string(), "local_vertices does not match compact_vertices.bin");
@@ -671,12 +701,16 @@ void Dataset::load_compact_mesh() {
   compact_.leaf_parents = uint32_t(manifest_.mesh.leaf_parents);
   compact_.replicated =
       compact_.vertices.size() - std::min<uint64_t>(compact_.vertices.size(), manifest_.mesh.vertices);
-  check_compact_mesh(compact_, manifest_.mesh.by_type, dir_);
   if (manifest_.mesh.macrocells > 0) {
+    files.push_back(dir_ / dataset_files::kMeshMacrocells);
     read_stored_macrocells();
-    build_macrocells_on_stored_grid();
   }
   count_mesh_bytes();
+  // Checked once per version of the files (io/check_stamp.h).
+  const CheckStamp stamp("compact mesh", files);
+  if (stamp.passed_before()) return launch_times().add("mesh checked before (stamp)", watch.seconds());
+  check_compact_mesh(compact_, manifest_.mesh.by_type, dir_);
+  if (manifest_.mesh.macrocells == 0 || build_macrocells_on_stored_grid()) stamp.record();
 }
 
 // The compact mesh index only: the tree, leaf and sub-mesh records (checked as at a whole read, but for
@@ -731,7 +765,7 @@ void Dataset::read_stored_macrocells() {
 // instead of two), which must be this mesh's: bounded by its elements' boxes, with their
 // non-empty cells. Only the grid is taken from the file: the cells and step widths are the
 // mesh's own, so a damaged file cannot hide elements or make a render march tiny steps.
-void Dataset::build_macrocells_on_stored_grid() {
+bool Dataset::build_macrocells_on_stored_grid() {
   const std::string file = (dir_ / dataset_files::kMeshMacrocells).string();
   const MacroGrid grid = stored_cells_.grid;
   box3f seen;
@@ -741,7 +775,9 @@ void Dataset::build_macrocells_on_stored_grid() {
               "the macrocell grid's bounds are not the mesh's");
   input_check(built.cell_of_region == stored_cells_.cell_of_region, file,
               "the non-empty macrocells are not the mesh's");
+  const bool widths_as_stored = built.step_width == stored_cells_.step_width;
   stored_cells_ = std::move(built);
+  return widths_as_stored;
 }
 
 MeshIndex Dataset::mesh_index() const {

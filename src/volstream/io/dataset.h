@@ -271,7 +271,11 @@ class Dataset {
   void load_reference_index();
   void read_reference_part(const std::vector<uint32_t>& chunks, std::vector<uint32_t>& source_vertex);
   void read_stored_macrocells();
-  void build_macrocells_on_stored_grid();
+  // Replaces the stored macrocells by those the mesh gives on the stored grid (InputError unless
+  // the non-empty cells are the same); true when the stored step widths were the same too, so
+  // that a load whose checks passed before (io/check_stamp.h) may take the stored ones as they are.
+  bool build_macrocells_on_stored_grid();
+  std::vector<std::filesystem::path> mesh_files(bool with_macrocells) const;
   void read_compact_part(const std::vector<uint32_t>& leaves, std::vector<uint32_t>& source_vertex);
   // read_records and map_records, counted in topology_bytes_read.
   template <typename T>

@@ -30,7 +30,9 @@ class StampDirectory {
     if (const char* old = std::getenv("VOLSTREAM_CHECK_STAMPS")) old_ = old;
     setenv("VOLSTREAM_CHECK_STAMPS", dir.c_str(), 1);
   }
-  ~StampDirectory() { old_.empty() ? unsetenv("VOLSTREAM_CHECK_STAMPS") : setenv("VOLSTREAM_CHECK_STAMPS", old_.c_str(), 1); }
+  ~StampDirectory() {
+    old_.empty() ? unsetenv("VOLSTREAM_CHECK_STAMPS") : setenv("VOLSTREAM_CHECK_STAMPS", old_.c_str(), 1);
+  }
 
  private:
   std::string old_;
@@ -46,9 +48,7 @@ void overwrite(const fs::path& path, uint64_t offset, const std::string& bytes) 
   ASSERT_TRUE(f.good()) << path;
 }
 
-void wait_until_settled() {
-  std::this_thread::sleep_for(std::chrono::duration<double>(kSettleSeconds + 0.2));
-}
+void wait_until_settled() { std::this_thread::sleep_for(std::chrono::duration<double>(kSettleSeconds + 0.2)); }
 
 TEST(CheckStamp, RemembersACheckUntilAFileChanges) {
   const fs::path dir = test::scratch_dir("check_stamp_files");

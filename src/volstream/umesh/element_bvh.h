@@ -126,11 +126,11 @@ struct UMeshView {
     shape::KeptSolve solve;
   };
 
+  static constexpr int kMaxWalk = 8;
   // Walks from the hint's element towards p across the faces p lies beyond (face adjacency):
   // true with the hit when an element holds p strictly within kMaxWalk steps (the hint then
   // holds it); false at the mesh's boundary, an unmatched face, or a point too far to tell the way.
   VS_HOST_DEVICE bool walk(Hint& hint, const vec3f& p, ElementHit& hit) const {
-    constexpr int kMaxWalk = 8;
     uint32_t e = uint32_t(hint.element);
     int step = 0;
     if (hint.solve.n > 0) {  // the first step from the kept solve
@@ -146,16 +146,12 @@ struct UMeshView {
     }
     for (; step < kMaxWalk; ++step) {
       if (tet_walk && tet_walk[e].is_tet()) {
-        const TetWalkRecord& t = tet_walk[e];
-        int face = -1;
-        if (tet_record_weights(t, p, hit.w, face)) {
+        if (record_step(e, p, hit.w)) {
           hit.element = e;
           hint.element = e;
           hint.solve.n = 0;  // the record is the kept solve
-          prefetch_neighbor_records(t);
           return true;
         }
-        e = t.neighbor[face];
         if (e == kNoNeighborIndex) return false;
         continue;
       }
@@ -174,6 +170,46 @@ struct UMeshView {
       }
       if (!cross_face(e, face)) return false;
     }
+    return false;
+  }
+
+  // One step of a walk through tet e's record: true when p lies strictly in e (w[0..4) its
+  // weights, the neighbours' records fetched); else e becomes the neighbour across the face p
+  // lies beyond most (kNoNeighborIndex: none).
+  VS_HOST_DEVICE bool record_step(uint32_t& e, const vec3f& p, float* w) const {
+    const TetWalkRecord& t = tet_walk[e];
+    int face = -1;
+    if (tet_record_weights(t, p, w, face)) {
+      prefetch_neighbor_records(t);
+      return true;
+    }
+    e = t.neighbor[face];
+    return false;
+  }
+
+  // sample(values, p, hint) where the ray's last sample was in a tet with a walk record and the
+  // walk to p crosses only such tets, the common case on a tet mesh: the weights go straight to
+  // the tet's four corners, without the hit record and the general walk around them (12% of a
+  // tet render's instructions). False where the general path must decide; the hint then holds
+  // the last element reached, where that walk goes on.
+  VS_HOST_DEVICE bool sample_through_tets(const float* values, const vec3f& p, Hint& hint, float& f) const {
+    if (!tet_walk || hint.element < 0 || hint.solve.n > 0) return false;
+    uint32_t e = uint32_t(hint.element);
+    for (int step = 0; step < kMaxWalk && tet_walk[e].is_tet(); ++step) {
+      float w[4];
+      const uint32_t from = e;
+      if (record_step(e, p, w)) {
+        hint.element = e;
+        const uint32_t* v = elements[e].v;
+        f = w[0] * values[v[0]] + w[1] * values[v[1]] + w[2] * values[v[2]] + w[3] * values[v[3]];
+        return true;
+      }
+      if (e == kNoNeighborIndex) {
+        hint.element = from;  // the general walk meets the same boundary face, then searches
+        return false;
+      }
+    }
+    hint.element = e;
     return false;
   }
 
@@ -230,11 +266,12 @@ struct UMeshView {
     return sample(values, p, no_hint);
   }
   VS_HOST_DEVICE float sample(const float* values, const vec3f& p, Hint& hint) const {
+    float f = 0.f;
+    if (sample_through_tets(values, p, hint, f)) return f;
     const ElementHit hit = locate(p, hint);
     if (hit.element < 0) return NAN;
     const UElement& el = elements[hit.element];
     const int n = el.vertex_count();
-    float f = 0.f;
     for (int i = 0; i < n; ++i) f += hit.w[i] * values[el.v[i]];
     return f;
   }

@@ -102,7 +102,9 @@ CheckStamp::CheckStamp(std::string_view what, const std::vector<fs::path>& files
   identity += "\nlibrary ";
   const fs::path library = file_holding_this_code();
   if (library.empty() || !describe(library, identity, library_change)) return;
-  std::string names(what);
+  // Named by the build as well as the check and the files: two builds used in turn (a benchmark's
+  // base and new) keep a stamp each instead of replacing each other's.
+  std::string names = identity;
   for (const fs::path& file : files) {
     std::error_code ec;
     const fs::path absolute = fs::absolute(file, ec).lexically_normal();

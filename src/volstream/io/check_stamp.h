@@ -15,7 +15,8 @@
 // changed in the same tick as the check read it could keep its stamp: files changed less than
 // kSettleSeconds before the check are not stamped (as git treats "racily clean" index entries).
 //
-// Stamps live in $VOLSTREAM_CHECK_STAMPS, else $XDG_CACHE_HOME/volstream/check_stamps, else
+// A stamp's file name hashes the check, the build and the files' paths, its content is compared
+// whole. Stamps live in $VOLSTREAM_CHECK_STAMPS, else $XDG_CACHE_HOME/volstream/check_stamps, else
 // $HOME/.cache/volstream/check_stamps (made mode 0700); VOLSTREAM_CHECK_STAMPS=off turns them
 // off. A stamp is trusted only when it is a regular file of this user that nobody else may
 // write. Writing one is best effort: a read-only or full cache only means checking again.

@@ -11,6 +11,10 @@
 // that checked (the same five fields of the file holding this code): a rebuilt volstream, whose
 // checks may differ, trusts no stamp of another build.
 //
+// A load looks at the files after it has mapped them, so a file replaced before its mapping does
+// not match the stamp of the one it replaced. A file changed in place while a command has it
+// mapped was never covered by the checks either (the pages change under the mapping).
+//
 // Timestamps come from a coarse clock (a few ms; a second on some filesystems), so a file
 // changed in the same tick as the check read it could keep its stamp: files changed less than
 // kSettleSeconds before the check are not stamped (as git treats "racily clean" index entries).

@@ -615,19 +615,14 @@ void Dataset::load_mesh() {
   if (manifest_.mesh.compact()) return load_compact_mesh();
   if (deferred_) return load_reference_index();
   const std::string nodes_file = (dir_ / dataset_files::kMeshBvhNodes).string();
-  // Checked once per version of the files (io/check_stamp.h).
   const Stopwatch watch;
-  const CheckStamp stamp("reference mesh", mesh_files(manifest_.mesh.macrocells > 0));
-  const bool checked = stamp.passed_before();
-  // The arrays are mapped, not read (core/host_array.h). The BVH and adjacency are checked
-  // beside the vertices and elements (their structure needs only the element count); the
-  // macrocells as convert stored them beside both.
+  // The arrays are mapped, not read (core/host_array.h), the vertices and elements beside the
+  // BVH, adjacency and stored macrocells.
   parallel_invoke_in_order(
       [&] {
         mesh_.vertices = map_topology<vec3f>(dir_ / dataset_files::kMeshVertices, manifest_.mesh.vertices);
         mesh_.elements = map_topology<UElement>(dir_ / dataset_files::kMeshElements, manifest_.mesh.elements);
         for (int t = 0; t < 4; ++t) mesh_.count_by_type[t] = manifest_.mesh.by_type[t];
-        if (!checked) validate_mesh(mesh_, manifest_.mesh, (dir_ / dataset_files::kMeshElements).string());
       },
       [&] {
         mesh_accel_.bvh.nodes =
@@ -635,14 +630,20 @@ void Dataset::load_mesh() {
         mesh_accel_.bvh.items = map_topology<uint32_t>(dir_ / dataset_files::kMeshBvhItems, manifest_.mesh.elements);
         mesh_accel_.neighbors =
             map_topology<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
-        if (!checked) check_mesh_accel_structure(mesh_accel_, manifest_.mesh.elements, nodes_file);
         if (manifest_.mesh.macrocells > 0) read_stored_macrocells();
       });
   if (manifest_.mesh.tet_walk_records > 0)
     mesh_accel_.stored_tet_walk =
         stored_tet_walk(dir_ / dataset_files::kMeshTetWalk, manifest_.mesh.tet_walk_records, mesh_files(false));
   count_mesh_bytes();
-  if (checked) return launch_times().add("mesh checked before (stamp)", watch.seconds());
+  // Checked once per version of the files (io/check_stamp.h), looked at after they were mapped:
+  // a file replaced before its mapping does not match the stamp of the one it replaced.
+  const CheckStamp stamp("reference mesh", mesh_files(manifest_.mesh.macrocells > 0));
+  if (stamp.passed_before()) return launch_times().add("mesh checked before (stamp)", watch.seconds());
+  // The BVH's and adjacency's structure needs only the element count: checked beside the elements.
+  parallel_invoke_in_order(
+      [&] { validate_mesh(mesh_, manifest_.mesh, (dir_ / dataset_files::kMeshElements).string()); },
+      [&] { check_mesh_accel_structure(mesh_accel_, manifest_.mesh.elements, nodes_file); });
   check_mesh_accel_boxes(mesh_, mesh_accel_, nodes_file);
   if (manifest_.mesh.macrocells == 0 || build_macrocells_on_stored_grid()) stamp.record();
 }

@@ -83,6 +83,29 @@ TEST(CheckStamp, RemembersACheckUntilAFileChanges) {
   EXPECT_FALSE(CheckStamp("test check", {a, b}).passed_before());
 }
 
+// Writing a stamp removes those not written for 30 days, and keeps the others.
+TEST(CheckStamp, WritingOneRemovesStaleStamps) {
+  const fs::path dir = test::scratch_dir("check_stamp_stale");
+  const StampDirectory stamps(dir / "stamps");
+  fs::create_directories(dir / "stamps");
+  write_text(dir / "stamps" / "old", "an old build's stamp");
+  write_text(dir / "stamps" / "recent", "a stamp of last week");
+  const auto now = fs::file_time_type::clock::now();
+  fs::last_write_time(dir / "stamps" / "old", now - std::chrono::hours(24 * 31));
+  fs::last_write_time(dir / "stamps" / "recent", now - std::chrono::hours(24 * 7));
+  write_text(dir / "a.bin", "a");
+  // A settled file, as stamps are written only for those.
+  fs::last_write_time(dir / "a.bin", now - std::chrono::hours(1));
+  const CheckStamp unsettled("test check", {dir / "a.bin"});  // its ctime is still new
+  unsettled.record();
+  EXPECT_TRUE(fs::exists(dir / "stamps" / "old")) << "nothing is written for an unsettled file, nor removed";
+  wait_until_settled();
+  CheckStamp("test check", {dir / "a.bin"}).record();
+  EXPECT_TRUE(CheckStamp("test check", {dir / "a.bin"}).passed_before());
+  EXPECT_FALSE(fs::exists(dir / "stamps" / "old"));
+  EXPECT_TRUE(fs::exists(dir / "stamps" / "recent"));
+}
+
 TEST(CheckStamp, OffStampsNothing) {
   const fs::path dir = test::scratch_dir("check_stamp_off");
   const StampDirectory stamps("off");

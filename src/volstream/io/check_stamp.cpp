@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -19,6 +20,7 @@ namespace {
 
 constexpr int kStampFormat = 1;
 constexpr uint64_t kMaxStampBytes = 1u << 20;
+constexpr int kStaleDays = 30;
 
 int64_t nanoseconds(const timespec& t) { return int64_t(t.tv_sec) * 1000000000 + int64_t(t.tv_nsec); }
 
@@ -81,6 +83,19 @@ std::string read_trusted(const fs::path& path) {
   return text;
 }
 
+// Removes the stamps in `dir` not written for kStaleDays (those of old builds and of datasets
+// long gone), so that the cache does not grow with every build; a stamp still wanted is only
+// checked and written again.
+void remove_stale_stamps(const fs::path& dir) {
+  const auto stale_before = fs::file_time_type::clock::now() - std::chrono::hours(24 * kStaleDays);
+  std::error_code ec;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
+    std::error_code entry_ec;
+    if (entry.is_regular_file(entry_ec) && entry.last_write_time(entry_ec) < stale_before && !entry_ec)
+      fs::remove(entry.path(), entry_ec);
+  }
+}
+
 }  // namespace
 
 fs::path check_stamp_directory() {
@@ -136,6 +151,7 @@ void CheckStamp::record() const {
   const bool written = ::write(fd, identity_.data(), identity_.size()) == ssize_t(identity_.size());
   const bool closed = ::close(fd) == 0;
   if (!(written && closed) || ::rename(temp.c_str(), path_.c_str()) != 0) ::unlink(temp.c_str());
+  remove_stale_stamps(dir);
 }
 
 }  // namespace vs

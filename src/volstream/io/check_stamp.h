@@ -24,6 +24,7 @@
 // $HOME/.cache/volstream/check_stamps (made mode 0700); VOLSTREAM_CHECK_STAMPS=off turns them
 // off. A stamp is trusted only when it is a regular file of this user that nobody else may
 // write. Writing one is best effort: a read-only or full cache only means checking again.
+// Writing one also removes the stamps not written for 30 days (old builds, datasets long gone).
 #pragma once
 #include <filesystem>
 #include <string>

@@ -11,7 +11,11 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
+#include <functional>
 #include <sstream>
+
+#include "volstream/core/error.h"
+#include "volstream/io/atomic_file.h"
 
 namespace vs {
 namespace fs = std::filesystem;
@@ -38,7 +42,7 @@ bool describe(const fs::path& path, std::string& out, int64_t& latest_change) {
 
 // The file mapped at this code's address (the volstream binary, or the library the Python module
 // links), from /proc/self/maps: dladdr names the main program by argv[0], which may be relative.
-fs::path file_holding_this_code() {
+fs::path find_file_holding_this_code() {
   const auto here = reinterpret_cast<uintptr_t>(&check_stamp_directory);
   std::ifstream maps("/proc/self/maps");
   std::string line;
@@ -55,11 +59,10 @@ fs::path file_holding_this_code() {
   return {};
 }
 
-// 64-bit FNV-1a: the stamp's file name from what it is about (its content is compared whole).
-uint64_t fnv1a(std::string_view text) {
-  uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-  return h;
+// Looked up once per process: a command makes a stamp for its mesh and one for its walk records.
+const fs::path& file_holding_this_code() {
+  static const fs::path path = find_file_holding_this_code();
+  return path;
 }
 
 int64_t now_nanoseconds() {
@@ -115,7 +118,7 @@ CheckStamp::CheckStamp(std::string_view what, const std::vector<fs::path>& files
   int64_t latest_change = INT64_MIN, library_change = INT64_MIN;
   std::string identity = "volstream check stamp " + std::to_string(kStampFormat) + "\ncheck " + std::string(what);
   identity += "\nlibrary ";
-  const fs::path library = file_holding_this_code();
+  const fs::path& library = file_holding_this_code();
   if (library.empty() || !describe(library, identity, library_change)) return;
   // Named by the build as well as the check and the files: two builds used in turn (a benchmark's
   // base and new) keep a stamp each instead of replacing each other's.
@@ -131,7 +134,9 @@ CheckStamp::CheckStamp(std::string_view what, const std::vector<fs::path>& files
   }
   identity += '\n';
   char name[32];
-  std::snprintf(name, sizeof(name), "%016llx", static_cast<unsigned long long>(fnv1a(names)));
+  // Only this build reads its stamps (the name holds its identity), so the standard library's
+  // hash, stable within a build, names them.
+  std::snprintf(name, sizeof(name), "%016llx", static_cast<unsigned long long>(std::hash<std::string>{}(names)));
   path_ = dir / name;
   identity_ = std::move(identity);
   settled_ = latest_change <= now - int64_t(kSettleSeconds * 1e9);
@@ -145,12 +150,11 @@ void CheckStamp::record() const {
   std::error_code ec;
   if (fs::create_directories(dir, ec)) ::chmod(dir.c_str(), 0700);
   if (ec) return;
-  std::string temp = (dir / ".stamp-XXXXXX").string();
-  const int fd = ::mkstemp(temp.data());  // mode 0600; never follows a planted link
-  if (fd < 0) return;
-  const bool written = ::write(fd, identity_.data(), identity_.size()) == ssize_t(identity_.size());
-  const bool closed = ::close(fd) == 0;
-  if (!(written && closed) || ::rename(temp.c_str(), path_.c_str()) != 0) ::unlink(temp.c_str());
+  try {
+    write_file_atomic(path_, identity_.data(), identity_.size());  // a temporary renamed over the stamp
+  } catch (const InputError&) {
+    return;  // a read-only or full cache: the next command checks again
+  }
   remove_stale_stamps(dir);
 }
 

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <mutex>
 #include <numeric>
+#include <span>
+#include <stdexcept>
 #include <utility>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -61,7 +63,10 @@ class CellRuns {
   CellRuns(const MacroGrid& grid, Merge merge, Store store)
       : grid_(grid), lanes_(grid.lanes()), merge_(merge), store_(store) {}
   void add(const box3f& box, const Value& v) {
-    const simd::i4 lo = MacroGrid::cell_of(lanes_, box.lower), hi = MacroGrid::cell_of(lanes_, box.upper);
+    add_cells(MacroGrid::cell_of(lanes_, box.lower), MacroGrid::cell_of(lanes_, box.upper), v);
+  }
+  // The cells from lo to hi (lanes x, y, z and 0, as MacroGrid::cell_of gives them).
+  void add_cells(const simd::i4& lo, const simd::i4& hi, const Value& v) {
     if (simd::all_equal(lo, lo_) && simd::all_equal(hi, hi_)) {
       value_ = merge_(value_, v);
       return;
@@ -206,9 +211,34 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, box3f* seen, Element
   return m;
 }
 
-// The ranges over an encoding's elements (visit_elements as for build_over).
-template <typename ElementsOf>
-std::vector<Range> ranges_over(const MacroCells& m, int64_t items, const float* values, ElementsOf&& visit_elements) {
+// A grid cell as bytes x, y, z and 0: a grid has at most 256 cells per axis (macro_grid; a stored
+// grid is checked to be macro_grid's, mesh_index.cpp).
+typedef uint8_t CellBytes __attribute__((vector_size(4)));
+simd::i4 lanes_of(const CellBytes& c) { return __builtin_convertvector(c, simd::i4); }
+
+// Each vertex's grid cell. MacroGrid::cell_of is monotonic in each axis, so the cells of an
+// element's box (from the cell of its lower corner to that of its upper one) run from the
+// smallest to the largest of its corners' cells, axis by axis: the ranges find an element's cells
+// from its corners' with a few byte minima, without its box.
+std::vector<CellBytes> vertex_cells(const MacroGrid& grid, std::span<const vec3f> vertices) {
+  if (reduce_max(grid.dims) > 256) throw std::logic_error("vertex_cells: more than 256 cells per axis");
+  std::vector<CellBytes> cells(vertices.size());
+  const MacroGrid::Lanes lanes = grid.lanes();
+  parallel_for_ranges(
+      int64_t(vertices.size()),
+      [&](int64_t begin, int64_t end) {
+        for (int64_t i = begin; i < end; ++i)
+          cells[size_t(i)] = __builtin_convertvector(MacroGrid::cell_of(lanes, vertices[size_t(i)]), CellBytes);
+      },
+      4096);
+  return cells;
+}
+
+// The ranges over an encoding's elements (visit_corners(item, add) calls add(vertex indices,
+// vertex count) for the elements of one item, as elements_of below without their boxes).
+template <typename CornersOf>
+std::vector<Range> ranges_over(const MacroCells& m, std::span<const vec3f> vertices, int64_t items, const float* values,
+                               CornersOf&& visit_corners) {
   std::vector<uint32_t> lo(m.region_count(), ordered(INFINITY)), hi(m.region_count(), ordered(-INFINITY));
   using Ordered = std::pair<uint32_t, uint32_t>;  // a range as ordered integers
   const auto union_of = [](const Ordered& a, const Ordered& b) {
@@ -221,18 +251,22 @@ std::vector<Range> ranges_over(const MacroCells& m, int64_t items, const float* 
     atomic_max(hi[size_t(r)], range.second);
   };
   const Stopwatch watch;
+  const std::vector<CellBytes> cell = vertex_cells(m.grid, vertices);
   parallel_for_ranges(
       items,
       [&](int64_t begin, int64_t end) {
         CellRuns<Ordered, decltype(union_of), decltype(store)> runs(m.grid, union_of, store);
         for (int64_t item = begin; item < end; ++item)
-          visit_elements(item, [&](const box3f& box, const uint32_t* vertex, int n) {
+          visit_corners(item, [&](const uint32_t* vertex, int n) {
+            CellBytes first = cell[vertex[0]], last = first;
             float elo = INFINITY, ehi = -INFINITY;
             for (int k = 0; k < n; ++k) {
+              const CellBytes c = cell[vertex[k]];
+              first = first < c ? first : c, last = last > c ? last : c;
               const float v = values[vertex[k]];
               if (std::isfinite(v)) elo = std::min(elo, v), ehi = std::max(ehi, v);
             }
-            if (elo <= ehi) runs.add(box, {ordered(elo), ordered(ehi)});
+            if (elo <= ehi) runs.add_cells(lanes_of(first), lanes_of(last), {ordered(elo), ordered(ehi)});
           });
         runs.flush();
       },
@@ -303,17 +337,25 @@ std::optional<RegionVertices> region_vertices_over(const MacroCells& m, int64_t 
 }
 
 // Each encoding's elements as the macrocells read them: items of work (an element, a leaf), each
-// calling add(box, vertex indices, vertex count) for its elements.
-auto elements_of(const UMesh& mesh) {
+// calling add(vertex indices, vertex count) for its elements (corners_of), or add(box, vertex
+// indices, vertex count) (elements_of).
+auto corners_of(const UMesh& mesh) {
   return [&mesh](int64_t i, auto&& add) {
     const UElement& e = mesh.elements[size_t(i)];
-    add(element_box(mesh.vertices.data(), e), e.v, e.vertex_count());
+    add(e.v, e.vertex_count());
   };
 }
-auto elements_of(const CompactMesh& mesh) {
+auto corners_of(const CompactMesh& mesh) {
   return [&mesh, view = view_of(mesh)](int64_t l, auto&& add) {
-    for_each_element_of_leaf(mesh, view, uint32_t(l),
-                             [&](const CompactElement& e) { add(e.box(mesh.vertices.data()), e.vertex, e.n); });
+    for_each_element_of_leaf(mesh, view, uint32_t(l), [&](const CompactElement& e) { add(e.vertex, e.n); });
+  };
+}
+template <typename Mesh>
+auto elements_of(const Mesh& mesh) {
+  return [corners = corners_of(mesh), vertices = mesh.vertices.data()](int64_t item, auto&& add) {
+    corners(item, [&](const uint32_t* vertex, int n) {
+      add(corners_box(n, [&](int i) -> const vec3f& { return vertices[vertex[i]]; }), vertex, n);
+    });
   };
 }
 
@@ -350,11 +392,11 @@ std::vector<vec3d> element_centroids(const CompactMesh& mesh) {
 }
 
 std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& m, const float* values) {
-  return ranges_over(m, int64_t(mesh.elements.size()), values, elements_of(mesh));
+  return ranges_over(m, mesh.vertices, int64_t(mesh.elements.size()), values, corners_of(mesh));
 }
 
 std::vector<Range> macrocell_ranges(const CompactMesh& mesh, const MacroCells& m, const float* local_values) {
-  return ranges_over(m, int64_t(mesh.leaves.size()), local_values, elements_of(mesh));
+  return ranges_over(m, mesh.vertices, int64_t(mesh.leaves.size()), local_values, corners_of(mesh));
 }
 
 std::optional<RegionVertices> region_vertices(const UMesh& mesh, const MacroCells& m, uint64_t budget) {

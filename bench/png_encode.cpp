@@ -92,7 +92,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s [--repeats N] IMAGE.png...\n", argv[0]);
     return 2;
   }
-  std::printf("| image | size | libpng defaults ms | Sub+Up, level 5 ms | faster | bytes default | bytes Sub+Up 5 | size change |\n");
+  std::printf(
+      "| image | size | libpng defaults ms | Sub+Up, level 5 ms | faster | bytes default | bytes Sub+Up 5 | size "
+      "change |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   for (int i = first; i < argc; ++i) {
     const Rows rows = read_png(argv[i]);

@@ -289,6 +289,20 @@ INSTANTIATE_TEST_SUITE_P(AllTypes, ShapeTest, ::testing::Values(4, 5, 6, 8),
 
 // VTK's hexahedron at its parametric centre weighs all corners 1/8; its pyramid at (0.5, 0.5,
 // 0.5) gives the apex 1/2 and each base corner 1/8; the wedge at (1/3, 1/3, 1/2) 1/6 each.
+// The walk leaves a tet across the face opposite its most negative weight: the first of the
+// smallest weights, as a scan finds it, also where weights tie.
+TEST(Shape, TetWeightsOfNamesTheFirstSmallestWeight) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> pick(-3, 3);  // few values: many ties
+  for (int trial = 0; trial < 20000; ++trial) {
+    const vec3f pc(0.25f * float(pick(rng)), 0.25f * float(pick(rng)), 0.25f * float(pick(rng)));
+    float w[4];
+    const int worst = shape::tet_weights_of(pc, w);
+    EXPECT_EQ(w[0], 1.f - pc.x - pc.y - pc.z);
+    EXPECT_EQ(worst, int(std::min_element(w, w + 4) - w)) << pc.x << " " << pc.y << " " << pc.z;
+  }
+}
+
 TEST(Shape, WeightsAtKnownParametricPointsMatchVtk) {
   float w[8];
   vec3f d[8];

@@ -187,11 +187,14 @@ VS_HOST_DEVICE inline bool tet_solve(const vec3f* x, TetSolve& s) {
 // A tet's weights (w[0..4)) from its parametric point pc, and the face p lies beyond most: the
 // one opposite the most negative weight.
 VS_HOST_DEVICE inline int tet_weights_of(const vec3f& pc, float* w) {
-  w[0] = 1.f - pc.x - pc.y - pc.z, w[1] = pc.x, w[2] = pc.y, w[3] = pc.z;
-  int worst = 0;
-  for (int i = 1; i < 4; ++i)
-    if (w[i] < w[worst]) worst = i;
-  return worst;
+  const float w0 = 1.f - pc.x - pc.y - pc.z;
+  w[0] = w0, w[1] = pc.x, w[2] = pc.y, w[3] = pc.z;
+  // The smallest as a tournament of selects on the values in registers (the first of equals, as
+  // a scan would give): a scan reads w[worst] back through memory and branches on each step, the
+  // render's hottest branch (the next face is random).
+  const bool low_1 = pc.x < w0, low_3 = pc.z < pc.y;
+  const float least_01 = low_1 ? pc.x : w0, least_23 = low_3 ? pc.z : pc.y;
+  return least_23 < least_01 ? (low_3 ? 3 : 2) : (low_1 ? 1 : 0);
 }
 // The weights at p (w[0..4)), how far outside p is and the face it lies beyond most, as in
 // locate_in_element; true when p is inside within kParamTolerance.

@@ -120,8 +120,9 @@ std::vector<float> composite_rgb(const Image& img, const vec3f& bg_srgb) {
 
 void write_png(const Image& img, const std::string& path, const ImageWriteOptions& opt) {
   const int channels = opt.alpha ? 4 : 3;
-  std::vector<uint8_t> bytes(size_t(img.width) * img.height * channels);
+  std::vector<uint8_t> bytes;
   if (opt.alpha) {
+    bytes.resize(size_t(img.width) * img.height * channels);
     for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
       const float* p = img.rgba.data() + 4 * i;
       const float a = std::clamp(p[3], 0.f, 1.f);

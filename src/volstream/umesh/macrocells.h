@@ -89,6 +89,10 @@ struct MacroGrid {
 // t1) with the ray's interval in cell_box(cell) as ray_box gives it (so the intervals are those a
 // BVH over the same boxes gives); visit returns false to stop. Each step crosses the face through
 // which the ray leaves the cell, so the walk ends after at most dims.x + dims.y + dims.z cells.
+// ray_box's interval is the largest of the three axes' near-face distances to the smallest of
+// their far-face ones, and a step changes one axis's cell: the walk keeps each axis's pair and
+// recomputes only the stepped axis's (the same floats as ray_box on the whole box, for a third
+// of the work; the walk is a tenth of a blobs render's time).
 template <typename Visit>
 VS_HOST_DEVICE inline void for_each_cell_along(const MacroGrid& g, const vec3f& org, const vec3f& dir, Visit&& visit) {
   const SlabRay ray(org, dir);
@@ -97,21 +101,28 @@ VS_HOST_DEVICE inline void for_each_cell_along(const MacroGrid& g, const vec3f& 
   t_in = t_in > 0.f ? t_in : 0.f;
   if (!(t_in <= t_out)) return;
   vec3i c = g.cell_of(org + dir * t_in);  // a rounding error here only adds or drops an empty interval
+  float near[3], far[3];                  // per axis: ray_box's distances to cell_box(c)'s two faces
+  const auto faces_of_layer = [&](int a) {
+    const float lower = g.bounds.lower[a] + float(c[a]) * g.cell_size[a];
+    const float upper = c[a] == g.dims[a] - 1 ? g.bounds.upper[a] : lower + g.cell_size[a];
+    const float inv = ray.inv_dir[a];
+    const float n = (lower - ray.org[a]) * inv, f = (upper - ray.org[a]) * inv;
+    near[a] = inv < 0.f ? f : n;
+    far[a] = inv < 0.f ? n : f;
+  };
+  for (int a = 0; a < 3; ++a) faces_of_layer(a);
   for (;;) {
-    const box3f b = g.cell_box(c);
-    float t0, t1;
-    ray_box(ray, b, t0, t1);
+    float t0 = -INFINITY, t1 = INFINITY;
+    int axis = 0;  // the axis of the face the ray leaves by: the first of the nearest far faces
+    for (int a = 0; a < 3; ++a) {
+      t0 = near[a] > t0 ? near[a] : t0;
+      if (far[a] < t1) t1 = far[a], axis = a;
+    }
     t0 = t0 > 0.f ? t0 : 0.f;
     if (t0 <= t1 && t1 > 0.f && !visit(c, t0, t1)) return;
-    int axis = 0;
-    float t_leave = INFINITY;
-    for (int a = 0; a < 3; ++a) {
-      const float face = ray.inv_dir[a] >= 0.f ? b.upper[a] : b.lower[a];
-      const float t = (face - ray.org[a]) * ray.inv_dir[a];
-      if (t < t_leave) t_leave = t, axis = a;
-    }
     c[axis] += ray.inv_dir[axis] >= 0.f ? 1 : -1;
     if (!g.holds(c)) return;
+    faces_of_layer(axis);
   }
 }
 

@@ -34,8 +34,8 @@ struct ExhaustiveMeshVolume : UMeshVolume {
   float sample_near(int field, uint32_t region, const vec3f& p) const { return sample(field, region, p); }
   template <typename Visit>
   void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
-    for_each_cell_along(grid, org, dir, [&](const vec3i& cell, float t0, float t1) {
-      const int32_t region = region_of_cell[grid.index(cell)];
+    for_each_cell_along(grid, org, dir, [&](uint64_t cell, float t0, float t1) {
+      const int32_t region = region_of_cell[cell];
       return region < 0 || !visible[region] || visit(RayInterval{uint32_t(region), t0, t1});
     });
   }

@@ -65,8 +65,8 @@ TEST(MacroGrid, CellOfIsTheFlooredQuotientClamped) {
 
 std::vector<Crossing> walked(const MacroGrid& g, const vec3f& org, const vec3f& dir) {
   std::vector<Crossing> out;
-  for_each_cell_along(g, org, dir, [&](const vec3i& c, float t0, float t1) {
-    out.push_back({g.index(c), t0, t1});
+  for_each_cell_along(g, org, dir, [&](uint64_t cell, float t0, float t1) {
+    out.push_back({cell, t0, t1});
     return true;
   });
   return out;
@@ -147,8 +147,7 @@ TEST(MacroGridWalk, MissesAndStops) {
   EXPECT_TRUE(walked(g, {-5.f, -5.f, -5.f}, normalize(vec3f(-1.f, 0.f, 0.f))).empty());
   EXPECT_TRUE(walked(g, {10.f, 0.5f, 2.5f}, {1.f, 0.f, 0.f}).empty()) << "the grid lies behind the origin";
   int visited = 0;
-  for_each_cell_along(g, {-2.f, 0.7f, 2.4f}, {1.f, 0.f, 0.f},
-                      [&](const vec3i&, float, float) { return ++visited < 3; });
+  for_each_cell_along(g, {-2.f, 0.7f, 2.4f}, {1.f, 0.f, 0.f}, [&](uint64_t, float, float) { return ++visited < 3; });
   EXPECT_EQ(visited, 3);
 }
 
@@ -287,8 +286,8 @@ TEST(MeshVolumeIntervals, AreTheRunsOfVisibleCellsOfOneWidth) {
     const vec3f dir = normalize(b.lower + b.size() * vec3f(u(rng), u(rng), u(rng)) - org);
     std::vector<RayInterval> want;
     bool after_shown = false;  // the previous cell the walk gave was visible
-    for_each_cell_along(cells.grid, org, dir, [&](const vec3i& c, float t0, float t1) {
-      const int32_t r = cells.region_of_cell[cells.grid.index(c)];
+    for_each_cell_along(cells.grid, org, dir, [&](uint64_t cell, float t0, float t1) {
+      const int32_t r = cells.region_of_cell[cell];
       const bool shown = r >= 0 && visible[size_t(r)];
       if (shown && after_shown && cells.step_width[size_t(r)] == cells.step_width[want.back().region]) {
         want.back().t1 = t1, ++merged;

@@ -49,8 +49,8 @@ struct MeshVolume {
   VS_HOST_DEVICE void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
     RayInterval run{0u, 0.f, 0.f};
     bool open = false;  // run holds cells not yet handed over
-    for_each_cell_along(grid, org, dir, [&](const vec3i& cell, float t0, float t1) {
-      const int32_t region = region_of_cell[grid.index(cell)];
+    for_each_cell_along(grid, org, dir, [&](uint64_t cell, float t0, float t1) {
+      const int32_t region = region_of_cell[cell];
       const bool shown = region >= 0 && visible[region];
       if (shown && open && step_widths[region] == step_widths[run.region]) {  // the walk's next cell
         run.t1 = t1;

@@ -80,9 +80,6 @@ struct MacroGrid {
       if (c[a] == dims[a] - 1) b.upper[a] = bounds.upper[a];
     return b;
   }
-  VS_HOST_DEVICE bool holds(const vec3i& c) const {
-    return c.x >= 0 && c.y >= 0 && c.z >= 0 && c.x < dims.x && c.y < dims.y && c.z < dims.z;
-  }
 };
 
 // Every cell of g that the ray org + t dir (t >= 0) crosses, front to back, as visit(index, t0,
@@ -92,8 +89,8 @@ struct MacroGrid {
 // dims.x + dims.y + dims.z cells. A step changes one axis's cell, so the walk updates only that
 // axis: its two face distances (ray_box's interval is the largest of the axes' near-face
 // distances to the smallest of their far-face ones: the same floats as ray_box on the whole
-// box), its bounds test and the index by that axis's stride (the walk is a tenth of a blobs
-// render's time).
+// box), its bounds test and the index by that axis's stride (the per-ray code around a blobs
+// render's samples, mostly this walk, was a quarter of its instructions).
 template <typename Visit>
 VS_HOST_DEVICE inline void for_each_cell_along(const MacroGrid& g, const vec3f& org, const vec3f& dir, Visit&& visit) {
   const SlabRay ray(org, dir);

@@ -27,17 +27,18 @@ struct SlabRay {
 
 // Entry and exit distance of the ray through box b. The near/far slab is chosen by the sign of
 // the direction, not by min/max, so that an inverted (empty) box gives t_enter > t_exit.
+// One axis's slab [lower, upper]: the distances at which the ray crosses its near and far planes.
+VS_HOST_DEVICE inline void ray_slab(const SlabRay& r, int a, float lower, float upper, float& t_near, float& t_far) {
+  const float inv = r.inv_dir[a];
+  const float n = (lower - r.org[a]) * inv, f = (upper - r.org[a]) * inv;
+  t_near = inv < 0.f ? f : n;
+  t_far = inv < 0.f ? n : f;
+}
 VS_HOST_DEVICE inline void ray_box(const SlabRay& r, const box3f& b, float& t_enter, float& t_exit) {
   float t0 = -INFINITY, t1 = INFINITY;
   for (int a = 0; a < 3; ++a) {
-    const float inv = r.inv_dir[a];
-    float n = (b.lower[a] - r.org[a]) * inv;
-    float f = (b.upper[a] - r.org[a]) * inv;
-    if (inv < 0.f) {
-      const float s = n;
-      n = f;
-      f = s;
-    }
+    float n, f;
+    ray_slab(r, a, b.lower[a], b.upper[a], n, f);
     t0 = n > t0 ? n : t0;
     t1 = f < t1 ? f : t1;
   }

@@ -71,13 +71,16 @@ struct MacroGrid {
     return (uint64_t(c.z) * uint64_t(dims.y) + uint64_t(c.y)) * uint64_t(dims.x) + uint64_t(c.x);
   }
   uint64_t cell_count() const { return uint64_t(dims.x) * uint64_t(dims.y) * uint64_t(dims.z); }
-  // The box of cell c; the last layer ends exactly on the bounds (no rounding gap at the far faces).
+  // Axis a's faces of the cells in layer k; the last layer ends exactly on the bounds (no
+  // rounding gap at the far faces).
+  VS_HOST_DEVICE void layer_faces(int a, int k, float& lower, float& upper) const {
+    lower = bounds.lower[a] + float(k) * cell_size[a];
+    upper = k == dims[a] - 1 ? bounds.upper[a] : lower + cell_size[a];
+  }
+  // The box of cell c.
   VS_HOST_DEVICE box3f cell_box(const vec3i& c) const {
     box3f b;
-    b.lower = bounds.lower + vec3f(float(c.x), float(c.y), float(c.z)) * cell_size;
-    b.upper = b.lower + cell_size;
-    for (int a = 0; a < 3; ++a)
-      if (c[a] == dims[a] - 1) b.upper[a] = bounds.upper[a];
+    for (int a = 0; a < 3; ++a) layer_faces(a, c[a], b.lower[a], b.upper[a]);
     return b;
   }
 };
@@ -101,12 +104,9 @@ VS_HOST_DEVICE inline void for_each_cell_along(const MacroGrid& g, const vec3f& 
   vec3i c = g.cell_of(org + dir * t_in);  // a rounding error here only adds or drops an empty interval
   float near[3], far[3];                  // per axis: ray_box's distances to cell_box(c)'s two faces
   const auto faces_of_layer = [&](int a) {
-    const float lower = g.bounds.lower[a] + float(c[a]) * g.cell_size[a];
-    const float upper = c[a] == g.dims[a] - 1 ? g.bounds.upper[a] : lower + g.cell_size[a];
-    const float inv = ray.inv_dir[a];
-    const float n = (lower - ray.org[a]) * inv, f = (upper - ray.org[a]) * inv;
-    near[a] = inv < 0.f ? f : n;
-    far[a] = inv < 0.f ? n : f;
+    float lower, upper;
+    g.layer_faces(a, c[a], lower, upper);
+    ray_slab(ray, a, lower, upper, near[a], far[a]);
   };
   for (int a = 0; a < 3; ++a) faces_of_layer(a);
   const int64_t stride[3] = {1, int64_t(g.dims.x), int64_t(g.dims.x) * int64_t(g.dims.y)};

@@ -23,9 +23,9 @@ void add_device_bytes(const Dataset& ds, nlohmann::json& summary) {
 void add_mesh_resident_bytes(const Dataset& ds, nlohmann::json& summary) {
   const WorldTransform& transform = ds.manifest().transform;
   const MacroCells* cells = ds.macrocells();
-  const UMeshRenderer renderer = ds.is_compact_mesh()
-                                     ? UMeshRenderer(ds.compact_mesh(), transform, nullptr, cells)
-                                     : UMeshRenderer(ds.mesh(), ds.mesh_accel(), transform, nullptr, cells);
+  UMeshRenderer renderer = ds.is_compact_mesh() ? UMeshRenderer(ds.compact_mesh(), transform, nullptr, cells)
+                                                : UMeshRenderer(ds.mesh(), ds.mesh_accel(), transform, nullptr, cells);
+  if (const RegionVertices* lists = ds.region_vertices(); lists && cells) renderer.take_region_vertices(*lists);
   const UMeshBytes b = renderer.bytes();
   if (ds.is_compact_mesh()) {
     summary["resident_bytes"] = {{"local_vertices", b.compact.vertices}, {"vertex_tables", b.compact.tables},
@@ -39,6 +39,7 @@ void add_mesh_resident_bytes(const Dataset& ds, nlohmann::json& summary) {
                                  {"element_bvh_items", b.bvh_items},
                                  {"face_neighbors", b.face_neighbors},
                                  {"tet_walk_records", b.tet_walk}};
+    if (b.region_lists > 0) summary["resident_bytes"]["macrocell_vertex_lists"] = b.region_lists;
     summary["element_bvh_nodes"] = renderer.element_bvh().nodes.size();
   }
   summary["resident_bytes"]["macrocells"] = b.macrocells;

@@ -20,13 +20,15 @@ std::filesystem::path make_base(const std::filesystem::path& dir, const std::str
   return dir / ("base_" + demo);
 }
 
-// Each demo's files, the tets' walk records among them.
+// Each demo's files, the tets' walk records and the macrocells' vertex lists among them.
 std::vector<std::filesystem::path> files_of(const std::filesystem::path& work, const std::string& demo) {
   std::vector<std::filesystem::path> files = {
       work / "manifest.json",      work / "mesh_vertices.bin",   work / "mesh_elements.bin",
       work / "mesh_bvh_nodes.bin", work / "mesh_bvh_items.bin",  work / "mesh_neighbors.bin",
       work / "mesh_chunks.bin",    work / "mesh_macrocells.bin", work / "fields/0_density/step_000000.f32"};
   if (demo == "tets") files.push_back(work / "mesh_tet_walk.bin");
+  for (const char* lists : {"mesh_region_first.bin", "mesh_region_vertices.bin"})
+    if (std::filesystem::exists(work / lists)) files.push_back(work / lists);
   return files;
 }
 }  // namespace

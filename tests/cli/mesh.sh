@@ -119,4 +119,19 @@ grep -q mesh_tet_walk.bin "$WORK/err.txt" || fail "the error does not name the w
 cp -r tets_ref walk_bad && printf '\377\377\377\377' | dd of=walk_bad/mesh_tet_walk.bin bs=1 seek=640 conv=notrunc 2>/dev/null
 expect_bad_input "a walk record that is not its element's" render walk_bad -o x.png --size 16x16
 "$VS" probe walk_bad --field density --points pts_tets.txt >/dev/null || fail "probes need no walk records"
+# The reference encoding stores each macrocell's vertex list, which a render reads its ranges from;
+# a dataset without them (written before) passes over the elements and draws the same picture;
+# a list that misses a corner, or lists cut short, are one line naming the file.
+[ -s tets_ref/mesh_region_vertices.bin ] && [ -s tets_ref/mesh_region_first.bin ] || fail "no region vertex lists stored"
+"$VS" info tets_ref --json | grep -q '"macrocell_vertex_lists"' || fail "info shows no region vertex lists"
+cp -r tets_ref lists_old && rm lists_old/mesh_region_first.bin lists_old/mesh_region_vertices.bin
+/usr/bin/python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); del m["region_vertices"]; json.dump(m, open(sys.argv[1],"w"))' \
+  lists_old/manifest.json
+"$VS" render lists_old -o no_lists.png --size 64x64 >/dev/null
+cmp -s stored.png no_lists.png || fail "the stored region vertex lists draw another picture"
+cp -r tets_ref lists_short && truncate -s -4 lists_short/mesh_region_vertices.bin
+expect_bad_input "truncated region vertex lists" render lists_short -o x.png --size 16x16
+grep -q mesh_region_vertices.bin "$WORK/err.txt" || fail "the error does not name the region vertex lists"
+cp -r tets_ref lists_bad && printf '\377\377\377\177' | dd of=lists_bad/mesh_region_vertices.bin bs=1 seek=0 conv=notrunc 2>/dev/null
+expect_bad_input "a region vertex list that is not the mesh's" render lists_bad -o x.png --size 16x16
 echo "mesh CLI ok"

@@ -155,19 +155,20 @@ TEST(DeferredMesh, WholeLoadOffersTheStoredMacrocellsWhichAreTheBuiltOnes) {
   }
 }
 
-// A dataset written before the mesh index (no macrocell count, no index files) is read whole,
-// deferred or not, and gives the same index and parts.
+// A dataset written before the mesh index (no macrocell count, no index files, and so no
+// macrocell vertex lists) is read whole, deferred or not, and gives the same index and parts.
 TEST(DeferredMesh, DatasetsWithoutAnIndexAreReadWhole) {
   for (const MeshEncoding encoding : kEncodings) {
     const bool compact = encoding == MeshEncoding::compact;
     const fs::path dir = test::damaged_copy(
         holes_dir(encoding), compact ? "old_compact" : "old_reference", "manifest.json", [](std::vector<char>& b) {
           const std::string text(b.begin(), b.end());
-          const std::string old = std::regex_replace(text, std::regex("\"macrocells\": \\d+,"), "");
+          const std::string old = std::regex_replace(text, std::regex("\"(macrocells|region_vertices)\": \\d+,"), "");
           b.assign(old.begin(), old.end());
         });
     fs::remove(dir / "mesh_macrocells.bin");
     fs::remove(dir / "mesh_chunks.bin");
+    for (const char* lists : {"mesh_region_first.bin", "mesh_region_vertices.bin"}) fs::remove(dir / lists);
     Dataset old(dir, TopologyLoad::deferred), indexed(holes_dir(encoding), TopologyLoad::deferred);
     EXPECT_FALSE(old.topology_deferred());
     EXPECT_EQ(old.manifest().mesh.macrocells, 0u);

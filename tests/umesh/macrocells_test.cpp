@@ -218,6 +218,7 @@ TEST_P(MacrocellRangesTest, ElementPassAndVertexListsEqualTheBruteForce) {
                                      lists.vertex.begin() + int64_t(lists.first[r + 1]));
     EXPECT_EQ(std::set<uint32_t>(list.begin(), list.end()), want_vertices[r]) << "region " << r;
     EXPECT_EQ(list.size(), want_vertices[r].size()) << "a vertex twice in region " << r;
+    EXPECT_TRUE(std::is_sorted(list.begin(), list.end())) << "region " << r << "'s list is not ascending";
   }
   for (uint32_t seed : {1u, 2u}) {
     const std::vector<float> values = random_values(mesh.vertices.size(), seed);
@@ -225,6 +226,66 @@ TEST_P(MacrocellRangesTest, ElementPassAndVertexListsEqualTheBruteForce) {
     expect_same_ranges(macrocell_ranges(mesh, cells, values.data()), want, "element pass");
     expect_same_ranges(macrocell_ranges(lists, values.data()), want, "vertex lists");
   }
+}
+
+// Stored lists (a dataset's, from a file) are checked against the mesh: its own pass; a list that
+// misses a corner, an index past the vertices, a list out of order, offsets that do not add up
+// or fit other macrocells are each refused with a reason. A vertex too many passes (it only
+// widens a range, as a brute-force range check below shows: never narrower than the truth).
+TEST_P(MacrocellRangesTest, StoredListsAreCheckedAgainstTheMesh) {
+  const UMesh mesh = demo_umesh(GetParam(), 4000);
+  const MacroCells cells = build_macrocells(mesh);
+  const RegionVertices own = region_vertices(mesh, cells).value();
+  EXPECT_EQ(region_vertices_fault(mesh, cells, own), "");
+  const auto changed = [&](auto&& change) {
+    std::vector<uint64_t> first(own.first.begin(), own.first.end());
+    std::vector<uint32_t> vertex(own.vertex.begin(), own.vertex.end());
+    change(first, vertex);
+    return region_vertices_fault(mesh, cells, RegionVertices{std::move(first), std::move(vertex)});
+  };
+  const uint32_t n = uint32_t(mesh.vertices.size());
+  const size_t regions = cells.region_count();
+  // Region 0's list without its last vertex: every later offset moves down by one.
+  EXPECT_NE(changed([](auto& first, auto& vertex) {
+              vertex.erase(vertex.begin() + int64_t(first[1]) - 1);
+              for (size_t r = 1; r < first.size(); ++r) --first[r];
+            }).find("missing"),
+            std::string::npos);
+  EXPECT_NE(changed([&](auto& first, auto& vertex) { vertex[first[1] - 1] = n; }).find("not ascending"),
+            std::string::npos);
+  EXPECT_NE(changed([](auto&, auto& vertex) { std::swap(vertex[0], vertex[1]); }).find("not ascending"),
+            std::string::npos);
+  EXPECT_NE(changed([](auto& first, auto&) { first.back() -= 1; }).find("offsets"), std::string::npos);
+  EXPECT_NE(changed([](auto& first, auto&) { std::swap(first[1], first[2]); }).find("decrease"), std::string::npos);
+  EXPECT_NE(changed([](auto& first, auto&) { first.pop_back(); }).find("offsets"), std::string::npos);
+  // A vertex of no element of region 0 added to its list (the last one that is not there).
+  uint32_t extra = n;
+  for (uint32_t v = n; v-- > 0 && extra == n;)
+    if (!std::binary_search(own.vertex.begin(), own.vertex.begin() + int64_t(own.first[1]), v)) extra = v;
+  std::vector<uint64_t> first(own.first.begin(), own.first.end());
+  std::vector<uint32_t> vertex(own.vertex.begin(), own.vertex.end());
+  vertex.insert(std::upper_bound(vertex.begin(), vertex.begin() + int64_t(first[1]), extra), extra);
+  for (size_t r = 1; r < first.size(); ++r) ++first[r];
+  const RegionVertices wider{std::move(first), std::move(vertex)};
+  EXPECT_EQ(region_vertices_fault(mesh, cells, wider), "");
+  const std::vector<float> values = random_values(mesh.vertices.size(), 5);
+  const std::vector<Range> truth = macrocell_ranges(mesh, cells, values.data()),
+                           got = macrocell_ranges(wider, values.data());
+  for (size_t r = 0; r < regions; ++r) EXPECT_TRUE(got[r].lo <= truth[r].lo && got[r].hi >= truth[r].hi) << r;
+}
+
+// A renderer given lists reads its ranges from them from the first call: the element pass's.
+TEST_P(MacrocellRangesTest, GivenListsGiveTheFirstFramesRanges) {
+  const UMesh mesh = demo_umesh(GetParam(), 4000);
+  UMeshRenderer renderer(mesh, WorldTransform{});
+  const RegionVertices lists = region_vertices(mesh, renderer.macrocells()).value();
+  renderer.take_region_vertices(lists);
+  EXPECT_EQ(renderer.bytes().region_lists, lists.bytes());
+  const std::vector<float> values = random_values(mesh.vertices.size(), 7);
+  expect_same_ranges(renderer.ranges(values.data()), macrocell_ranges(mesh, renderer.macrocells(), values.data()),
+                     "first frame");
+  const RegionVertices other{std::vector<uint64_t>{0, 0}, std::vector<uint32_t>{}};
+  EXPECT_THROW(renderer.take_region_vertices(other), std::logic_error);
 }
 
 // The compact encoding's lists hold local vertices: the same ranges as its element pass.

@@ -137,6 +137,7 @@ struct FrameRenderer::Impl {
       umesh = dataset.is_compact_mesh()
                   ? std::make_unique<UMeshRenderer>(dataset.compact_mesh(), transform, share, stored)
                   : std::make_unique<UMeshRenderer>(dataset.mesh(), dataset.mesh_accel(), transform, share, stored);
+      if (const RegionVertices* lists = dataset.region_vertices(); lists && stored) umesh->take_region_vertices(*lists);
       device_mesh.reset();
       device_compact.reset();
     }

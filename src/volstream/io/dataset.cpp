@@ -98,6 +98,7 @@ json manifest_to_json(const DatasetManifest& m) {
       j["mesh_encoding"] = "reference";
       j["bvh_node_count"] = m.mesh.bvh_nodes;
       if (m.mesh.tet_walk_records) j["tet_walk_records"] = m.mesh.tet_walk_records;
+      if (m.mesh.region_vertices) j["region_vertices"] = m.mesh.region_vertices;
     }
   } else {
     j["kind"] = "amr";
@@ -154,6 +155,7 @@ DatasetManifest manifest_from_json(const json& j) {
     } else if (encoding == "reference") {
       m.mesh.bvh_nodes = j.at("bvh_node_count").get<uint64_t>();
       m.mesh.tet_walk_records = j.value("tet_walk_records", uint64_t(0));  // absent before 2026-11-27
+      m.mesh.region_vertices = j.value("region_vertices", uint64_t(0));    // absent before 2026-11-28
     } else {
       throw std::runtime_error("unknown mesh_encoding '" + encoding + "'");
     }
@@ -240,6 +242,8 @@ void validate_manifest(const DatasetManifest& m) {
       fail("tet_walk_records is neither 0 nor element_count");
     }
     if (c.macrocells > uint64_t(256 * 256 * 256)) fail("macrocell count out of range");
+    if (c.region_vertices > kRegionVerticesBudget / sizeof(uint32_t) || (c.region_vertices > 0 && c.macrocells == 0))
+      fail("region_vertices out of range");
     if (c.by_type[0] + c.by_type[1] + c.by_type[2] + c.by_type[3] != c.elements)
       fail("elements by type do not add up to element_count");
     return;
@@ -439,7 +443,9 @@ void DatasetWriter::write_mesh(const UMesh& mesh) {
   std::vector<box3f> chunks = reference_chunk_boxes(mesh, accel.bvh.items);
   chunks.insert(chunks.begin(), bounds);
   write_file(dir_ / dataset_files::kMeshChunks, chunks.data(), chunks.size() * sizeof(box3f));
-  write_macrocells(build_macrocells(mesh));
+  const MacroCells cells = build_macrocells(mesh);
+  write_macrocells(cells);
+  write_region_vertices(region_vertices(mesh, cells));
 }
 
 void DatasetWriter::write_compact_mesh(const UMesh& mesh, const CompactMesh& compact) {
@@ -466,6 +472,16 @@ void DatasetWriter::write_macrocells(const MacroCells& cells) {
     std::memcpy(bytes.data() + sizeof(MacroGrid), stored.data(), stored.size() * sizeof(StoredMacrocell));
   write_file(dir_ / dataset_files::kMeshMacrocells, bytes.data(), bytes.size());
   manifest_.mesh.macrocells = stored.size();
+}
+
+// Each macrocell's vertex list (none over the build's budget), so that a render's ranges read them
+// instead of passing over the elements (umesh/macrocells.h).
+void DatasetWriter::write_region_vertices(const std::optional<RegionVertices>& lists) {
+  manifest_.mesh.region_vertices = 0;
+  if (!lists || lists->vertex.empty()) return;
+  write_file(dir_ / dataset_files::kMeshRegionFirst, lists->first.data(), lists->first.size() * sizeof(uint64_t));
+  write_file(dir_ / dataset_files::kMeshRegionVertices, lists->vertex.data(), lists->vertex.size() * sizeof(uint32_t));
+  manifest_.mesh.region_vertices = lists->vertex.size();
 }
 
 void DatasetWriter::write_values(int field, int step, const std::vector<float>& values) {
@@ -631,6 +647,7 @@ void Dataset::load_mesh() {
         mesh_accel_.neighbors =
             map_topology<uint32_t>(dir_ / dataset_files::kMeshNeighbors, manifest_.mesh.elements * shape::kMaxFaces);
         if (manifest_.mesh.macrocells > 0) read_stored_macrocells();
+        if (manifest_.mesh.region_vertices > 0) map_stored_region_vertices();
       });
   if (manifest_.mesh.tet_walk_records > 0)
     mesh_accel_.stored_tet_walk =
@@ -645,7 +662,22 @@ void Dataset::load_mesh() {
       [&] { validate_mesh(mesh_, manifest_.mesh, (dir_ / dataset_files::kMeshElements).string()); },
       [&] { check_mesh_accel_structure(mesh_accel_, manifest_.mesh.elements, nodes_file); });
   check_mesh_accel_boxes(mesh_, mesh_accel_, nodes_file);
-  if (manifest_.mesh.macrocells == 0 || build_macrocells_on_stored_grid()) stamp.record();
+  const bool cells_as_stored = manifest_.mesh.macrocells == 0 || build_macrocells_on_stored_grid();
+  check_stored_region_vertices();
+  if (cells_as_stored) stamp.record();
+}
+
+void Dataset::map_stored_region_vertices() {
+  RegionVertices lists;
+  lists.first = map_topology<uint64_t>(dir_ / dataset_files::kMeshRegionFirst, manifest_.mesh.macrocells + 1);
+  lists.vertex = map_topology<uint32_t>(dir_ / dataset_files::kMeshRegionVertices, manifest_.mesh.region_vertices);
+  stored_region_vertices_ = std::move(lists);
+}
+
+void Dataset::check_stored_region_vertices() const {
+  if (!stored_region_vertices_) return;
+  const std::string fault = region_vertices_fault(mesh_, stored_cells_, *stored_region_vertices_);
+  if (!fault.empty()) input_error((dir_ / dataset_files::kMeshRegionVertices).string(), fault);
 }
 
 // The files a reference mesh's load checks (with or without mesh_macrocells.bin), and the
@@ -656,6 +688,9 @@ std::vector<fs::path> Dataset::mesh_files(bool with_macrocells) const {
                            dataset_files::kMeshBvhNodes, dataset_files::kMeshBvhItems, dataset_files::kMeshNeighbors})
     files.push_back(dir_ / name);
   if (with_macrocells) files.push_back(dir_ / dataset_files::kMeshMacrocells);
+  if (with_macrocells && manifest_.mesh.region_vertices > 0)
+    for (const char* name : {dataset_files::kMeshRegionFirst, dataset_files::kMeshRegionVertices})
+      files.push_back(dir_ / name);
   return files;
 }
 
@@ -812,6 +847,10 @@ const MacroCells* Dataset::macrocells() const {
   return is_mesh() && !restricted_ && manifest_.mesh.macrocells > 0 ? &stored_cells_ : nullptr;
 }
 
+const RegionVertices* Dataset::region_vertices() const {
+  return is_mesh() && !restricted_ && stored_region_vertices_ ? &*stored_region_vertices_ : nullptr;
+}
+
 const CompactMesh& Dataset::compact_mesh() const {
   if (!is_compact_mesh()) throw std::logic_error("Dataset::compact_mesh: the dataset stores no compact encoding");
   if (deferred_) throw std::logic_error("Dataset::compact_mesh: the topology is deferred (restrict_to first)");
@@ -961,6 +1000,7 @@ void Dataset::restrict_bricks(const DatasetPart& part) {
 
 // The part's vertices are in ascending order of the file's: their values are runs of it.
 void Dataset::restrict_mesh(const std::vector<uint32_t>& items) {
+  stored_region_vertices_.reset();  // the whole mesh's: a part builds its own macrocells
   std::vector<uint32_t> source;
   if (is_compact_mesh()) {
     if (deferred_)

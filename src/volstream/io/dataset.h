@@ -71,6 +71,11 @@ struct MeshCounts {
   // The non-empty macrocells in mesh_macrocells.bin (manifest key "macrocells"; absent in older
   // datasets: 0, no mesh index stored, and every rank reads the whole mesh).
   uint64_t macrocells = 0;
+  // reference: the entries of mesh_region_vertices.bin, each macrocell's vertex list
+  // (RegionVertices; its offsets in mesh_region_first.bin), or 0 where none are stored (manifest key
+  // "region_vertices"; absent before 2026-11-28 and where the lists pass their build's budget:
+  // a render's ranges then pass over the elements).
+  uint64_t region_vertices = 0;
   bool compact() const { return encoding == MeshEncoding::compact; }
 };
 
@@ -127,6 +132,8 @@ inline constexpr const char* kMeshNeighbors = "mesh_neighbors.bin";  // umesh: 6
 inline constexpr const char* kMeshTetWalk = "mesh_tet_walk.bin";     // umesh: TetWalkRecord per element
 // umesh: the macrocell grid (MacroGrid), then StoredMacrocell per non-empty macrocell
 inline constexpr const char* kMeshMacrocells = "mesh_macrocells.bin";
+inline constexpr const char* kMeshRegionFirst = "mesh_region_first.bin";        // umesh: uint64 per macrocell, +1
+inline constexpr const char* kMeshRegionVertices = "mesh_region_vertices.bin";  // umesh: uint32 per list entry
 // umesh, reference: box3f of the vertices' bounds, then one per chunk of the BVH's item order
 inline constexpr const char* kMeshChunks = "mesh_chunks.bin";
 std::string field_values(const FieldInfo& f, int step);             // relative path
@@ -164,6 +171,7 @@ class DatasetWriter {
   void write_abr_bvh(const AmrTopology& topology);
   void write_abr_chunks(const AmrTopology& topology);
   void write_macrocells(const MacroCells& cells);
+  void write_region_vertices(const std::optional<RegionVertices>& lists);
 };
 
 // One data-parallel rank's share of a dataset (mpi/partition.h): global indices, ascending.
@@ -225,6 +233,10 @@ class Dataset {
   // renderer's build took a pass for the bounds and 30 ms with a cube root per element), which a
   // renderer takes instead of building them; null for a part, or a dataset stored without a grid.
   const MacroCells* macrocells() const;
+  // Each of those macrocells' vertex list as convert stored it (mapped; checked against the mesh
+  // as the rest), which a renderer reads its ranges from; null for a part, a compact mesh, or a
+  // dataset stored without them.
+  const RegionVertices* region_vertices() const;
   bool is_compact_mesh() const { return is_mesh() && manifest_.mesh.compact(); }
   const CompactMesh& compact_mesh() const;  // a mesh stored compact (logic_error otherwise)
   // The mesh's vertices in either encoding (the compact one replicates some: same bounds).
@@ -275,6 +287,8 @@ class Dataset {
   // the non-empty cells are the same); true when the stored step widths were the same too, so
   // that a load whose checks passed before (io/check_stamp.h) may take the stored ones as they are.
   bool build_macrocells_on_stored_grid();
+  void map_stored_region_vertices();
+  void check_stored_region_vertices() const;  // against the macrocells built on the stored grid
   std::vector<std::filesystem::path> mesh_files(bool with_macrocells) const;
   void read_compact_part(const std::vector<uint32_t>& leaves, std::vector<uint32_t>& source_vertex);
   // read_records and map_records, counted in topology_bytes_read.
@@ -295,6 +309,7 @@ class Dataset {
   UMesh mesh_;
   MeshAccel mesh_accel_;
   CompactMesh compact_;
+  std::optional<RegionVertices> stored_region_vertices_;
   CountedBytes mesh_bytes_;
   CountedBytes brick_bytes_, abr_bytes_, abr_list_bytes_;  // the topology's host memory
   DatasetPart part_;

@@ -65,6 +65,9 @@ json mesh_summary(const Dataset& ds) {
                   {"mesh_bvh_items", m.mesh.elements * sizeof(uint32_t)},
                   {"mesh_neighbors", m.mesh.elements * shape::kMaxFaces * sizeof(uint32_t)},
                   {"mesh_tet_walk", m.mesh.tet_walk_records * sizeof(TetWalkRecord)}};
+    if (m.mesh.region_vertices > 0)
+      j["bytes"]["mesh_region_lists"] =
+          (m.mesh.macrocells + 1) * sizeof(uint64_t) + m.mesh.region_vertices * sizeof(uint32_t);
   }
   j["bytes"]["values_per_field_step"] = values;
   j["bytes"]["values_total"] = values * m.fields.size() * uint64_t(m.step_count());

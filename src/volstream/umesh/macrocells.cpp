@@ -311,8 +311,7 @@ std::optional<RegionVertices> region_vertices_over(const MacroCells& m, int64_t 
     const uint64_t at = std::atomic_ref<uint64_t>(cursor[r]).fetch_add(uint64_t(n), std::memory_order_relaxed);
     std::copy(vertex, vertex + n, all.begin() + int64_t(at));
   });
-  RegionVertices lists;
-  lists.first.assign(regions + 1, 0);
+  std::vector<uint64_t> first(regions + 1, 0);
   tbb::enumerable_thread_specific<std::vector<uint32_t>> stamps(vertex_count, 0u);
   parallel_for("region vertices", int64_t(regions), [&](int64_t r) {
     std::vector<uint32_t>& stamp = stamps.local();
@@ -324,16 +323,19 @@ std::optional<RegionVertices> region_vertices_over(const MacroCells& m, int64_t 
       stamp[v] = mark;
       all[kept++] = v;
     }
-    lists.first[size_t(r) + 1] = kept - slice[size_t(r)];
+    // Ascending: one list whatever order the threads wrote the overlaps in (convert stores them),
+    // and a region's values read in memory order.
+    std::sort(all.begin() + int64_t(slice[size_t(r)]), all.begin() + int64_t(kept));
+    first[size_t(r) + 1] = kept - slice[size_t(r)];
   });
-  std::partial_sum(lists.first.begin(), lists.first.end(), lists.first.begin());
-  lists.vertex.resize(lists.first.back());
+  std::partial_sum(first.begin(), first.end(), first.begin());
+  std::vector<uint32_t> vertex(first.back());
   parallel_for("region vertices", int64_t(regions), [&](int64_t r) {
-    std::copy_n(all.begin() + int64_t(slice[size_t(r)]), lists.first[size_t(r) + 1] - lists.first[size_t(r)],
-                lists.vertex.begin() + int64_t(lists.first[size_t(r)]));
+    std::copy_n(all.begin() + int64_t(slice[size_t(r)]), first[size_t(r) + 1] - first[size_t(r)],
+                vertex.begin() + int64_t(first[size_t(r)]));
   });
   launch_times().add("region vertex lists", watch.seconds());
-  return lists;
+  return RegionVertices{std::move(first), std::move(vertex)};
 }
 
 // Each encoding's elements as the macrocells read them: items of work (an element, a leaf), each
@@ -404,6 +406,64 @@ std::optional<RegionVertices> region_vertices(const UMesh& mesh, const MacroCell
 }
 std::optional<RegionVertices> region_vertices(const CompactMesh& mesh, const MacroCells& m, uint64_t budget) {
   return region_vertices_over(m, int64_t(mesh.leaves.size()), mesh.vertices.size(), budget, elements_of(mesh));
+}
+
+namespace {
+// The offsets and lists' own order (region_vertices_fault's first part); empty when they hold.
+std::string region_lists_fault(const RegionVertices& lists, size_t regions, size_t vertex_count) {
+  const HostArray<uint64_t>& first = lists.first;
+  if (first.size() != regions + 1)
+    return "holds " + std::to_string(first.size()) + " offsets for " + std::to_string(regions) +
+           " macrocells (one more than they)";
+  if (first[0] != 0 || first[regions] != lists.vertex.size())
+    return "its offsets do not run from 0 to its " + std::to_string(lists.vertex.size()) + " entries";
+  for (size_t r = 0; r < regions; ++r)
+    if (first[r] > first[r + 1]) return "the offsets decrease at macrocell " + std::to_string(r);
+  const int64_t bad = first_failing(
+      int64_t(regions),
+      [&](int64_t r) {
+        const uint64_t begin = first[size_t(r)], end = first[size_t(r) + 1];
+        bool ok = begin == end || lists.vertex[begin] < vertex_count;
+        for (uint64_t k = begin + 1; k < end; ++k)
+          ok &= lists.vertex[k - 1] < lists.vertex[k] && lists.vertex[k] < vertex_count;
+        return ok;
+      },
+      64);
+  if (bad >= 0) return "the list of macrocell " + std::to_string(bad) + " is not ascending vertices of the mesh";
+  return {};
+}
+}  // namespace
+
+std::string region_vertices_fault(const UMesh& mesh, const MacroCells& m, const RegionVertices& lists) {
+  if (std::string fault = region_lists_fault(lists, m.region_count(), mesh.vertices.size()); !fault.empty())
+    return fault;
+  // The lists turned around: per vertex, the regions whose list holds it (ascending), so that
+  // each corner's test scans the one or few regions of its vertex (a binary search in the
+  // region's list took 3x as long: its branches and the lists' cache lines).
+  std::vector<uint32_t> start(mesh.vertices.size() + 1, 0);
+  for (uint32_t v : lists.vertex) ++start[v + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<uint32_t> cursor(start.begin(), start.end() - 1), region_of_entry(lists.vertex.size());
+  for (size_t r = 0; r < m.region_count(); ++r)
+    for (uint64_t k = lists.first[r]; k < lists.first[r + 1]; ++k)
+      region_of_entry[cursor[lists.vertex[k]]++] = uint32_t(r);
+  const auto listed = [&](int32_t r, uint32_t v) {
+    bool found = false;
+    for (uint32_t k = start[v]; k < start[v + 1]; ++k) found |= region_of_entry[k] == uint32_t(r);
+    return found;
+  };
+  const auto visit = elements_of(mesh);
+  const int64_t bad = first_failing(int64_t(mesh.elements.size()), [&](int64_t e) {
+    bool ok = true;
+    visit(e, [&](const box3f& box, const uint32_t* corner, int n) {
+      for_each_cell(m.grid, box, [&](uint64_t c) {
+        for (int k = 0; k < n; ++k) ok &= listed(m.region_of_cell[c], corner[k]);
+      });
+    });
+    return ok;
+  });
+  if (bad >= 0) return "a corner of element " + std::to_string(bad) + " is missing from a macrocell's list";
+  return {};
 }
 
 // The order of ranges_over's merges (ordered integers), so that the ranges are the same floats.

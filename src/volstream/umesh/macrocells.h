@@ -11,10 +11,12 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "volstream/accel/bvh_traverse.h"
 #include "volstream/amr/model.h"
+#include "volstream/core/host_array.h"
 #include "volstream/core/math.h"
 #include "volstream/umesh/compact.h"
 #include "volstream/umesh/umesh.h"
@@ -177,14 +179,16 @@ std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& cells, 
 // The same over the compact encoding, with values per local vertex (CompactMesh::gather order).
 std::vector<Range> macrocell_ranges(const CompactMesh& mesh, const MacroCells& cells, const float* local_values);
 
-// Per region, the vertices (value indices) of the elements overlapping it, without repeats (in no
-// particular order): a time series' ranges from these read each of a region's values once (about
-// 5.5 per vertex of a 1 M-tet mesh), where the pass above reads every element's corners and box
-// and merges with atomics per region. Built once per mesh, at the cost of 5 to 6 such passes
-// (bench/RESULTS.md).
+// Per region, the vertices (value indices) of the elements overlapping it, ascending and without
+// repeats: ranges from these read each of a region's values once (about 5.5 per vertex of a 1 M-tet
+// mesh), where the pass above reads every element's corners and box and merges with atomics per
+// region (151 M instructions on 1 M tets, 20-25 ms of a render command on two cores). Built once
+// per mesh, at the cost of 5 to 6 such passes: convert stores the reference encoding's
+// (mesh_region_first.bin, mesh_region_vertices.bin), so that a render maps them; a time series
+// builds them at its second step where they are not stored (bench/RESULTS.md).
 struct RegionVertices {
-  std::vector<uint64_t> first;   // per region, and one past the last: where its list starts in `vertex`
-  std::vector<uint32_t> vertex;  // the lists, region after region
+  HostArray<uint64_t> first;   // per region, and one past the last: where its list starts in `vertex`
+  HostArray<uint32_t> vertex;  // the lists, region after region
   uint64_t bytes() const { return first.size() * sizeof(uint64_t) + vertex.size() * sizeof(uint32_t); }
 };
 // The build first writes every overlap's corners (4 B each, about 42 B per tet) and then drops
@@ -195,6 +199,12 @@ std::optional<RegionVertices> region_vertices(const UMesh& mesh, const MacroCell
                                               uint64_t budget = kRegionVerticesBudget);
 std::optional<RegionVertices> region_vertices(const CompactMesh& mesh, const MacroCells& cells,
                                               uint64_t budget = kRegionVerticesBudget);  // local vertices
+// Why `lists` (stored, from a file) cannot stand for the mesh's own, or empty when they can: one
+// offset per region of `cells` and one more, from 0, non-decreasing, to the entry count; each
+// list strictly ascending, of vertices below the mesh's count; and every corner of every element
+// in the list of each region the element overlaps. A vertex too many would only widen a range
+// (a region kept that could be culled), never cull what shows, so it is not looked for.
+std::string region_vertices_fault(const UMesh& mesh, const MacroCells& cells, const RegionVertices& lists);
 // The same ranges as macrocell_ranges over the mesh the lists were built from.
 std::vector<Range> macrocell_ranges(const RegionVertices& lists, const float* values);
 

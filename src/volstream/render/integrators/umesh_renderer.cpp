@@ -60,6 +60,14 @@ std::vector<Range> UMeshRenderer::ranges(const float* values) {
   return mesh_ ? macrocell_ranges(*mesh_, cells_, values) : macrocell_ranges(*stored_, cells_, values);
 }
 
+void UMeshRenderer::take_region_vertices(const RegionVertices& lists) {
+  if (lists.first.size() != cells_.region_count() + 1)
+    throw std::logic_error("UMeshRenderer::take_region_vertices: lists of other macrocells");
+  region_vertices_ = lists;
+  region_vertices_counted_ = CountedBytes("mesh region vertices", MemorySpace::host, int64_t(lists.bytes()));
+  ranges_calls_ = 2;  // nothing left to build
+}
+
 uint64_t UMeshRenderer::classify(const std::vector<Range>& ranges, const TransferTable& tf,
                                  const IntegratorSettings& iso, bool skip, SkipStats* stats) {
   return refit(regions_to_keep(ranges, region_count(), tf, iso, skip, stats), stats);
@@ -186,6 +194,7 @@ UMeshBytes UMeshRenderer::bytes() const {
   }
   // With what a frame keeps per macrocell: one field's value range and the visible flag.
   b.macrocells = cells_.bytes() + cells_.region_count() * (sizeof(Range) + sizeof(uint8_t));
+  if (region_vertices_) b.region_lists = region_vertices_->bytes();
   return b;
 }
 

@@ -28,9 +28,10 @@ namespace vs {
 struct UMeshBytes {
   uint64_t vertices = 0, elements = 0, bvh_nodes = 0, bvh_items = 0, face_neighbors = 0, tet_walk = 0, macrocells = 0,
            field = 0;
+  uint64_t region_lists = 0;  // the macrocells' vertex lists, where given (take_region_vertices)
   CompactBytes compact;
   uint64_t total() const {
-    return vertices + elements + bvh_nodes + bvh_items + face_neighbors + tet_walk + macrocells + field +
+    return vertices + elements + bvh_nodes + bvh_items + face_neighbors + tet_walk + macrocells + region_lists + field +
            compact.total();
   }
 };
@@ -58,11 +59,14 @@ class UMeshRenderer {
                 const MacroCells* cells = nullptr);
   bool has_reference() const { return mesh_ != nullptr; }
 
-  // Values as the dataset stores them: per vertex (reference) or per local vertex (compact). The
-  // first call (one frame) passes over the elements; the second (a time series) builds each
-  // region's vertex list once (RegionVertices, unless over its budget), which this and every
-  // later call read instead.
+  // Values as the dataset stores them: per vertex (reference) or per local vertex (compact). With
+  // the region vertex lists given (take_region_vertices), every call reads them; else the first
+  // call (one frame) passes over the elements and the second (a time series) builds the lists once
+  // (RegionVertices, unless over their budget), which this and every later call read instead.
   std::vector<Range> ranges(const float* values);
+  // The vertex lists of these macrocells (a dataset's stored ones, checked against its mesh:
+  // Dataset::region_vertices); kept as a view of the same memory.
+  void take_region_vertices(const RegionVertices& lists);
   // Classifies the macrocells by their ranges (skip = false keeps every one); returns the visible ones.
   uint64_t classify(const std::vector<Range>& ranges, const TransferTable& tf, const IntegratorSettings& iso, bool skip,
                     SkipStats* stats = nullptr);

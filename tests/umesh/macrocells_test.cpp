@@ -63,6 +63,12 @@ TEST(MacroGrid, CellOfIsTheFlooredQuotientClamped) {
   }
 }
 
+// A block of cells, [lo, hi] inclusive.
+struct CellBlock {
+  vec3i lo, hi;
+};
+CellBlock whole(const MacroGrid& g) { return {{0, 0, 0}, g.dims - vec3i(1, 1, 1)}; }
+
 std::vector<Crossing> walked(const MacroGrid& g, const vec3f& org, const vec3f& dir) {
   std::vector<Crossing> out;
   for_each_cell_along(g, org, dir, [&](uint64_t cell, float t0, float t1) {
@@ -71,14 +77,22 @@ std::vector<Crossing> walked(const MacroGrid& g, const vec3f& org, const vec3f& 
   });
   return out;
 }
+std::vector<Crossing> walked(const MacroGrid& g, const CellBlock& b, const vec3f& org, const vec3f& dir) {
+  std::vector<Crossing> out;
+  for_each_cell_along(g, b.lo, b.hi, org, dir, [&](uint64_t cell, float t0, float t1) {
+    out.push_back({cell, t0, t1});
+    return true;
+  });
+  return out;
+}
 
-// Cells whose box the ray crosses over a positive length after t = 0, by entry.
-std::vector<Crossing> brute_force(const MacroGrid& g, const vec3f& org, const vec3f& dir) {
+// Cells of the block whose box the ray crosses over a positive length after t = 0, by entry.
+std::vector<Crossing> brute_force(const MacroGrid& g, const CellBlock& b, const vec3f& org, const vec3f& dir) {
   const SlabRay ray(org, dir);
   std::vector<Crossing> out;
-  for (int z = 0; z < g.dims.z; ++z)
-    for (int y = 0; y < g.dims.y; ++y)
-      for (int x = 0; x < g.dims.x; ++x) {
+  for (int z = b.lo.z; z <= b.hi.z; ++z)
+    for (int y = b.lo.y; y <= b.hi.y; ++y)
+      for (int x = b.lo.x; x <= b.hi.x; ++x) {
         float t0, t1;
         ray_box(ray, g.cell_box({x, y, z}), t0, t1);
         t0 = std::max(t0, 0.f);
@@ -88,9 +102,10 @@ std::vector<Crossing> brute_force(const MacroGrid& g, const vec3f& org, const ve
   return out;
 }
 
-// Returns how many cells the ray crosses.
-size_t expect_same_crossings(const MacroGrid& g, const vec3f& org, const vec3f& dir) {
-  const std::vector<Crossing> walk = walked(g, org, dir), expected = brute_force(g, org, dir);
+// Returns how many cells of the block the ray crosses.
+size_t expect_same_crossings(const MacroGrid& g, const CellBlock& b, const std::vector<Crossing>& walk,
+                             const vec3f& org, const vec3f& dir) {
+  const std::vector<Crossing> expected = brute_force(g, b, org, dir);
   // The walk may add cells it only touches (zero length); it must hold every crossed one, once.
   std::vector<Crossing> long_ones;
   for (size_t i = 0; i < walk.size(); ++i) {
@@ -106,6 +121,9 @@ size_t expect_same_crossings(const MacroGrid& g, const vec3f& org, const vec3f& 
     EXPECT_EQ(long_ones[i].t1, expected[i].t1);
   }
   return expected.size();
+}
+size_t expect_same_crossings(const MacroGrid& g, const vec3f& org, const vec3f& dir) {
+  return expect_same_crossings(g, whole(g), walked(g, org, dir), org, dir);
 }
 
 TEST(MacroGridWalk, EqualsEveryCellTestedFromOutsideAndInside) {
@@ -123,6 +141,33 @@ TEST(MacroGridWalk, EqualsEveryCellTestedFromOutsideAndInside) {
     crossed += expect_same_crossings(g, org, normalize(dir));
   }
   EXPECT_GT(crossed, 2000u) << "too few rays meet the grid to test the walk";
+}
+
+// Walked over a block of the grid's cells (a frame's visible ones), the walk gives the block's
+// crossed cells with the same intervals as over the whole grid; an empty block gives none.
+TEST(MacroGridWalk, OverABlockEqualsTheBlocksCellsTested) {
+  const MacroGrid g = test_grid();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-3.f, 5.f), inside(0.f, 1.f);
+  size_t crossed = 0;
+  for (int i = 0; i < 2000; ++i) {
+    CellBlock b;
+    for (int a = 0; a < 3; ++a) {
+      std::uniform_int_distribution<int> cell(0, g.dims[a] - 1);
+      const int p = cell(rng), q = cell(rng);
+      b.lo[a] = std::min(p, q), b.hi[a] = std::max(p, q);
+    }
+    const vec3f org(u(rng), u(rng) * 0.5f, 2.f + u(rng) * 0.3f);
+    const vec3f target = g.bounds.lower + g.bounds.size() * vec3f(inside(rng), inside(rng), inside(rng));
+    vec3f dir = target - org;
+    if (i % 5 == 0) dir[i % 3] = 0.f;
+    if (length(dir) < 1e-3f) continue;
+    dir = normalize(dir);
+    crossed += expect_same_crossings(g, b, walked(g, b, org, dir), org, dir);
+  }
+  EXPECT_GT(crossed, 1000u) << "too few rays meet the blocks to test the walk";
+  const CellBlock none{{2, 0, 0}, {1, 3, 2}};
+  EXPECT_TRUE(walked(g, none, {-2.f, 0.7f, 2.4f}, {1.f, 0.f, 0.f}).empty());
 }
 
 TEST(MacroGridWalk, AxisRaysAlongCellFacesVisitEveryCellOnce) {

@@ -87,24 +87,38 @@ struct MacroGrid {
   }
 };
 
-// Every cell of g that the ray org + t dir (t >= 0) crosses, front to back, as visit(index, t0,
-// t1): the cell's g.index and the ray's interval in its cell_box as ray_box gives it (so the
-// intervals are those a BVH over the same boxes gives); visit returns false to stop. Each step
-// crosses the face through which the ray leaves the cell, so the walk ends after at most
-// dims.x + dims.y + dims.z cells. A step changes one axis's cell, so the walk updates only that
-// axis: its two face distances (ray_box's interval is the largest of the axes' near-face
-// distances to the smallest of their far-face ones: the same floats as ray_box on the whole
-// box), its bounds test and the index by that axis's stride (the per-ray code around a blobs
-// render's samples, mostly this walk, was a quarter of its instructions).
+// Every cell of g in the block of cells [lo, hi] (inclusive, clamped to the grid) that the ray
+// org + t dir (t >= 0) crosses, front to back, as visit(index, t0, t1): the cell's g.index and
+// the ray's interval in its cell_box as ray_box gives it (so the intervals are those a BVH over
+// the same boxes gives); visit returns false to stop. A frame's visible macrocells lie in a block
+// smaller than the grid where empty-space skipping culls (MeshVolume::shown_lo), and the walk
+// starts and ends at that block's faces, not the grid's: the cells outside it would only have
+// been stepped over. Each step crosses the face through which the ray leaves the cell, so the
+// walk ends after at most dims.x + dims.y + dims.z cells. A step changes one axis's cell, so
+// the walk updates only that axis: its two face distances (ray_box's interval is the largest of
+// the axes' near-face distances to the smallest of their far-face ones: the same floats as
+// ray_box on the whole box), its bounds test and the index by that axis's stride (the per-ray
+// code around a blobs render's samples, mostly this walk, was a quarter of its instructions).
 template <typename Visit>
-VS_HOST_DEVICE inline void for_each_cell_along(const MacroGrid& g, const vec3f& org, const vec3f& dir, Visit&& visit) {
+VS_HOST_DEVICE inline void for_each_cell_along(const MacroGrid& g, vec3i lo, vec3i hi, const vec3f& org,
+                                               const vec3f& dir, Visit&& visit) {
+  box3f block;  // the cells' block; the whole grid's is exactly g.bounds (layer_faces)
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = lo[a] > 0 ? lo[a] : 0;
+    hi[a] = hi[a] < g.dims[a] - 1 ? hi[a] : g.dims[a] - 1;
+    if (lo[a] > hi[a]) return;
+    float unused;
+    g.layer_faces(a, lo[a], block.lower[a], unused);
+    g.layer_faces(a, hi[a], unused, block.upper[a]);
+  }
   const SlabRay ray(org, dir);
   float t_in, t_out;
-  ray_box(ray, g.bounds, t_in, t_out);
+  ray_box(ray, block, t_in, t_out);
   t_in = t_in > 0.f ? t_in : 0.f;
   if (!(t_in <= t_out)) return;
   vec3i c = g.cell_of(org + dir * t_in);  // a rounding error here only adds or drops an empty interval
-  float near[3], far[3];                  // per axis: ray_box's distances to cell_box(c)'s two faces
+  for (int a = 0; a < 3; ++a) c[a] = c[a] < lo[a] ? lo[a] : (c[a] > hi[a] ? hi[a] : c[a]);
+  float near[3], far[3];  // per axis: ray_box's distances to cell_box(c)'s two faces
   const auto faces_of_layer = [&](int a) {
     float lower, upper;
     g.layer_faces(a, c[a], lower, upper);
@@ -124,10 +138,15 @@ VS_HOST_DEVICE inline void for_each_cell_along(const MacroGrid& g, const vec3f& 
     if (t0 <= t1 && t1 > 0.f && !visit(index, t0, t1)) return;
     const int step = ray.inv_dir[axis] >= 0.f ? 1 : -1;
     c[axis] += step;
-    if (c[axis] < 0 || c[axis] >= g.dims[axis]) return;
+    if (c[axis] < lo[axis] || c[axis] > hi[axis]) return;
     index += uint64_t(step * stride[axis]);
     faces_of_layer(axis);
   }
+}
+// Every cell of the grid (as above).
+template <typename Visit>
+VS_HOST_DEVICE inline void for_each_cell_along(const MacroGrid& g, const vec3f& org, const vec3f& dir, Visit&& visit) {
+  for_each_cell_along(g, vec3i(0, 0, 0), g.dims - vec3i(1, 1, 1), org, dir, visit);
 }
 
 struct MacroCells {

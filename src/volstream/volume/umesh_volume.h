@@ -24,6 +24,9 @@ struct MeshVolume {
   const float* step_widths = nullptr;       // per macrocell
   MacroGrid grid;
   const int32_t* region_of_cell = nullptr;
+  // The block of grid cells that holds every visible macrocell (UMeshRenderer::refit; lo > hi on
+  // an axis: none): rays walk only its cells. The default is the whole grid.
+  vec3i shown_lo{0, 0, 0}, shown_hi{INT32_MAX, INT32_MAX, INT32_MAX};
 
   VS_HOST_DEVICE float sample(int field, uint32_t, const vec3f& p) const { return mesh.sample(fields[field], p); }
   VS_HOST_DEVICE float sample_near(int field, uint32_t, const vec3f& p) const { return mesh.sample(fields[field], p); }
@@ -40,7 +43,8 @@ struct MeshVolume {
     if (!grid.bounds.contains(p)) return -1;
     return region_of_cell[grid.index(grid.cell_of(p))];
   }
-  // Consecutive visible macrocells of one step width make one interval. A ray enters a macrocell
+  // Consecutive visible macrocells of one step width make one interval, in the walk over the
+  // block of cells that holds them all (a blobs look's rays skip the culled rest of the grid). A ray enters a macrocell
   // every two or three samples, and each interval costs its own set-up; on the lattice that mesh
   // frames march (settings.h, March::lattice) the merged interval has the same samples as its
   // cells, and the widths are on a ladder (MacroCells::step_width), so that neighbours mostly
@@ -49,7 +53,7 @@ struct MeshVolume {
   VS_HOST_DEVICE void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
     RayInterval run{0u, 0.f, 0.f};
     bool open = false;  // run holds cells not yet handed over
-    for_each_cell_along(grid, org, dir, [&](uint64_t cell, float t0, float t1) {
+    for_each_cell_along(grid, shown_lo, shown_hi, org, dir, [&](uint64_t cell, float t0, float t1) {
       const int32_t region = region_of_cell[cell];
       const bool shown = region >= 0 && visible[region];
       if (shown && open && step_widths[region] == step_widths[run.region]) {  // the walk's next cell

@@ -43,6 +43,7 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
     cells_ = mesh ? build_macrocells(*mesh, grid) : build_macrocells(*stored, grid);
   build_seconds_ = watch.seconds();
   visible_.assign(cells_.region_count(), 1);
+  shown_block();
   const UMeshBytes b = bytes();
   // The BVH and adjacency are the dataset's ("mesh") unless built here.
   const uint64_t accel = owned_ ? b.bvh_nodes + b.bvh_items + b.face_neighbors : 0;
@@ -82,11 +83,27 @@ uint64_t UMeshRenderer::refit(const std::vector<uint8_t>& keep, SkipStats* stats
   else
     throw std::invalid_argument("one flag per macrocell expected");
   const uint64_t visible = uint64_t(std::count(visible_.begin(), visible_.end(), uint8_t(1)));
+  shown_block();
   if (stats) {
     stats->refit_seconds = watch.seconds();
     stats->visible = visible;
   }
   return visible;
+}
+
+// The smallest block of grid cells that holds every visible macrocell (none: lo > hi), which rays
+// walk instead of the whole grid (MeshVolume::shown_lo).
+void UMeshRenderer::shown_block() {
+  const vec3i dims = cells_.grid.dims;
+  shown_lo_ = dims, shown_hi_ = vec3i(-1, -1, -1);
+  for (size_t r = 0; r < visible_.size(); ++r) {
+    if (!visible_[r]) continue;
+    const uint64_t c = cells_.cell_of_region[r];
+    const vec3i cell(int(c % uint64_t(dims.x)), int(c / uint64_t(dims.x) % uint64_t(dims.y)),
+                     int(c / (uint64_t(dims.x) * uint64_t(dims.y))));
+    for (int a = 0; a < 3; ++a)
+      shown_lo_[a] = std::min(shown_lo_[a], cell[a]), shown_hi_[a] = std::max(shown_hi_[a], cell[a]);
+  }
 }
 
 const MeshAccel& UMeshRenderer::reference_accel() const {
@@ -122,6 +139,7 @@ FrameView<MeshVolume<Locator>> UMeshRenderer::make_view(const Locator& locator, 
   v.volume.step_widths = cells_.step_width.data();
   v.volume.grid = cells_.grid;
   v.volume.region_of_cell = cells_.region_of_cell.data();
+  v.volume.shown_lo = shown_lo_, v.volume.shown_hi = shown_hi_;
   fill_frame(v, optics, color_tf, fields.second != nullptr, camera, settings, transform_, bounds_);
   // A ray crosses a macrocell every few samples: on a lattice the cells of one width march as one
   // interval (MeshVolume::for_each_interval) and none rounds its step count up (settings.h).

@@ -114,6 +114,7 @@ class UMeshRenderer {
                                            const TfView* color_tf, const Camera& camera,
                                            const FrameSettings& settings) const;
   CompactMeshView compact_view();
+  void shown_block();  // shown_lo_, shown_hi_ from visible_
   const UMesh* mesh_;                 // null for a stored compact mesh
   std::unique_ptr<MeshAccel> owned_;  // when built here
   const MeshAccel* accel_;            // with mesh_
@@ -126,6 +127,7 @@ class UMeshRenderer {
   std::optional<RegionVertices> region_vertices_;  // from the second ranges() call
   CountedBytes region_vertices_counted_;
   std::vector<uint8_t> visible_;  // per macrocell, from classify or refit
+  vec3i shown_lo_, shown_hi_;     // the block of grid cells holding the visible ones (refit)
   // Per element where the mesh has tets (element_bvh.h), built by the first mesh_view().
   mutable TetWalkRecords tet_walk_;
   mutable CountedBytes tet_walk_counted_;

@@ -114,7 +114,7 @@ class UMeshRenderer {
                                            const TfView* color_tf, const Camera& camera,
                                            const FrameSettings& settings) const;
   CompactMeshView compact_view();
-  void shown_block();  // shown_lo_, shown_hi_ from visible_
+  void shown_block();                 // shown_lo_, shown_hi_ from visible_
   const UMesh* mesh_;                 // null for a stored compact mesh
   std::unique_ptr<MeshAccel> owned_;  // when built here
   const MeshAccel* accel_;            // with mesh_

@@ -81,15 +81,14 @@ void fill_frame(FrameView<V>& v, const OpticsView& optics, const TfView* color_t
 template <typename V>
 Image render_view_cpu(FrameView<V> view, FrameStats* stats) {
   Image img(view.width, view.height);
-  std::vector<uint32_t> counts(size_t(view.width) * view.height);
   view.rgba = img.rgba.data();
-  view.sample_counts = counts.data();
+  view.sample_counts = nullptr;  // summed by the launch
   Stopwatch watch;
-  render_frame_cpu(view);
+  const uint64_t samples = render_frame_cpu(view);
   if (stats) {
     stats->device = Device::cpu;
     stats->render_seconds = watch.seconds();
-    stats->samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
+    stats->samples = samples;
   }
   return img;
 }

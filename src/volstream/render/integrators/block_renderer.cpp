@@ -93,27 +93,29 @@ FrameView<BlockVolume> BlockRenderer::view(const TfView* tf, const Camera& camer
 Image BlockRenderer::render(const TfView* tf, const Camera& camera, const BlockFrame& frame, Device device,
                             BlockStats* stats, const TfView* color_tf) const {
   Image img(frame.width, frame.height);
-  std::vector<uint32_t> counts(size_t(frame.width) * frame.height, 0);
   FrameView<BlockVolume> v = view(tf, camera, frame, color_tf);
   v.rgba = img.rgba.data();
-  v.sample_counts = counts.data();
   double upload = 0, render = 0;
+  uint64_t samples = 0;
   if (kd_.blocks.empty()) {
     // nothing to draw: a transparent image
   } else if (device == Device::cuda) {
+    std::vector<uint32_t> counts(size_t(frame.width) * frame.height, 0);
+    v.sample_counts = counts.data();
     const cuda::BlockRenderTimes t = cuda::render_blocks(v, topology_, kd_, vertex_field(0), vertex_field(1));
     upload = t.upload_seconds + t.download_seconds;
     render = t.kernel_seconds;
+    samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
   } else {
     Stopwatch watch;
-    render_frame_cpu(v);
+    samples = render_frame_cpu(v);
     render = watch.seconds();
   }
   if (stats) {
     stats->build_seconds = build_seconds_;
     stats->upload_seconds = upload;
     stats->render_seconds = render;
-    stats->samples = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
+    stats->samples = samples;
   }
   return img;
 }

@@ -498,9 +498,10 @@ VS_HOST_DEVICE inline RayState<V> trace_ray(const FrameView<V>& v, const vec3f& 
 }  // namespace detail
 
 // Renders pixel (x, y) into v.rgba (and v.sample_counts when given) with the frame's optics
-// (v.optics.kind == kOptics): launches pick the instantiation once per frame.
+// (v.optics.kind == kOptics): launches pick the instantiation once per frame. Returns the
+// samples taken (the CPU launch sums them without a per-pixel buffer).
 template <OpticsKind kOptics, typename V>
-VS_HOST_DEVICE inline void render_pixel(const FrameView<V>& v, uint32_t x, uint32_t y) {
+VS_HOST_DEVICE inline uint32_t render_pixel(const FrameView<V>& v, uint32_t x, uint32_t y) {
   const IntegratorSettings& st = v.settings;
   const uint32_t spp = st.spp > 0 ? st.spp : 1u;
   const uint32_t pixel = y * v.width + x;
@@ -530,6 +531,7 @@ VS_HOST_DEVICE inline void render_pixel(const FrameView<V>& v, uint32_t x, uint3
   out[2] = color.z * inv;
   out[3] = alpha * inv;
   if (v.sample_counts) v.sample_counts[pixel] = samples;
+  return samples;
 }
 
 // Calls f with the frame's optics as a template argument: f(std::integral_constant<OpticsKind, K>).

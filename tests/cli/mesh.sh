@@ -107,15 +107,27 @@ grep -q compact_bytes.bin "$WORK/err.txt" || fail "the error does not name the d
 for f in mesh_tet_walk mesh_neighbors mesh_bvh_nodes; do  # info's bytes are the files' sizes
   "$VS" info tets_ref --json | grep -q "\"$f\": $(stat -c %s tets_ref/$f.bin)," || fail "info's bytes of $f.bin"
 done
-cp -r tets_ref tets_old && rm tets_old/mesh_tet_walk.bin
-/usr/bin/python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); del m["tet_walk_records"]; json.dump(m, open(sys.argv[1],"w"))' \
-  tets_old/manifest.json
+# A copy of tets_ref as written before FILE... were stored: without them and their manifest KEY;
+# it must draw tets_ref's picture.
+draws_the_same_without() {  # DIR KEY FILE...
+  local dir="$1" key="$2"
+  shift 2
+  cp -r tets_ref "$dir"
+  for f in "$@"; do rm "$dir/$f"; done
+  /usr/bin/python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); del m[sys.argv[2]]; json.dump(m, open(sys.argv[1],"w"))' \
+    "$dir/manifest.json" "$key"
+  "$VS" render "$dir" -o "$dir.png" --size 64x64 >/dev/null
+  cmp -s stored.png "$dir.png" || fail "without $*: another picture"
+}
+# A copy of tets_ref with FILE cut short by BYTES: one line naming the file.
+refused_when_cut() {  # DIR FILE BYTES WHAT
+  cp -r tets_ref "$1" && truncate -s "-$3" "$1/$2"
+  expect_bad_input "$4" render "$1" -o x.png --size 16x16
+  grep -q "$2" "$WORK/err.txt" || fail "the error does not name $2"
+}
 "$VS" render tets_ref -o stored.png --size 64x64 >/dev/null
-"$VS" render tets_old -o built.png --size 64x64 >/dev/null
-cmp -s stored.png built.png || fail "stored walk records draw another picture"
-cp -r tets_ref walk_short && truncate -s -64 walk_short/mesh_tet_walk.bin
-expect_bad_input "truncated walk records" render walk_short -o x.png --size 16x16
-grep -q mesh_tet_walk.bin "$WORK/err.txt" || fail "the error does not name the walk records"
+draws_the_same_without tets_old tet_walk_records mesh_tet_walk.bin
+refused_when_cut walk_short mesh_tet_walk.bin 64 "truncated walk records"
 cp -r tets_ref walk_bad && printf '\377\377\377\377' | dd of=walk_bad/mesh_tet_walk.bin bs=1 seek=640 conv=notrunc 2>/dev/null
 expect_bad_input "a walk record that is not its element's" render walk_bad -o x.png --size 16x16
 "$VS" probe walk_bad --field density --points pts_tets.txt >/dev/null || fail "probes need no walk records"
@@ -124,14 +136,8 @@ expect_bad_input "a walk record that is not its element's" render walk_bad -o x.
 # a list that misses a corner, or lists cut short, are one line naming the file.
 [ -s tets_ref/mesh_region_vertices.bin ] && [ -s tets_ref/mesh_region_first.bin ] || fail "no region vertex lists stored"
 "$VS" info tets_ref --json | grep -q '"macrocell_vertex_lists"' || fail "info shows no region vertex lists"
-cp -r tets_ref lists_old && rm lists_old/mesh_region_first.bin lists_old/mesh_region_vertices.bin
-/usr/bin/python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); del m["region_vertices"]; json.dump(m, open(sys.argv[1],"w"))' \
-  lists_old/manifest.json
-"$VS" render lists_old -o no_lists.png --size 64x64 >/dev/null
-cmp -s stored.png no_lists.png || fail "the stored region vertex lists draw another picture"
-cp -r tets_ref lists_short && truncate -s -4 lists_short/mesh_region_vertices.bin
-expect_bad_input "truncated region vertex lists" render lists_short -o x.png --size 16x16
-grep -q mesh_region_vertices.bin "$WORK/err.txt" || fail "the error does not name the region vertex lists"
+draws_the_same_without lists_old region_vertices mesh_region_first.bin mesh_region_vertices.bin
+refused_when_cut lists_short mesh_region_vertices.bin 4 "truncated region vertex lists"
 cp -r tets_ref lists_bad && printf '\377\377\377\177' | dd of=lists_bad/mesh_region_vertices.bin bs=1 seek=0 conv=notrunc 2>/dev/null
 expect_bad_input "a region vertex list that is not the mesh's" render lists_bad -o x.png --size 16x16
 echo "mesh CLI ok"

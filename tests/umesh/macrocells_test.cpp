@@ -126,20 +126,26 @@ size_t expect_same_crossings(const MacroGrid& g, const vec3f& org, const vec3f& 
   return expect_same_crossings(g, whole(g), walked(g, org, dir), org, dir);
 }
 
+// Ray i of a test: from anywhere (in the grid too) towards a point of the grid, every fifth
+// parallel to a grid plane; false when its origin is too close to that point to aim.
+bool test_ray(std::mt19937& rng, const MacroGrid& g, int i, vec3f& org, vec3f& dir) {
+  std::uniform_real_distribution<float> u(-3.f, 5.f), inside(0.f, 1.f);
+  org = vec3f(u(rng), u(rng) * 0.5f, 2.f + u(rng) * 0.3f);
+  const vec3f target = g.bounds.lower + g.bounds.size() * vec3f(inside(rng), inside(rng), inside(rng));
+  dir = target - org;
+  if (i % 5 == 0) dir[i % 3] = 0.f;
+  if (length(dir) < 1e-3f) return false;
+  dir = normalize(dir);
+  return true;
+}
+
 TEST(MacroGridWalk, EqualsEveryCellTestedFromOutsideAndInside) {
   const MacroGrid g = test_grid();
   std::mt19937 rng(7);
-  std::uniform_real_distribution<float> u(-3.f, 5.f), inside(0.f, 1.f);
   size_t crossed = 0;
-  for (int i = 0; i < 2000; ++i) {
-    // From anywhere (in the grid too) towards a point of the grid, some parallel to a grid plane.
-    const vec3f org(u(rng), u(rng) * 0.5f, 2.f + u(rng) * 0.3f);
-    const vec3f target = g.bounds.lower + g.bounds.size() * vec3f(inside(rng), inside(rng), inside(rng));
-    vec3f dir = target - org;
-    if (i % 5 == 0) dir[i % 3] = 0.f;
-    if (length(dir) < 1e-3f) continue;
-    crossed += expect_same_crossings(g, org, normalize(dir));
-  }
+  vec3f org, dir;
+  for (int i = 0; i < 2000; ++i)
+    if (test_ray(rng, g, i, org, dir)) crossed += expect_same_crossings(g, org, dir);
   EXPECT_GT(crossed, 2000u) << "too few rays meet the grid to test the walk";
 }
 
@@ -148,8 +154,8 @@ TEST(MacroGridWalk, EqualsEveryCellTestedFromOutsideAndInside) {
 TEST(MacroGridWalk, OverABlockEqualsTheBlocksCellsTested) {
   const MacroGrid g = test_grid();
   std::mt19937 rng(11);
-  std::uniform_real_distribution<float> u(-3.f, 5.f), inside(0.f, 1.f);
   size_t crossed = 0;
+  vec3f org, dir;
   for (int i = 0; i < 2000; ++i) {
     CellBlock b;
     for (int a = 0; a < 3; ++a) {
@@ -157,13 +163,7 @@ TEST(MacroGridWalk, OverABlockEqualsTheBlocksCellsTested) {
       const int p = cell(rng), q = cell(rng);
       b.lo[a] = std::min(p, q), b.hi[a] = std::max(p, q);
     }
-    const vec3f org(u(rng), u(rng) * 0.5f, 2.f + u(rng) * 0.3f);
-    const vec3f target = g.bounds.lower + g.bounds.size() * vec3f(inside(rng), inside(rng), inside(rng));
-    vec3f dir = target - org;
-    if (i % 5 == 0) dir[i % 3] = 0.f;
-    if (length(dir) < 1e-3f) continue;
-    dir = normalize(dir);
-    crossed += expect_same_crossings(g, b, walked(g, b, org, dir), org, dir);
+    if (test_ray(rng, g, i, org, dir)) crossed += expect_same_crossings(g, b, walked(g, b, org, dir), org, dir);
   }
   EXPECT_GT(crossed, 1000u) << "too few rays meet the blocks to test the walk";
   const CellBlock none{{2, 0, 0}, {1, 3, 2}};

@@ -199,10 +199,10 @@ std::vector<Range> macrocell_ranges(const UMesh& mesh, const MacroCells& cells, 
 std::vector<Range> macrocell_ranges(const CompactMesh& mesh, const MacroCells& cells, const float* local_values);
 
 // Per region, the vertices (value indices) of the elements overlapping it, ascending and without
-// repeats: ranges from these read each of a region's values once (about 5.5 per vertex of a 1 M-tet
+// repeats: ranges from these read each of a region's values once (about 5 per vertex of a 1 M-tet
 // mesh), where the pass above reads every element's corners and box and merges with atomics per
-// region (151 M instructions on 1 M tets, 20-25 ms of a render command on two cores). Built once
-// per mesh, at the cost of 5 to 6 such passes: convert stores the reference encoding's
+// region (151 M instructions on 1 M tets, 14-25 ms of a render command on two cores). Built
+// once per mesh, at the cost of 5 to 6 such passes: convert stores the reference encoding's
 // (mesh_region_first.bin, mesh_region_vertices.bin), so that a render maps them; a time series
 // builds them at its second step where they are not stored (bench/RESULTS.md).
 struct RegionVertices {

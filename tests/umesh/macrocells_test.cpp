@@ -87,12 +87,12 @@ std::vector<Crossing> walked(const MacroGrid& g, const CellBlock& b, const vec3f
 }
 
 // Cells of the block whose box the ray crosses over a positive length after t = 0, by entry.
-std::vector<Crossing> brute_force(const MacroGrid& g, const CellBlock& b, const vec3f& org, const vec3f& dir) {
+std::vector<Crossing> brute_force(const MacroGrid& g, const CellBlock& block, const vec3f& org, const vec3f& dir) {
   const SlabRay ray(org, dir);
   std::vector<Crossing> out;
-  for (int z = b.lo.z; z <= b.hi.z; ++z)
-    for (int y = b.lo.y; y <= b.hi.y; ++y)
-      for (int x = b.lo.x; x <= b.hi.x; ++x) {
+  for (int z = block.lo.z; z <= block.hi.z; ++z)
+    for (int y = block.lo.y; y <= block.hi.y; ++y)
+      for (int x = block.lo.x; x <= block.hi.x; ++x) {
         float t0, t1;
         ray_box(ray, g.cell_box({x, y, z}), t0, t1);
         t0 = std::max(t0, 0.f);
@@ -103,9 +103,9 @@ std::vector<Crossing> brute_force(const MacroGrid& g, const CellBlock& b, const 
 }
 
 // Returns how many cells of the block the ray crosses.
-size_t expect_same_crossings(const MacroGrid& g, const CellBlock& b, const std::vector<Crossing>& walk,
+size_t expect_same_crossings(const MacroGrid& g, const CellBlock& block, const std::vector<Crossing>& walk,
                              const vec3f& org, const vec3f& dir) {
-  const std::vector<Crossing> expected = brute_force(g, b, org, dir);
+  const std::vector<Crossing> expected = brute_force(g, block, org, dir);
   // The walk may add cells it only touches (zero length); it must hold every crossed one, once.
   std::vector<Crossing> long_ones;
   for (size_t i = 0; i < walk.size(); ++i) {

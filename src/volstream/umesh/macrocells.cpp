@@ -113,11 +113,7 @@ bool box_touches(const MacroGrid& grid, const box3f& box, const std::vector<uint
   return hit != 0;
 }
 
-box3f MacroCells::box(size_t region) const {
-  const uint64_t c = cell_of_region[region], row = uint64_t(grid.dims.x);
-  const uint64_t plane = row * uint64_t(grid.dims.y);
-  return grid.cell_box({int(c % row), int(c / row % uint64_t(grid.dims.y)), int(c / plane)});
-}
+box3f MacroCells::box(size_t region) const { return grid.cell_box(grid.cell_at(cell_of_region[region])); }
 
 // A step width rounded down to the ladder of eighth octaves (at most 9% finer than asked):
 // neighbouring macrocells of about one element size get exactly one width, and a ray marches a

@@ -72,6 +72,11 @@ struct MacroGrid {
   VS_HOST_DEVICE uint64_t index(const vec3i& c) const {
     return (uint64_t(c.z) * uint64_t(dims.y) + uint64_t(c.y)) * uint64_t(dims.x) + uint64_t(c.x);
   }
+  // The cell of grid index i (index's inverse).
+  VS_HOST_DEVICE vec3i cell_at(uint64_t i) const {
+    const uint64_t row = uint64_t(dims.x), plane = row * uint64_t(dims.y);
+    return {int(i % row), int(i / row % uint64_t(dims.y)), int(i / plane)};
+  }
   uint64_t cell_count() const { return uint64_t(dims.x) * uint64_t(dims.y) * uint64_t(dims.z); }
   // Axis a's faces of the cells in layer k; the last layer ends exactly on the bounds (no
   // rounding gap at the far faces).

@@ -51,11 +51,10 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
 }
 
 std::vector<Range> UMeshRenderer::ranges(const float* values) {
-  if (ranges_calls_ < 2 && ++ranges_calls_ == 2) {  // counts to 2 only: a series may run for ever
-    region_vertices_ = mesh_ ? region_vertices(*mesh_, cells_) : region_vertices(*stored_, cells_);
-    if (region_vertices_)
-      region_vertices_counted_ =
-          CountedBytes("mesh region vertices", MemorySpace::host, int64_t(region_vertices_->bytes()));
+  // Counts to 2 only (a series may run for ever); never where the lists were given.
+  if (!region_vertices_ && ranges_calls_ < 2 && ++ranges_calls_ == 2) {
+    std::optional<RegionVertices> built = mesh_ ? region_vertices(*mesh_, cells_) : region_vertices(*stored_, cells_);
+    if (built) keep_region_vertices(std::move(*built));
   }
   if (region_vertices_) return macrocell_ranges(*region_vertices_, values);
   return mesh_ ? macrocell_ranges(*mesh_, cells_, values) : macrocell_ranges(*stored_, cells_, values);
@@ -64,9 +63,12 @@ std::vector<Range> UMeshRenderer::ranges(const float* values) {
 void UMeshRenderer::take_region_vertices(const RegionVertices& lists) {
   if (lists.first.size() != cells_.region_count() + 1)
     throw std::logic_error("UMeshRenderer::take_region_vertices: lists of other macrocells");
-  region_vertices_ = lists;
+  keep_region_vertices(lists);
+}
+
+void UMeshRenderer::keep_region_vertices(RegionVertices lists) {
   region_vertices_counted_ = CountedBytes("mesh region vertices", MemorySpace::host, int64_t(lists.bytes()));
-  ranges_calls_ = 2;  // nothing left to build
+  region_vertices_ = std::move(lists);
 }
 
 uint64_t UMeshRenderer::classify(const std::vector<Range>& ranges, const TransferTable& tf,
@@ -94,13 +96,10 @@ uint64_t UMeshRenderer::refit(const std::vector<uint8_t>& keep, SkipStats* stats
 // The smallest block of grid cells that holds every visible macrocell (none: lo > hi), which rays
 // walk instead of the whole grid (MeshVolume::shown_lo).
 void UMeshRenderer::shown_block() {
-  const vec3i dims = cells_.grid.dims;
-  shown_lo_ = dims, shown_hi_ = vec3i(-1, -1, -1);
+  shown_lo_ = cells_.grid.dims, shown_hi_ = vec3i(-1, -1, -1);
   for (size_t r = 0; r < visible_.size(); ++r) {
     if (!visible_[r]) continue;
-    const uint64_t c = cells_.cell_of_region[r];
-    const vec3i cell(int(c % uint64_t(dims.x)), int(c / uint64_t(dims.x) % uint64_t(dims.y)),
-                     int(c / (uint64_t(dims.x) * uint64_t(dims.y))));
+    const vec3i cell = cells_.grid.cell_at(cells_.cell_of_region[r]);
     for (int a = 0; a < 3; ++a)
       shown_lo_[a] = std::min(shown_lo_[a], cell[a]), shown_hi_[a] = std::max(shown_hi_[a], cell[a]);
   }

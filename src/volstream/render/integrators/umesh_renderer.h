@@ -114,11 +114,12 @@ class UMeshRenderer {
                                            const TfView* color_tf, const Camera& camera,
                                            const FrameSettings& settings) const;
   CompactMeshView compact_view();
-  void shown_block();                 // shown_lo_, shown_hi_ from visible_
-  const UMesh* mesh_;                 // null for a stored compact mesh
-  std::unique_ptr<MeshAccel> owned_;  // when built here
-  const MeshAccel* accel_;            // with mesh_
-  const CompactMesh* stored_;         // a stored compact mesh
+  void shown_block();                               // shown_lo_, shown_hi_ from visible_
+  void keep_region_vertices(RegionVertices lists);  // and counts their bytes
+  const UMesh* mesh_;                               // null for a stored compact mesh
+  std::unique_ptr<MeshAccel> owned_;                // when built here
+  const MeshAccel* accel_;                          // with mesh_
+  const CompactMesh* stored_;                       // a stored compact mesh
   WorldTransform transform_;
   Box3<double> bounds_;  // world box of the vertices (the default reference step), once per mesh
   double build_seconds_ = 0;

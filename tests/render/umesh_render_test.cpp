@@ -114,6 +114,64 @@ TEST(MeshRender, WalkRecordsOnlyForTheCpu) {
   EXPECT_EQ(walk_record_bytes(), before + int64_t(mesh.elements.size() * sizeof(TetWalkRecord)));
 }
 
+// A ray's first sample walks from its macrocell's start element (MeshVolume::walk_starts), not
+// from the BVH's root: the same image as without starts (to float rounding), and each start found is the
+// element holding its cell's centre (every element tested), or none where no element does.
+TEST(MeshRender, WalkStartsChangeNoPixelAndHoldTheirCellsCentre) {
+  for (const std::string demo : {"tets", "holes", "mixed"}) {
+    SCOPED_TRACE(demo);
+    const MeshData data = make_mesh_demo({demo, 3000, 1}, 0);
+    const WorldTransform transform = mesh_transform(data);
+    const UMesh mesh = make_umesh(data, transform, demo);
+    const std::vector<float> values = mesh_field_values(data, mesh_fields(data)[0]);
+    UMeshRenderer renderer(mesh, transform);
+    TransferTable tf([] {
+      TransferFunctionSpec s;
+      s.lo = 0.02f, s.hi = 1.1f;
+      s.colors = {{0.f, 0.1f, 0.2f, 0.9f}, {1.f, 1.f, 0.8f, 0.1f}};
+      s.opacity = {{0.f, 0.05f}, {1.f, 0.6f}};
+      return s;
+    }());
+    renderer.classify(renderer.ranges(values.data()), tf, IntegratorSettings{}, true);
+    FrameSettings fs;
+    fs.width = fs.height = 24;
+    OpticsView optics;
+    optics.tf = tf.view();
+    const Camera camera = default_camera(world_bounds(mesh, transform), 1.0);
+    FrameView<UMeshVolume> view = renderer.view({values.data(), nullptr}, optics, nullptr, camera, fs);
+    EXPECT_EQ(renderer.view({values.data(), nullptr}, optics, nullptr, camera, fs, Device::cuda).volume.walk_starts,
+              nullptr);
+    ASSERT_NE(view.volume.walk_starts, nullptr);
+    const Image started = render_view_cpu(view, nullptr);
+    const uint32_t* starts = view.volume.walk_starts;
+    view.volume.walk_starts = nullptr;
+    const Image from_root = render_view_cpu(view, nullptr);
+    // The same elements; a tet's weights from its walk record or from a fresh solve round apart.
+    double worst = 0, alpha = 0;
+    for (size_t i = 0; i < started.rgba.size(); ++i)
+      worst = std::max(worst, double(std::fabs(started.rgba[i] - from_root.rgba[i])));
+    for (size_t i = 3; i < started.rgba.size(); i += 4) alpha += started.rgba[i];
+    EXPECT_GT(alpha / double(fs.width * fs.height), 0.005);  // something drawn
+    EXPECT_LT(worst, 1e-6);
+
+    size_t found = 0;
+    for (size_t r = 0; r < renderer.region_count(); ++r) {
+      if (starts[r] == UMeshVolume::kWalkStartUnknown) continue;
+      const box3f box = renderer.macrocells().box(r);
+      const vec3f centre = (box.lower + box.upper) * 0.5f;
+      float w[8], outside = INFINITY;
+      if (starts[r] != UMeshVolume::kNoWalkStart) {
+        ++found;
+        EXPECT_TRUE(view.volume.mesh.in_element(starts[r], centre, w, &outside)) << "macrocell " << r;
+        continue;
+      }
+      for (uint32_t e = 0; e < mesh.elements.size(); ++e)
+        EXPECT_FALSE(view.volume.mesh.in_element(e, centre, w, &outside)) << "macrocell " << r << ", element " << e;
+    }
+    EXPECT_GT(found, 0u);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Meshes, MeshRenderTest,
                          ::testing::Values(Case{"holes", false}, Case{"holes", true}, Case{"mixed", false},
                                            Case{"mixed", true}),

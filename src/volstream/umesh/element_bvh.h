@@ -147,6 +147,7 @@ struct UMeshView {
     for (; step < kMaxWalk; ++step) {
       if (tet_walk && tet_walk[e].is_tet()) {
         if (record_step(e, p, hit.w)) {
+          prefetch_neighbor_records(tet_walk[e]);
           hit.element = e;
           hint.element = e;
           hint.solve.n = 0;  // the record is the kept solve
@@ -174,15 +175,12 @@ struct UMeshView {
   }
 
   // One step of a walk through tet e's record: true when p lies strictly in e (w[0..4) its
-  // weights, the neighbours' records fetched); else e becomes the neighbour across the face p
-  // lies beyond most (kNoNeighborIndex: none).
+  // weights); else e becomes the neighbour across the face p lies beyond most (kNoNeighborIndex:
+  // none). Where p is found, the caller fetches the neighbours' records.
   VS_HOST_DEVICE bool record_step(uint32_t& e, const vec3f& p, float* w) const {
     const TetWalkRecord& t = tet_walk[e];
     int face = -1;
-    if (tet_record_weights(t, p, w, face)) {
-      prefetch_neighbor_records(t);
-      return true;
-    }
+    if (tet_record_weights(t, p, w, face)) return true;
     e = t.neighbor[face];
     return false;
   }
@@ -192,13 +190,16 @@ struct UMeshView {
   // the tet's four corners, without the hit record and the general walk around them (12% of a
   // tet render's instructions). False where the general path must decide; the hint then holds
   // the last element reached, where that walk goes on.
-  VS_HOST_DEVICE bool sample_through_tets(const float* values, const vec3f& p, Hint& hint, float& f) const {
+  VS_FORCE_INLINE VS_HOST_DEVICE bool sample_through_tets(const float* values, const vec3f& p, Hint& hint,
+                                                          float& f) const {
     if (!tet_walk || hint.element < 0 || hint.solve.n > 0) return false;
     uint32_t e = uint32_t(hint.element);
     for (int step = 0; step < kMaxWalk && tet_walk[e].is_tet(); ++step) {
       float w[4];
       const uint32_t from = e;
       if (record_step(e, p, w)) {
+        // A tet the ray stays in had its neighbours fetched when the ray entered it.
+        if (step > 0) prefetch_neighbor_records(tet_walk[e]);
         hint.element = e;
         const uint32_t* v = elements[e].v;
         f = w[0] * values[v[0]] + w[1] * values[v[1]] + w[2] * values[v[2]] + w[3] * values[v[3]];
@@ -265,9 +266,14 @@ struct UMeshView {
     Hint no_hint;
     return sample(values, p, no_hint);
   }
-  VS_HOST_DEVICE float sample(const float* values, const vec3f& p, Hint& hint) const {
+  // The walk through tets inlined into the integrator's sample loop; the general path is a call.
+  VS_FORCE_INLINE VS_HOST_DEVICE float sample(const float* values, const vec3f& p, Hint& hint) const {
     float f = 0.f;
     if (sample_through_tets(values, p, hint, f)) return f;
+    return sample_located(values, p, hint);
+  }
+  VS_HOST_DEVICE float sample_located(const float* values, const vec3f& p, Hint& hint) const {
+    float f = 0.f;
     const ElementHit hit = locate(p, hint);
     if (hit.element < 0) return NAN;
     const UElement& el = elements[hit.element];

@@ -72,6 +72,7 @@ struct Ray {
   vec3f org_w, dir_w;  // world
   vec3f org, dir;      // grid units, same parameter t
   float dir_len;       // |dir| in grid units per unit t
+  bool clipped;        // the frame owns only a box of space (FrameView::owned): samples are tested
   VS_HOST_DEVICE vec3f at(float t) const { return org + dir * t; }
 };
 
@@ -80,6 +81,18 @@ VS_HOST_DEVICE inline bool owns(const FrameView<V>& v, const vec3f& p) {
   const box3f& b = v.owned;
   return p.x >= b.lower.x && p.x < b.upper.x && p.y >= b.lower.y && p.y < b.upper.y && p.z >= b.lower.z &&
          p.z < b.upper.z;
+}
+// Whether the frame owns all of space (the default): then no sample needs the test above.
+template <typename V>
+VS_HOST_DEVICE inline bool owns_everything(const FrameView<V>& v) {
+  const box3f& b = v.owned;
+  return b.lower.x == -INFINITY && b.lower.y == -INFINITY && b.lower.z == -INFINITY && b.upper.x == INFINITY &&
+         b.upper.y == INFINITY && b.upper.z == INFINITY;
+}
+// owns(v, ray.at(t)), tested only on a clipped frame's rays (once per ray, not per sample).
+template <typename V>
+VS_HOST_DEVICE inline bool owns(const FrameView<V>& v, const Ray& ray, float t) {
+  return !ray.clipped || owns(v, ray.at(t));
 }
 // Headlight Blinn-Phong, two-sided: the light sits at the eye, so the half vector is the view
 // direction and only |n . view| matters.
@@ -132,7 +145,8 @@ VS_HOST_DEVICE inline bool finished(const FrameView<V>& v, const RayState<V>& s)
 
 // A volume's reconstruction at p, with the ray's hint where the volume takes one.
 template <typename V>
-VS_HOST_DEVICE inline float sample(const V& volume, int field, uint32_t region, const vec3f& p, RayState<V>& s) {
+VS_FORCE_INLINE VS_HOST_DEVICE float sample(const V& volume, int field, uint32_t region, const vec3f& p,
+                                            RayState<V>& s) {
   if constexpr (requires { volume.sample(field, region, p, s.hint); })
     return volume.sample(field, region, p, s.hint);
   else
@@ -258,7 +272,7 @@ VS_HOST_DEVICE inline void take_sample(const FrameView<V>& v, const Ray& ray, ui
   if (iso && s.prev.valid) isosurfaces(v, ray, {s.prev.t, s.prev.f, t, f, s.prev.end, s.prev.region, region}, s);
   // Without isosurfaces the march stops at opacity before this sample; with them, a surface
   // just composited may have made the ray opaque.
-  if ((!iso || !finished(v, s)) && owns(v, ray.at(t))) {
+  if ((!iso || !finished(v, s)) && owns(v, ray, t)) {
     if constexpr (kOptics == OpticsKind::blackbody) {
       const float temperature = sample(v.volume, 1, region, ray.at(t), s);
       ++s.samples;
@@ -285,7 +299,7 @@ struct Steps {
   March march;
   float first;  // lattice: the index of the interval's first lattice point
   // Sample k: its distance and the length of its step in reference steps.
-  VS_HOST_DEVICE void at(uint32_t k, float jitter, float& t, float& len_ref) const {
+  VS_FORCE_INLINE VS_HOST_DEVICE void at(uint32_t k, float jitter, float& t, float& len_ref) const {
     if (march != March::fixed_midpoint) {
       // Lattice: first + k is an exact integer, so a lattice point is the same float in every
       // interval that holds it.
@@ -386,7 +400,7 @@ inline bool take_queued(const FrameView<V>& v, const Ray& ray, SampleQueue& q, R
   q.n = 0;
   for (uint32_t i = 0; i < n; ++i) {
     ++s.samples;
-    if (is_nan(f[i]) || !(c.a[i] > 0.f) || !owns(v, ray.at(q.t[i]))) continue;
+    if (is_nan(f[i]) || !(c.a[i] > 0.f) || !owns(v, ray, q.t[i])) continue;
     s.acc.blend_gray(c.r[i], c.g[i], c.b[i], c.alpha[i]);
     if (finished(v, s)) return false;
   }
@@ -475,6 +489,7 @@ VS_HOST_DEVICE inline RayState<V> trace_ray(const FrameView<V>& v, const vec3f& 
   ray.org = (org_w - v.grid.origin) * v.grid.inv_cell_size;
   ray.dir = dir_w * v.grid.inv_cell_size;
   ray.dir_len = length(ray.dir);
+  ray.clipped = !owns_everything(v);
   RayState<V> s;
 #if !defined(__CUDA_ARCH__)
   if constexpr (kOptics == OpticsKind::tf && SamplesAcrossRegions<V>) {

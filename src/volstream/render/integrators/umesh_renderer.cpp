@@ -43,6 +43,7 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
     cells_ = mesh ? build_macrocells(*mesh, grid) : build_macrocells(*stored, grid);
   build_seconds_ = watch.seconds();
   visible_.assign(cells_.region_count(), 1);
+  walk_starts_.assign(cells_.region_count(), UMeshVolume::kWalkStartUnknown);
   shown_block();
   const UMeshBytes b = bytes();
   // The BVH and adjacency are the dataset's ("mesh") unless built here.
@@ -148,7 +149,9 @@ FrameView<MeshVolume<Locator>> UMeshRenderer::make_view(const Locator& locator, 
 
 FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
                                            const Camera& camera, const FrameSettings& settings, Device device) const {
-  return make_view(mesh_view(device), fields, optics, color_tf, camera, settings);
+  FrameView<UMeshVolume> v = make_view(mesh_view(device), fields, optics, color_tf, camera, settings);
+  if (device == Device::cpu) v.volume.walk_starts = walk_starts_.data();
+  return v;
 }
 
 const CompactMesh& UMeshRenderer::compact() {
@@ -210,7 +213,7 @@ UMeshBytes UMeshRenderer::bytes() const {
     b.compact.field = 0;
   }
   // With what a frame keeps per macrocell: one field's value range and the visible flag.
-  b.macrocells = cells_.bytes() + cells_.region_count() * (sizeof(Range) + sizeof(uint8_t));
+  b.macrocells = cells_.bytes() + cells_.region_count() * (sizeof(Range) + sizeof(uint8_t) + sizeof(uint32_t));
   if (region_vertices_) b.region_lists = region_vertices_->bytes();
   return b;
 }

@@ -129,6 +129,9 @@ class UMeshRenderer {
   CountedBytes region_vertices_counted_;
   std::vector<uint8_t> visible_;  // per macrocell, from classify or refit
   vec3i shown_lo_, shown_hi_;     // the block of grid cells holding the visible ones (refit)
+  // Per macrocell, where a ray's first sample walks from (MeshVolume::walk_starts): CPU frames
+  // of the reference encoding fill it as rays need it, kept for the mesh's later frames.
+  mutable std::vector<uint32_t> walk_starts_;
   // Per element where the mesh has tets (element_bvh.h), built by the first mesh_view().
   mutable TetWalkRecords tet_walk_;
   mutable CountedBytes tet_walk_counted_;

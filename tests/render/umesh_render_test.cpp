@@ -115,8 +115,9 @@ TEST(MeshRender, WalkRecordsOnlyForTheCpu) {
 }
 
 // A ray's first sample walks from its macrocell's start element (MeshVolume::walk_starts), not
-// from the BVH's root: the same image as without starts (to float rounding), and each start found is the
-// element holding its cell's centre (every element tested), or none where no element does.
+// from the BVH's root: the same image as without starts (to float rounding), and each start
+// found is the element holding its cell's centre (every element tested), or none where no
+// element does. A CUDA frame's view has none.
 TEST(MeshRender, WalkStartsChangeNoPixelAndHoldTheirCellsCentre) {
   for (const std::string demo : {"tets", "holes", "mixed"}) {
     SCOPED_TRACE(demo);

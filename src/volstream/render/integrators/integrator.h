@@ -69,10 +69,10 @@ VS_HOST_DEVICE inline float fract(float x) { return x - floorf(x); }
 VS_HOST_DEVICE inline bool is_nan(float x) { return x != x; }  // no <cmath> overload puzzles on host/device
 
 struct Ray {
-  vec3f org_w, dir_w;  // world
-  vec3f org, dir;      // grid units, same parameter t
-  float dir_len;       // |dir| in grid units per unit t
-  bool clipped;        // the frame owns only a box of space (FrameView::owned): samples are tested
+  vec3f org_w, dir_w;    // world
+  vec3f org, dir;        // grid units, same parameter t
+  float dir_len;         // |dir| in grid units per unit t
+  bool clipped = false;  // the frame owns only a box of space (FrameView::owned): samples are tested
   VS_HOST_DEVICE vec3f at(float t) const { return org + dir * t; }
 };
 

@@ -73,7 +73,7 @@ class UMeshRenderer {
   // Keeps the macrocells with keep[i] != 0 (empty: all); returns the visible ones.
   uint64_t refit(const std::vector<uint8_t>& keep, SkipStats* stats = nullptr);
 
-  // For `device`'s kernel: a CUDA frame's view has no walk records (mesh_view).
+  // For `device`'s kernel: a CUDA frame's view has no walk records (mesh_view) and no walk starts.
   FrameView<UMeshVolume> view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
                               const Camera& camera, const FrameSettings& settings, Device device = Device::cpu) const;
   Image render(const FrameView<UMeshVolume>& view, FrameStats* stats = nullptr) const {

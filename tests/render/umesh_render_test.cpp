@@ -158,8 +158,7 @@ TEST(MeshRender, WalkStartsChangeNoPixelAndHoldTheirCellsCentre) {
     size_t found = 0;
     for (size_t r = 0; r < renderer.region_count(); ++r) {
       if (starts[r] == UMeshVolume::kWalkStartUnknown) continue;
-      const box3f box = renderer.macrocells().box(r);
-      const vec3f centre = (box.lower + box.upper) * 0.5f;
+      const vec3f centre = renderer.macrocells().box(r).center();
       float w[8], outside = INFINITY;
       if (starts[r] != UMeshVolume::kNoWalkStart) {
         ++found;

@@ -56,15 +56,13 @@ struct MeshVolume {
   // thread found it. From there the walk ends in an element that holds p strictly, or the BVH
   // search decides as it did from the root.
   __attribute__((noinline)) void start_walk(const vec3f& p, Hint& hint) const {  // once a ray: out of line
-    if (!grid.bounds.contains(p)) return;
-    const vec3i cell = grid.cell_of(p);
-    const int32_t region = region_of_cell[grid.index(cell)];
+    vec3i cell;
+    const int64_t region = locate(p, cell);
     if (region < 0) return;
     uint32_t* slot = walk_starts + region;
     uint32_t start = __atomic_load_n(slot, __ATOMIC_RELAXED);
     if (start == kWalkStartUnknown) {  // threads that race here find the same element
-      const box3f box = grid.cell_box(cell);
-      const int64_t e = mesh.locate((box.lower + box.upper) * 0.5f).element;
+      const int64_t e = mesh.locate(grid.cell_box(cell).center()).element;
       start = e >= 0 ? uint32_t(e) : kNoWalkStart;
       __atomic_store_n(slot, start, __ATOMIC_RELAXED);
     }
@@ -73,8 +71,14 @@ struct MeshVolume {
 #endif
   VS_HOST_DEVICE float step_width(uint32_t region) const { return step_widths[region]; }
   VS_HOST_DEVICE int64_t locate(const vec3f& p) const {
+    vec3i cell;
+    return locate(p, cell);
+  }
+  // The same, and p's grid cell where p is inside the grid.
+  VS_HOST_DEVICE int64_t locate(const vec3f& p, vec3i& cell) const {
     if (!grid.bounds.contains(p)) return -1;
-    return region_of_cell[grid.index(grid.cell_of(p))];
+    cell = grid.cell_of(p);
+    return region_of_cell[grid.index(cell)];
   }
   // Consecutive visible macrocells of one step width make one interval, in the walk over the
   // block of cells that holds them all (a blobs look's rays skip the culled rest of the grid). A ray enters a macrocell

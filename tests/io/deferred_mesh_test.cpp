@@ -226,6 +226,25 @@ TEST(DeferredMesh, WholeLoadRefusesStoredMacrocellsThatAreNotTheMeshs) {
     if (whole.macrocells()->cell_of_region.back() != grid.cell_count() - 1) {
       EXPECT_NE(line.find("not the mesh's"), std::string::npos) << line;
     }
+    if (encoding == MeshEncoding::reference) {  // a subcell some element's box overlaps, cleared
+      line = test::input_error_line([&] {
+        Dataset ds(test::damaged_copy(holes_dir(encoding), name + "subcells", "mesh_subcells.bin", [](auto& b) {
+          for (size_t i = 0; i < b.size(); ++i)
+            if (b[i] != 0) {
+              b[i] = 0;
+              return;
+            }
+        }));
+      });
+      EXPECT_NE(line.find("mesh_subcells.bin"), std::string::npos) << line;
+      EXPECT_NE(line.find("subcell masks are not the mesh's"), std::string::npos) << line;
+      line = test::input_error_line([&] {
+        Dataset ds(test::damaged_copy(holes_dir(encoding), name + "subcells_truncated", "mesh_subcells.bin",
+                                      [](auto& b) { b.resize(b.size() - 8); }));
+      });
+      EXPECT_NE(line.find("mesh_subcells.bin"), std::string::npos) << line;
+      EXPECT_EQ(whole.macrocells()->occupied.size(), whole.macrocells()->region_count());
+    }
     const fs::path width = test::damaged_copy(holes_dir(encoding), name + "width", "mesh_macrocells.bin",
                                               [](auto& b) { patch<float>(b, sizeof(MacroGrid) + 4, 0.f); });
     const Dataset damaged(width);

@@ -356,6 +356,65 @@ TEST_P(MacrocellRangesTest, EveryStepOfASeriesGetsItsOwnRanges) {
   }
 }
 
+// Each macrocell's subcell mask against the brute force over every element's corner box: a
+// subcell is marked exactly where some box's corners' subcells enclose it. And the point test:
+// no point it rules out lies in any element's box (every box tested), and it rules out some of
+// the points that no box holds where the mesh leaves part of its macrocells empty.
+TEST_P(MacrocellRangesTest, SubcellMasksAreTheElementBoxesOverlaps) {
+  const UMesh mesh = demo_umesh(GetParam(), 4000);
+  const MacroCells cells = build_macrocells(mesh);
+  ASSERT_EQ(cells.occupied.size(), cells.region_count());
+  const MacroGrid& g = cells.grid;
+  constexpr int n = MacroGrid::kSubcells;
+  std::vector<box3f> boxes;
+  for (const UElement& e : mesh.elements) {
+    box3f b = box3f::make_empty();
+    for (int i = 0; i < e.vertex_count(); ++i) b.extend(mesh.vertices[e.v[i]]);
+    boxes.push_back(b);
+  }
+  for (size_t r = 0; r < cells.region_count(); ++r) {
+    const vec3i cell = g.cell_at(cells.cell_of_region[r]);
+    SubcellMask want;
+    for (const box3f& b : boxes) {
+      const vec3i lo = g.subcell_of(b.lower), hi = g.subcell_of(b.upper);
+      for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+          for (int x = 0; x < n; ++x) {
+            const vec3i s{cell.x * n + x, cell.y * n + y, cell.z * n + z};
+            if (lo.x <= s.x && s.x <= hi.x && lo.y <= s.y && s.y <= hi.y && lo.z <= s.z && s.z <= hi.z)
+              want.layer[z] |= 1ull << (x + n * y);
+          }
+    }
+    EXPECT_TRUE(want == cells.occupied[r]) << "macrocell " << r;
+  }
+  const SubcellOccupancy occupancy{g, cells.region_of_cell.data(), cells.occupied.data()};
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> unit(-0.05f, 1.05f);
+  const vec3f size = g.bounds.size();
+  size_t outside_boxes = 0, ruled_out = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const vec3f p = g.bounds.lower + vec3f(unit(rng) * size.x, unit(rng) * size.y, unit(rng) * size.z);
+    const bool in_a_box = std::any_of(boxes.begin(), boxes.end(), [&](const box3f& b) { return b.contains(p); });
+    const bool out = occupancy.rules_out(p);
+    if (out) {
+      EXPECT_FALSE(in_a_box) << p.x << " " << p.y << " " << p.z;
+    }
+    outside_boxes += !in_a_box;
+    ruled_out += out;
+  }
+  if (GetParam() != std::string("tets")) {
+    EXPECT_GT(ruled_out, outside_boxes / 4);
+  }
+  // Subcells nest in cells: the cell of p's subcell is p's cell.
+  for (int i = 0; i < 2000; ++i) {
+    const vec3f p = g.bounds.lower + vec3f(unit(rng) * size.x, unit(rng) * size.y, unit(rng) * size.z);
+    const vec3i s = g.subcell_of(p), c = g.cell_of(p);
+    EXPECT_EQ(s.x / n, c.x);
+    EXPECT_EQ(s.y / n, c.y);
+    EXPECT_EQ(s.z / n, c.z);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Demos, MacrocellRangesTest, ::testing::Values("tets", "mixed", "holes"));
 
 TEST(StepWidthLadder, RoundsDownToEighthOctaves) {

@@ -99,6 +99,7 @@ json manifest_to_json(const DatasetManifest& m) {
       j["bvh_node_count"] = m.mesh.bvh_nodes;
       if (m.mesh.tet_walk_records) j["tet_walk_records"] = m.mesh.tet_walk_records;
       if (m.mesh.region_vertices) j["region_vertices"] = m.mesh.region_vertices;
+      if (m.mesh.subcell_masks) j["subcell_masks"] = m.mesh.subcell_masks;
     }
   } else {
     j["kind"] = "amr";
@@ -156,6 +157,7 @@ DatasetManifest manifest_from_json(const json& j) {
       m.mesh.bvh_nodes = j.at("bvh_node_count").get<uint64_t>();
       m.mesh.tet_walk_records = j.value("tet_walk_records", uint64_t(0));  // absent before 2026-11-27
       m.mesh.region_vertices = j.value("region_vertices", uint64_t(0));    // absent before 2026-11-28
+      m.mesh.subcell_masks = j.value("subcell_masks", uint64_t(0));        // absent before 2026-11-28
     } else {
       throw std::runtime_error("unknown mesh_encoding '" + encoding + "'");
     }
@@ -445,6 +447,8 @@ void DatasetWriter::write_mesh(const UMesh& mesh) {
   write_file(dir_ / dataset_files::kMeshChunks, chunks.data(), chunks.size() * sizeof(box3f));
   const MacroCells cells = build_macrocells(mesh);
   write_macrocells(cells);
+  write_file(dir_ / dataset_files::kMeshSubcells, cells.occupied.data(), cells.occupied.size() * sizeof(SubcellMask));
+  manifest_.mesh.subcell_masks = cells.occupied.size();
   write_region_vertices(region_vertices(mesh, cells));
 }
 
@@ -688,6 +692,7 @@ std::vector<fs::path> Dataset::mesh_files(bool with_macrocells) const {
                            dataset_files::kMeshBvhNodes, dataset_files::kMeshBvhItems, dataset_files::kMeshNeighbors})
     files.push_back(dir_ / name);
   if (with_macrocells) files.push_back(dir_ / dataset_files::kMeshMacrocells);
+  if (with_macrocells && manifest_.mesh.subcell_masks > 0) files.push_back(dir_ / dataset_files::kMeshSubcells);
   if (with_macrocells && manifest_.mesh.region_vertices > 0)
     for (const char* name : {dataset_files::kMeshRegionFirst, dataset_files::kMeshRegionVertices})
       files.push_back(dir_ / name);
@@ -795,6 +800,19 @@ void Dataset::read_stored_macrocells() {
   read_exact(path, sizeof(grid), cells.data(), count * sizeof(StoredMacrocell));
   topology_bytes_read_ += bytes;
   stored_cells_ = macrocells_from_stored(grid, cells, manifest_.mesh.elements, path.string());
+  if (manifest_.mesh.subcell_masks > 0) read_stored_subcells();
+}
+
+void Dataset::read_stored_subcells() {
+  const fs::path path = dir_ / dataset_files::kMeshSubcells;
+  const uint64_t count = manifest_.mesh.subcell_masks;
+  if (count != manifest_.mesh.macrocells)
+    input_error((dir_ / dataset_files::kManifest).string(), "subcell_masks is not one per macrocell");
+  const uint64_t size = file_size_checked(path), bytes = count * sizeof(SubcellMask);
+  if (size != bytes) throw_size_mismatch(path, size, bytes);
+  stored_cells_.occupied.resize(count);
+  read_exact(path, 0, stored_cells_.occupied.data(), bytes);
+  topology_bytes_read_ += bytes;
 }
 
 // The macrocells of the whole mesh, built on the grid convert stored (one pass over the elements
@@ -811,6 +829,9 @@ bool Dataset::build_macrocells_on_stored_grid() {
               "the macrocell grid's bounds are not the mesh's");
   input_check(built.cell_of_region == stored_cells_.cell_of_region, file,
               "the non-empty macrocells are not the mesh's");
+  // Stored masks that miss a subcell some element's box overlaps would make samples in it NaN.
+  input_check(stored_cells_.occupied.empty() || built.occupied == stored_cells_.occupied,
+              (dir_ / dataset_files::kMeshSubcells).string(), "the subcell masks are not the mesh's");
   const bool widths_as_stored = built.step_width == stored_cells_.step_width;
   stored_cells_ = std::move(built);
   return widths_as_stored;

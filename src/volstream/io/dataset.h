@@ -71,6 +71,10 @@ struct MeshCounts {
   // The non-empty macrocells in mesh_macrocells.bin (manifest key "macrocells"; absent in older
   // datasets: 0, no mesh index stored, and every rank reads the whole mesh).
   uint64_t macrocells = 0;
+  // reference: the macrocells' subcell masks in mesh_subcells.bin, one per macrocell (manifest key
+  // "subcell_masks"; absent before 2026-11-28: the masks are then built where the macrocells
+  // are, and a load whose check stamp passed renders without them, as before).
+  uint64_t subcell_masks = 0;
   // reference: the entries of mesh_region_vertices.bin, each macrocell's vertex list
   // (RegionVertices; its offsets in mesh_region_first.bin), or 0 where none are stored (manifest key
   // "region_vertices"; absent before 2026-11-28 and where the lists pass their build's budget:
@@ -132,6 +136,7 @@ inline constexpr const char* kMeshNeighbors = "mesh_neighbors.bin";  // umesh: 6
 inline constexpr const char* kMeshTetWalk = "mesh_tet_walk.bin";     // umesh: TetWalkRecord per element
 // umesh: the macrocell grid (MacroGrid), then StoredMacrocell per non-empty macrocell
 inline constexpr const char* kMeshMacrocells = "mesh_macrocells.bin";
+inline constexpr const char* kMeshSubcells = "mesh_subcells.bin";               // umesh: SubcellMask per macrocell
 inline constexpr const char* kMeshRegionFirst = "mesh_region_first.bin";        // umesh: uint64 per macrocell, +1
 inline constexpr const char* kMeshRegionVertices = "mesh_region_vertices.bin";  // umesh: uint32 per list entry
 // umesh, reference: box3f of the vertices' bounds, then one per chunk of the BVH's item order
@@ -283,6 +288,7 @@ class Dataset {
   void load_reference_index();
   void read_reference_part(const std::vector<uint32_t>& chunks, std::vector<uint32_t>& source_vertex);
   void read_stored_macrocells();
+  void read_stored_subcells();  // into stored_cells_ (reference datasets that store them)
   // Replaces the stored macrocells by those the mesh gives on the stored grid (InputError unless
   // the non-empty cells are the same); true when the stored step widths were the same too, so
   // that a load whose checks passed before (io/check_stamp.h) may take the stored ones as they are.

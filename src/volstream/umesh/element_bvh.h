@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "volstream/core/math.h"
+#include "volstream/umesh/macro_grid.h"
 #include "volstream/umesh/shape.h"
 #include "volstream/umesh/umesh.h"
 
@@ -61,6 +62,7 @@ struct UMeshView {
   uint32_t node_count = 0;
   const uint32_t* neighbors = nullptr;      // kMaxFaces per element (umesh/adjacency.h); null: no walk
   const TetWalkRecord* tet_walk = nullptr;  // per element (with neighbors), or null: tets walked by corners
+  SubcellOccupancy occupancy;               // points it rules out are in no element: no search
   static constexpr uint32_t kNoNeighborIndex = 0xffffffffu;
 
   // Weights of element e at p (false: p is outside it, or outside its corners' box, which the
@@ -113,7 +115,7 @@ struct UMeshView {
   VS_HOST_DEVICE ElementHit locate(const vec3f& p) const {
     ElementHit hit;
     float best = INFINITY;
-    if (node_count > 0) search(p, hit, best);
+    if (node_count > 0 && !occupancy.rules_out(p)) search(p, hit, best);
     return hit;
   }
 

@@ -40,6 +40,21 @@ void atomic_max(uint32_t& slot, uint32_t v) {
   }
 }
 
+// Marks the subcells of each cell that the box overlaps in `masks` (per grid cell), by the
+// subcells of its corners (MacroGrid::subcell_of). Neighbouring elements mostly mark subcells
+// already marked, which costs a load and no write.
+void occupy_subcells(const MacroGrid& g, const box3f& box, std::vector<SubcellMask>& masks) {
+  constexpr int n = MacroGrid::kSubcells;
+  const vec3i lo = g.subcell_of(box.lower), hi = g.subcell_of(box.upper);
+  const auto set_bits = [](uint64_t& word, uint64_t bits) {
+    std::atomic_ref<uint64_t> slot(word);
+    if ((slot.load(std::memory_order_relaxed) & bits) != bits) slot.fetch_or(bits, std::memory_order_relaxed);
+  };
+  for (int z = lo.z / n; z <= hi.z / n; ++z)
+    for (int y = lo.y / n; y <= hi.y / n; ++y)
+      for (int x = lo.x / n; x <= hi.x / n; ++x) mark_subcells(lo, hi, {x, y, z}, masks[g.index({x, y, z})], set_bits);
+}
+
 // Calls f(cell index) for every grid cell in [lo, hi].
 template <typename F>
 void for_each_cell(const MacroGrid& g, const vec3i& lo, const vec3i& hi, F&& f) {
@@ -177,6 +192,7 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, box3f* seen, Element
   std::vector<uint32_t> finest(n, ordered(INFINITY));  // the smallest element_size_cubed
   const auto min_of = [](uint32_t a, uint32_t b) { return std::min(a, b); };
   const auto store = [&](uint64_t c, uint32_t cubed) { atomic_min(finest[c], cubed); };
+  std::vector<SubcellMask> subcells(n);  // per grid cell
   box3f bounds = box3f::make_empty();
   std::mutex merge;
   const Stopwatch watch;
@@ -189,6 +205,7 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, box3f* seen, Element
           visit_elements(item, [&](const box3f& box, const uint32_t*, int) {
             b.extend(box);
             runs.add(box, ordered(element_size_cubed(box)));
+            occupy_subcells(m.grid, box, subcells);
           });
         runs.flush();
         const std::lock_guard<std::mutex> lock(merge);
@@ -203,6 +220,7 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, box3f* seen, Element
     m.region_of_cell[c] = int32_t(m.cell_of_region.size());
     m.cell_of_region.push_back(uint32_t(c));
     m.step_width.push_back(ladder_width(std::max(cbrtf(from_ordered(finest[c])), m.min_step())));
+    m.occupied.push_back(subcells[c]);
   }
   return m;
 }

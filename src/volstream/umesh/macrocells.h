@@ -19,78 +19,12 @@
 #include "volstream/core/host_array.h"
 #include "volstream/core/math.h"
 #include "volstream/umesh/compact.h"
+#include "volstream/umesh/macro_grid.h"
 #include "volstream/umesh/umesh.h"
-#if defined(__GNUC__) && !defined(__CUDACC__)
-#include "volstream/core/simd.h"  // cell_of's lanes
-#endif
 
 namespace vs {
 
 inline constexpr double kElementsPerMacrocell = 128;
-
-struct MacroGrid {
-  box3f bounds;
-  vec3i dims{1, 1, 1};
-  vec3f cell_size{1.f, 1.f, 1.f};
-  // Grid cell of p, clamped into the grid. The quotient is clamped as a float (far points must
-  // not overflow an int; NaN gives 0) to [0, dims - 1] and then truncated: for a quotient in that
-  // range truncation is its floor, so this is floor-then-clamp without a floor or a branch (the
-  // load runs it twice per element and pass).
-#if defined(__GNUC__) && !defined(__CUDACC__)
-  // On the host the three axes go on one SSE register (scalar, GCC branches on each comparison),
-  // with the grid's constants as lanes that a pass over the elements makes once (Lanes).
-  struct Lanes {
-    simd::f4 lower, size, last;
-  };
-  Lanes lanes() const {
-    Lanes g;
-    g.lower = simd::lanes_of(bounds.lower);
-    g.size = simd::f4{cell_size.x, cell_size.y, cell_size.z, 1.f};
-    g.last = simd::f4{float(dims.x - 1), float(dims.y - 1), float(dims.z - 1), 0.f};
-    return g;
-  }
-  // The cell as lanes x, y, z (the fourth is 0).
-  static VS_FORCE_INLINE simd::i4 cell_of(const Lanes& g, const vec3f& p) {
-    const simd::f4 q = (simd::lanes_of(p) - g.lower) / g.size, zero = {};
-    const simd::f4 above = q > zero ? q : zero;
-    return __builtin_convertvector(above < g.last ? above : g.last, simd::i4);
-  }
-  VS_FORCE_INLINE vec3i cell_of(const vec3f& p) const {
-    const simd::i4 c = cell_of(lanes(), p);
-    return {c[0], c[1], c[2]};
-  }
-#else
-  VS_HOST_DEVICE VS_FORCE_INLINE vec3i cell_of(const vec3f& p) const {
-    vec3i c;
-    for (int a = 0; a < 3; ++a) {
-      const float q = (p[a] - bounds.lower[a]) / cell_size[a], last = float(dims[a] - 1);
-      c[a] = int(q > 0.f ? (q < last ? q : last) : 0.f);
-    }
-    return c;
-  }
-#endif
-  VS_HOST_DEVICE uint64_t index(const vec3i& c) const {
-    return (uint64_t(c.z) * uint64_t(dims.y) + uint64_t(c.y)) * uint64_t(dims.x) + uint64_t(c.x);
-  }
-  // The cell of grid index i (index's inverse).
-  VS_HOST_DEVICE vec3i cell_at(uint64_t i) const {
-    const uint64_t row = uint64_t(dims.x), plane = row * uint64_t(dims.y);
-    return {int(i % row), int(i / row % uint64_t(dims.y)), int(i / plane)};
-  }
-  uint64_t cell_count() const { return uint64_t(dims.x) * uint64_t(dims.y) * uint64_t(dims.z); }
-  // Axis a's faces of the cells in layer k; the last layer ends exactly on the bounds (no
-  // rounding gap at the far faces).
-  VS_HOST_DEVICE void layer_faces(int a, int k, float& lower, float& upper) const {
-    lower = bounds.lower[a] + float(k) * cell_size[a];
-    upper = k == dims[a] - 1 ? bounds.upper[a] : lower + cell_size[a];
-  }
-  // The box of cell c.
-  VS_HOST_DEVICE box3f cell_box(const vec3i& c) const {
-    box3f b;
-    for (int a = 0; a < 3; ++a) layer_faces(a, c[a], b.lower[a], b.upper[a]);
-    return b;
-  }
-};
 
 // Every cell of g in the block of cells [lo, hi] (inclusive, clamped to the grid) that the ray
 // org + t dir (t >= 0) crosses, front to back, as visit(index, t0, t1): the cell's g.index and
@@ -160,6 +94,8 @@ struct MacroCells {
   std::vector<uint32_t> cell_of_region;  // region -> grid cell (grid.index)
   std::vector<float> step_width;         // per region: its smallest element's size, at least min_step,
                                          // rounded down to eighth octaves (ladder_width)
+  std::vector<SubcellMask> occupied;     // per region: its subcells some element's corner box
+                                         // overlaps (SubcellOccupancy); empty: not known
   size_t region_count() const { return cell_of_region.size(); }
   // The finest step a macrocell is marched with: 1/1000 of the grid cell's longest side (as an
   // element's size is at least 1/1000 of its extent, macrocells.cpp). A degenerate element (a
@@ -169,7 +105,7 @@ struct MacroCells {
   box3f box(size_t region) const;  // its grid cell's box
   uint64_t bytes() const {
     return region_of_cell.size() * sizeof(int32_t) + cell_of_region.size() * sizeof(uint32_t) +
-           step_width.size() * sizeof(float);
+           step_width.size() * sizeof(float) + occupied.size() * sizeof(SubcellMask);
   }
 };
 

@@ -72,12 +72,14 @@ void check_tet_walk_records(const UMesh& mesh, std::span<const uint32_t> neighbo
 
 // The sampler's view of a mesh and its structures (host pointers; both must outlive it).
 inline UMeshView view_of(const UMesh& mesh, const MeshAccel& accel) {
-  return {mesh.vertices.data(),
-          mesh.elements.data(),
-          accel.bvh.nodes.data(),
-          accel.bvh.items.data(),
-          uint32_t(accel.bvh.nodes.size()),
-          accel.neighbors.data()};
+  UMeshView v;
+  v.vertices = mesh.vertices.data();
+  v.elements = mesh.elements.data();
+  v.nodes = accel.bvh.nodes.data();
+  v.items = accel.bvh.items.data();
+  v.node_count = uint32_t(accel.bvh.nodes.size());
+  v.neighbors = accel.neighbors.data();
+  return v;
 }
 
 // InputError naming `file` unless `accel` is a sound structure over `mesh`: node links in range

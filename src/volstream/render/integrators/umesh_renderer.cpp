@@ -42,6 +42,7 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
   else
     cells_ = mesh ? build_macrocells(*mesh, grid) : build_macrocells(*stored, grid);
   build_seconds_ = watch.seconds();
+  if (!mesh) cells_.occupied = {};  // only the reference encoding's sampler reads them (so far)
   visible_.assign(cells_.region_count(), 1);
   walk_starts_.assign(cells_.region_count(), UMeshVolume::kWalkStartUnknown);
   shown_block();
@@ -150,7 +151,11 @@ FrameView<MeshVolume<Locator>> UMeshRenderer::make_view(const Locator& locator, 
 FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const OpticsView& optics, const TfView* color_tf,
                                            const Camera& camera, const FrameSettings& settings, Device device) const {
   FrameView<UMeshVolume> v = make_view(mesh_view(device), fields, optics, color_tf, camera, settings);
-  if (device == Device::cpu) v.volume.walk_starts = walk_starts_.data();
+  if (device == Device::cpu) {
+    v.volume.walk_starts = walk_starts_.data();
+    if (cells_.occupied.size() == cells_.region_count())
+      v.volume.mesh.occupancy = {cells_.grid, cells_.region_of_cell.data(), cells_.occupied.data()};
+  }
   return v;
 }
 
@@ -236,7 +241,9 @@ std::vector<double> probe_brute_force(const CompactMesh& mesh, const float* loca
 }
 
 std::vector<double> probe_brute_force(const UMesh& mesh, const float* values, const std::vector<vec3f>& points) {
-  const UMeshView view{mesh.vertices.data(), mesh.elements.data(), nullptr, nullptr, 0, nullptr};
+  UMeshView view;  // no BVH and no walk: only the elements' tests
+  view.vertices = mesh.vertices.data();
+  view.elements = mesh.elements.data();
   std::vector<double> out(points.size(), NAN);
   parallel_for("probe_brute_force", int64_t(points.size()), [&](int64_t i) {
     ElementHit hit;

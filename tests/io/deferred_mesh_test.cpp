@@ -226,24 +226,28 @@ TEST(DeferredMesh, WholeLoadRefusesStoredMacrocellsThatAreNotTheMeshs) {
     if (whole.macrocells()->cell_of_region.back() != grid.cell_count() - 1) {
       EXPECT_NE(line.find("not the mesh's"), std::string::npos) << line;
     }
-    if (encoding == MeshEncoding::reference) {  // a subcell some element's box overlaps, cleared
-      line = test::input_error_line([&] {
-        Dataset ds(test::damaged_copy(holes_dir(encoding), name + "subcells", "mesh_subcells.bin", [](auto& b) {
-          for (size_t i = 0; i < b.size(); ++i)
-            if (b[i] != 0) {
-              b[i] = 0;
-              return;
-            }
-        }));
+    {  // mesh_subcells.bin: a subcell some element's box overlaps cleared; a mask index out of
+       // range; the file truncated
+      const size_t index_bytes = whole.macrocells()->region_count() * sizeof(uint32_t);
+      ASSERT_FALSE(whole.macrocells()->subcells.masks.empty()) << "the holes demo has empty subcells";
+      const auto load_damaged = [&](const std::string& what, const std::function<void(std::vector<char>&)>& damage) {
+        return test::input_error_line(
+            [&] { Dataset ds(test::damaged_copy(holes_dir(encoding), name + what, "mesh_subcells.bin", damage)); });
+      };
+      line = load_damaged("subcell_cleared", [&](auto& b) {
+        for (size_t i = index_bytes; i < b.size(); ++i)
+          if (b[i] != 0) {
+            b[i] = 0;
+            return;
+          }
       });
       EXPECT_NE(line.find("mesh_subcells.bin"), std::string::npos) << line;
       EXPECT_NE(line.find("subcell masks are not the mesh's"), std::string::npos) << line;
-      line = test::input_error_line([&] {
-        Dataset ds(test::damaged_copy(holes_dir(encoding), name + "subcells_truncated", "mesh_subcells.bin",
-                                      [](auto& b) { b.resize(b.size() - 8); }));
-      });
+      line = load_damaged("subcell_index", [&](auto& b) { patch<uint32_t>(b, 0, 1u << 30); });
+      EXPECT_NE(line.find("subcell masks are not the mesh's"), std::string::npos) << line;
+      line = load_damaged("subcells_truncated", [](auto& b) { b.resize(b.size() - 8); });
       EXPECT_NE(line.find("mesh_subcells.bin"), std::string::npos) << line;
-      EXPECT_EQ(whole.macrocells()->occupied.size(), whole.macrocells()->region_count());
+      EXPECT_EQ(whole.macrocells()->subcells.of_region.size(), whole.macrocells()->region_count());
     }
     const fs::path width = test::damaged_copy(holes_dir(encoding), name + "width", "mesh_macrocells.bin",
                                               [](auto& b) { patch<float>(b, sizeof(MacroGrid) + 4, 0.f); });

@@ -363,7 +363,8 @@ TEST_P(MacrocellRangesTest, EveryStepOfASeriesGetsItsOwnRanges) {
 TEST_P(MacrocellRangesTest, SubcellMasksAreTheElementBoxesOverlaps) {
   const UMesh mesh = demo_umesh(GetParam(), 4000);
   const MacroCells cells = build_macrocells(mesh);
-  ASSERT_EQ(cells.occupied.size(), cells.region_count());
+  ASSERT_EQ(cells.subcells.of_region.size(), cells.region_count());
+  size_t partial = 0;
   const MacroGrid& g = cells.grid;
   constexpr int n = MacroGrid::kSubcells;
   std::vector<box3f> boxes;
@@ -385,9 +386,18 @@ TEST_P(MacrocellRangesTest, SubcellMasksAreTheElementBoxesOverlaps) {
               want.layer[z] |= 1ull << (x + n * y);
           }
     }
-    EXPECT_TRUE(want == cells.occupied[r]) << "macrocell " << r;
+    const uint32_t index = cells.subcells.of_region[r];
+    const bool all = std::all_of(want.layer, want.layer + n, [](uint64_t w) { return ~w == 0; });
+    if (all) {
+      EXPECT_EQ(index, SubcellOccupancy::kAllOccupied) << "macrocell " << r;
+      continue;
+    }
+    ASSERT_EQ(index, partial) << "macrocell " << r;  // the masks in region order, one each
+    EXPECT_TRUE(want == cells.subcells.masks[partial++]) << "macrocell " << r;
   }
-  const SubcellOccupancy occupancy{g, cells.region_of_cell.data(), cells.occupied.data()};
+  EXPECT_EQ(cells.subcells.masks.size(), partial);
+  const SubcellOccupancy occupancy{g, cells.region_of_cell.data(), cells.subcells.of_region.data(),
+                                   cells.subcells.masks.data()};
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> unit(-0.05f, 1.05f);
   const vec3f size = g.bounds.size();

@@ -89,6 +89,7 @@ json manifest_to_json(const DatasetManifest& m) {
     if (m.mesh.split())
       for (int t = 0; t < 4; ++t) j["split_from"][kTypeSlotNames[t]] = m.mesh.split_from[t];
     if (m.mesh.macrocells) j["macrocells"] = m.mesh.macrocells;
+    if (m.mesh.subcell_masks >= 0) j["subcell_masks"] = m.mesh.subcell_masks;
     if (m.mesh.compact()) {
       j["mesh_encoding"] = "compact";
       j["compact"] = {{"local_vertices", m.mesh.local_vertices},
@@ -99,7 +100,6 @@ json manifest_to_json(const DatasetManifest& m) {
       j["bvh_node_count"] = m.mesh.bvh_nodes;
       if (m.mesh.tet_walk_records) j["tet_walk_records"] = m.mesh.tet_walk_records;
       if (m.mesh.region_vertices) j["region_vertices"] = m.mesh.region_vertices;
-      if (m.mesh.subcell_masks) j["subcell_masks"] = m.mesh.subcell_masks;
     }
   } else {
     j["kind"] = "amr";
@@ -146,6 +146,7 @@ DatasetManifest manifest_from_json(const json& j) {
     if (j.contains("split_from"))  // absent unless convert split the elements into tets
       for (int t = 0; t < 4; ++t) m.mesh.split_from[t] = j.at("split_from").at(kTypeSlotNames[t]).get<uint64_t>();
     m.mesh.macrocells = j.value("macrocells", uint64_t(0));              // absent before issue 17's mesh index
+    m.mesh.subcell_masks = j.value("subcell_masks", int64_t(-1));        // absent before 2026-11-28
     const std::string encoding = j.value("mesh_encoding", "reference");  // absent before issue 13
     if (encoding == "compact") {
       const json& c = j.at("compact");
@@ -157,7 +158,6 @@ DatasetManifest manifest_from_json(const json& j) {
       m.mesh.bvh_nodes = j.at("bvh_node_count").get<uint64_t>();
       m.mesh.tet_walk_records = j.value("tet_walk_records", uint64_t(0));  // absent before 2026-11-27
       m.mesh.region_vertices = j.value("region_vertices", uint64_t(0));    // absent before 2026-11-28
-      m.mesh.subcell_masks = j.value("subcell_masks", uint64_t(0));        // absent before 2026-11-28
     } else {
       throw std::runtime_error("unknown mesh_encoding '" + encoding + "'");
     }
@@ -447,8 +447,6 @@ void DatasetWriter::write_mesh(const UMesh& mesh) {
   write_file(dir_ / dataset_files::kMeshChunks, chunks.data(), chunks.size() * sizeof(box3f));
   const MacroCells cells = build_macrocells(mesh);
   write_macrocells(cells);
-  write_file(dir_ / dataset_files::kMeshSubcells, cells.occupied.data(), cells.occupied.size() * sizeof(SubcellMask));
-  manifest_.mesh.subcell_masks = cells.occupied.size();
   write_region_vertices(region_vertices(mesh, cells));
 }
 
@@ -476,6 +474,18 @@ void DatasetWriter::write_macrocells(const MacroCells& cells) {
     std::memcpy(bytes.data() + sizeof(MacroGrid), stored.data(), stored.size() * sizeof(StoredMacrocell));
   write_file(dir_ / dataset_files::kMeshMacrocells, bytes.data(), bytes.size());
   manifest_.mesh.macrocells = stored.size();
+  write_subcells(cells.subcells);
+}
+
+void DatasetWriter::write_subcells(const MacroCells::SubcellMasks& subcells) {
+  const size_t index_bytes = subcells.of_region.size() * sizeof(uint32_t);
+  std::vector<uint8_t> bytes(index_bytes + subcells.masks.size() * sizeof(SubcellMask));
+  if (!bytes.empty()) {
+    std::memcpy(bytes.data(), subcells.of_region.data(), index_bytes);
+    std::memcpy(bytes.data() + index_bytes, subcells.masks.data(), bytes.size() - index_bytes);
+  }
+  write_file(dir_ / dataset_files::kMeshSubcells, bytes.data(), bytes.size());
+  manifest_.mesh.subcell_masks = int64_t(subcells.masks.size());
 }
 
 // Each macrocell's vertex list (none over the build's budget), so that a render's ranges read them
@@ -692,7 +702,7 @@ std::vector<fs::path> Dataset::mesh_files(bool with_macrocells) const {
                            dataset_files::kMeshBvhNodes, dataset_files::kMeshBvhItems, dataset_files::kMeshNeighbors})
     files.push_back(dir_ / name);
   if (with_macrocells) files.push_back(dir_ / dataset_files::kMeshMacrocells);
-  if (with_macrocells && manifest_.mesh.subcell_masks > 0) files.push_back(dir_ / dataset_files::kMeshSubcells);
+  if (with_macrocells && manifest_.mesh.subcell_masks >= 0) files.push_back(dir_ / dataset_files::kMeshSubcells);
   if (with_macrocells && manifest_.mesh.region_vertices > 0)
     for (const char* name : {dataset_files::kMeshRegionFirst, dataset_files::kMeshRegionVertices})
       files.push_back(dir_ / name);
@@ -744,6 +754,7 @@ void Dataset::load_compact_mesh() {
       compact_.vertices.size() - std::min<uint64_t>(compact_.vertices.size(), manifest_.mesh.vertices);
   if (manifest_.mesh.macrocells > 0) {
     files.push_back(dir_ / dataset_files::kMeshMacrocells);
+    if (manifest_.mesh.subcell_masks >= 0) files.push_back(dir_ / dataset_files::kMeshSubcells);
     read_stored_macrocells();
   }
   count_mesh_bytes();
@@ -800,18 +811,21 @@ void Dataset::read_stored_macrocells() {
   read_exact(path, sizeof(grid), cells.data(), count * sizeof(StoredMacrocell));
   topology_bytes_read_ += bytes;
   stored_cells_ = macrocells_from_stored(grid, cells, manifest_.mesh.elements, path.string());
-  if (manifest_.mesh.subcell_masks > 0) read_stored_subcells();
+  if (manifest_.mesh.subcell_masks >= 0) read_stored_subcells();
 }
 
 void Dataset::read_stored_subcells() {
   const fs::path path = dir_ / dataset_files::kMeshSubcells;
-  const uint64_t count = manifest_.mesh.subcell_masks;
-  if (count != manifest_.mesh.macrocells)
-    input_error((dir_ / dataset_files::kManifest).string(), "subcell_masks is not one per macrocell");
-  const uint64_t size = file_size_checked(path), bytes = count * sizeof(SubcellMask);
+  const uint64_t regions = manifest_.mesh.macrocells, masks = uint64_t(manifest_.mesh.subcell_masks);
+  if (masks > regions) input_error((dir_ / dataset_files::kManifest).string(), "subcell_masks exceeds macrocells");
+  const uint64_t index_bytes = regions * sizeof(uint32_t), bytes = index_bytes + masks * sizeof(SubcellMask);
+  const uint64_t size = file_size_checked(path);
   if (size != bytes) throw_size_mismatch(path, size, bytes);
-  stored_cells_.occupied.resize(count);
-  read_exact(path, 0, stored_cells_.occupied.data(), bytes);
+  MacroCells::SubcellMasks& s = stored_cells_.subcells;
+  s.of_region.resize(regions);
+  s.masks.resize(masks);
+  read_exact(path, 0, s.of_region.data(), index_bytes);
+  read_exact(path, index_bytes, s.masks.data(), bytes - index_bytes);
   topology_bytes_read_ += bytes;
 }
 
@@ -830,7 +844,7 @@ bool Dataset::build_macrocells_on_stored_grid() {
   input_check(built.cell_of_region == stored_cells_.cell_of_region, file,
               "the non-empty macrocells are not the mesh's");
   // Stored masks that miss a subcell some element's box overlaps would make samples in it NaN.
-  input_check(stored_cells_.occupied.empty() || built.occupied == stored_cells_.occupied,
+  input_check(stored_cells_.subcells.of_region.empty() || built.subcells == stored_cells_.subcells,
               (dir_ / dataset_files::kMeshSubcells).string(), "the subcell masks are not the mesh's");
   const bool widths_as_stored = built.step_width == stored_cells_.step_width;
   stored_cells_ = std::move(built);

@@ -71,10 +71,11 @@ struct MeshCounts {
   // The non-empty macrocells in mesh_macrocells.bin (manifest key "macrocells"; absent in older
   // datasets: 0, no mesh index stored, and every rank reads the whole mesh).
   uint64_t macrocells = 0;
-  // reference: the macrocells' subcell masks in mesh_subcells.bin, one per macrocell (manifest key
-  // "subcell_masks"; absent before 2026-11-28: the masks are then built where the macrocells
-  // are, and a load whose check stamp passed renders without them, as before).
-  uint64_t subcell_masks = 0;
+  // The macrocells' subcell masks (MacroCells::SubcellMasks) in mesh_subcells.bin: this many
+  // masks, of the macrocells with an empty subcell (manifest key "subcell_masks"; absent before
+  // 2026-11-28, -1 here: the masks are then built where the macrocells are, and a load whose
+  // check stamp passed renders without them, as before).
+  int64_t subcell_masks = -1;
   // reference: the entries of mesh_region_vertices.bin, each macrocell's vertex list
   // (RegionVertices; its offsets in mesh_region_first.bin), or 0 where none are stored (manifest key
   // "region_vertices"; absent before 2026-11-28 and where the lists pass their build's budget:
@@ -136,7 +137,8 @@ inline constexpr const char* kMeshNeighbors = "mesh_neighbors.bin";  // umesh: 6
 inline constexpr const char* kMeshTetWalk = "mesh_tet_walk.bin";     // umesh: TetWalkRecord per element
 // umesh: the macrocell grid (MacroGrid), then StoredMacrocell per non-empty macrocell
 inline constexpr const char* kMeshMacrocells = "mesh_macrocells.bin";
-inline constexpr const char* kMeshSubcells = "mesh_subcells.bin";               // umesh: SubcellMask per macrocell
+// umesh: per macrocell a uint32 mask index (0xffffffff: every subcell occupied), then SubcellMask per mask
+inline constexpr const char* kMeshSubcells = "mesh_subcells.bin";
 inline constexpr const char* kMeshRegionFirst = "mesh_region_first.bin";        // umesh: uint64 per macrocell, +1
 inline constexpr const char* kMeshRegionVertices = "mesh_region_vertices.bin";  // umesh: uint32 per list entry
 // umesh, reference: box3f of the vertices' bounds, then one per chunk of the BVH's item order
@@ -176,6 +178,7 @@ class DatasetWriter {
   void write_abr_bvh(const AmrTopology& topology);
   void write_abr_chunks(const AmrTopology& topology);
   void write_macrocells(const MacroCells& cells);
+  void write_subcells(const MacroCells::SubcellMasks& subcells);  // with the macrocells
   void write_region_vertices(const std::optional<RegionVertices>& lists);
 };
 

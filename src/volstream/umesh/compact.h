@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "volstream/core/math.h"
+#include "volstream/umesh/macro_grid.h"
 #include "volstream/umesh/shape.h"
 #include "volstream/umesh/umesh.h"
 
@@ -213,7 +214,8 @@ struct CompactMeshView {
   // On the CPU, the thread's NeighbourCache and LeafBoxCache (false: every search made and every
   // element decoded; tests).
   bool thread_caches = true;
-  uint64_t id = 0;  // unique per view made (compact_view): the key of the thread caches
+  uint64_t id = 0;             // unique per view made (compact_view): the key of the thread caches
+  SubcellOccupancy occupancy;  // points it rules out are in no element's box: no leaf tested
 
   struct Hit {
     int64_t leaf = -1;
@@ -604,6 +606,7 @@ struct CompactMeshView {
     float best = INFINITY;
     if (hint.element >= 0 && walk(hint, p, hit)) return hit;
     hit = Hit{};
+    if (occupancy.rules_out(p)) return hit;
     if (hint.element >= 0) {
       const uint32_t leaf = uint32_t(hint.element / kMultiLeafSize);
       if (!test_leaf(leaf, p, hit, best, uint32_t(hint.element % kMultiLeafSize)))

@@ -108,7 +108,7 @@ inline void mark_subcells(const vec3i& lo, const vec3i& hi, const vec3i& cell, S
     last[a] = hi[a] - n * cell[a] < n - 1 ? hi[a] - n * cell[a] : n - 1;
   }
   const uint64_t row = (2ull << last[0]) - (1ull << first[0]);  // bits x of one row
-  uint64_t rows = 0;                                             // rows y of one layer
+  uint64_t rows = 0;                                            // rows y of one layer
   for (int y = first[1]; y <= last[1]; ++y) rows |= row << (n * y);
   for (int z = first[2]; z <= last[2]; ++z) set_bits(mask.layer[z], rows);
 }
@@ -120,17 +120,23 @@ inline void mark_subcells(const vec3i& lo, const vec3i& hi, const vec3i& cell, S
 // boundary of the mixed demo, holes, the space around a body) rays sample such points, and each
 // cost a search from the BVH's root.
 struct SubcellOccupancy {
+  static constexpr uint32_t kAllOccupied = 0xffffffffu;
   MacroGrid grid;
   const int32_t* region_of_cell = nullptr;  // MacroCells::region_of_cell
-  const SubcellMask* masks = nullptr;       // per region; null: nothing is ruled out
+  // Per region, its mask in `masks`, or kAllOccupied (MacroCells::SubcellMasks); null: nothing
+  // is ruled out.
+  const uint32_t* mask_of_region = nullptr;
+  const SubcellMask* masks = nullptr;
   // True when p lies in no element's corner box (outside the grid too: the grid's bounds are
   // the boxes' union).
   VS_HOST_DEVICE bool rules_out(const vec3f& p) const {
-    if (!masks) return false;
+    if (!mask_of_region) return false;
     constexpr int n = MacroGrid::kSubcells;
     const vec3i s = grid.subcell_of(p);
     const int32_t region = region_of_cell[grid.index({s.x / n, s.y / n, s.z / n})];
-    return region < 0 || !((masks[region].layer[s.z % n] >> (s.x % n + n * (s.y % n))) & 1u);
+    if (region < 0) return true;
+    const uint32_t mask = mask_of_region[region];
+    return mask != kAllOccupied && !((masks[mask].layer[s.z % n] >> (s.x % n + n * (s.y % n))) & 1u);
   }
 };
 

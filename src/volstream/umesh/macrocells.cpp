@@ -220,7 +220,10 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, box3f* seen, Element
     m.region_of_cell[c] = int32_t(m.cell_of_region.size());
     m.cell_of_region.push_back(uint32_t(c));
     m.step_width.push_back(ladder_width(std::max(cbrtf(from_ordered(finest[c])), m.min_step())));
-    m.occupied.push_back(subcells[c]);
+    const SubcellMask& mask = subcells[c];
+    const bool all = std::all_of(mask.layer, mask.layer + MacroGrid::kSubcells, [](uint64_t w) { return ~w == 0; });
+    m.subcells.of_region.push_back(all ? SubcellOccupancy::kAllOccupied : uint32_t(m.subcells.masks.size()));
+    if (!all) m.subcells.masks.push_back(mask);
   }
   return m;
 }

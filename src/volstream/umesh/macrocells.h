@@ -94,8 +94,14 @@ struct MacroCells {
   std::vector<uint32_t> cell_of_region;  // region -> grid cell (grid.index)
   std::vector<float> step_width;         // per region: its smallest element's size, at least min_step,
                                          // rounded down to eighth octaves (ladder_width)
-  std::vector<SubcellMask> occupied;     // per region: its subcells some element's corner box
-                                         // overlaps (SubcellOccupancy); empty: not known
+  // Which subcells some element's corner box overlaps (SubcellOccupancy), kept only for the
+  // regions where some subcell is empty (at the mesh's boundary, holes): 4 B a region and 64 B
+  // a mask. Empty: not known.
+  struct SubcellMasks {
+    std::vector<uint32_t> of_region;  // its mask's index, or SubcellOccupancy::kAllOccupied
+    std::vector<SubcellMask> masks;
+    bool operator==(const SubcellMasks&) const = default;
+  } subcells;
   size_t region_count() const { return cell_of_region.size(); }
   // The finest step a macrocell is marched with: 1/1000 of the grid cell's longest side (as an
   // element's size is at least 1/1000 of its extent, macrocells.cpp). A degenerate element (a
@@ -105,7 +111,8 @@ struct MacroCells {
   box3f box(size_t region) const;  // its grid cell's box
   uint64_t bytes() const {
     return region_of_cell.size() * sizeof(int32_t) + cell_of_region.size() * sizeof(uint32_t) +
-           step_width.size() * sizeof(float) + occupied.size() * sizeof(SubcellMask);
+           step_width.size() * sizeof(float) + subcells.of_region.size() * sizeof(uint32_t) +
+           subcells.masks.size() * sizeof(SubcellMask);
   }
 };
 

@@ -42,7 +42,6 @@ UMeshRenderer::UMeshRenderer(const UMesh* mesh, std::unique_ptr<MeshAccel> owned
   else
     cells_ = mesh ? build_macrocells(*mesh, grid) : build_macrocells(*stored, grid);
   build_seconds_ = watch.seconds();
-  if (!mesh) cells_.occupied = {};  // only the reference encoding's sampler reads them (so far)
   visible_.assign(cells_.region_count(), 1);
   walk_starts_.assign(cells_.region_count(), UMeshVolume::kWalkStartUnknown);
   shown_block();
@@ -153,8 +152,7 @@ FrameView<UMeshVolume> UMeshRenderer::view(const FrameFields& fields, const Opti
   FrameView<UMeshVolume> v = make_view(mesh_view(device), fields, optics, color_tf, camera, settings);
   if (device == Device::cpu) {
     v.volume.walk_starts = walk_starts_.data();
-    if (cells_.occupied.size() == cells_.region_count())
-      v.volume.mesh.occupancy = {cells_.grid, cells_.region_of_cell.data(), cells_.occupied.data()};
+    v.volume.mesh.occupancy = occupancy();
   }
   return v;
 }
@@ -170,7 +168,17 @@ const CompactMesh& UMeshRenderer::compact() {
   return *compact_;
 }
 
-CompactMeshView UMeshRenderer::compact_view() { return view_of(compact()); }
+CompactMeshView UMeshRenderer::compact_view() {
+  CompactMeshView view = view_of(compact());
+  view.occupancy = occupancy();
+  return view;
+}
+
+SubcellOccupancy UMeshRenderer::occupancy() const {
+  const MacroCells::SubcellMasks& s = cells_.subcells;
+  if (s.of_region.size() != cells_.region_count()) return {};
+  return {cells_.grid, cells_.region_of_cell.data(), s.of_region.data(), s.masks.data()};
+}
 
 const float* UMeshRenderer::compact_values(const float* values, std::vector<float>& storage) {
   if (stored_ || !values) return values;
@@ -195,7 +203,8 @@ std::vector<float> UMeshRenderer::probe_compact(const float* values, const std::
 }
 
 std::vector<float> UMeshRenderer::probe(const float* values, const std::vector<vec3f>& points) const {
-  const UMeshView view = view_of(*mesh_, reference_accel());  // a search per point: no walk
+  UMeshView view = view_of(*mesh_, reference_accel());  // a search per point: no walk
+  view.occupancy = occupancy();
   std::vector<float> out(points.size());
   parallel_for("probe", int64_t(points.size()),
                [&](int64_t i) { out[size_t(i)] = view.sample(values, points[size_t(i)]); });

@@ -114,6 +114,8 @@ class UMeshRenderer {
                                            const TfView* color_tf, const Camera& camera,
                                            const FrameSettings& settings) const;
   CompactMeshView compact_view();
+  // The macrocells' subcell masks for a CPU sampler (SubcellOccupancy); none where not built.
+  SubcellOccupancy occupancy() const;
   void shown_block();                               // shown_lo_, shown_hi_ from visible_
   void keep_region_vertices(RegionVertices lists);  // and counts their bytes
   const UMesh* mesh_;                               // null for a stored compact mesh

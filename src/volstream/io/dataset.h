@@ -291,7 +291,7 @@ class Dataset {
   void load_reference_index();
   void read_reference_part(const std::vector<uint32_t>& chunks, std::vector<uint32_t>& source_vertex);
   void read_stored_macrocells();
-  void read_stored_subcells();  // into stored_cells_ (reference datasets that store them)
+  void read_stored_subcells();  // into stored_cells_ (datasets that store them)
   // Replaces the stored macrocells by those the mesh gives on the stored grid (InputError unless
   // the non-empty cells are the same); true when the stored step widths were the same too, so
   // that a load whose checks passed before (io/check_stamp.h) may take the stored ones as they are.

@@ -1,6 +1,6 @@
 // The uniform grid of macrocells over an unstructured mesh's bounds (umesh/macrocells.h), and
-// the occupancy of each macrocell's 4x4x4 subcells, which lets a point location rule out a point
-// that no element's box holds without searching the element BVH (SubcellOccupancy).
+// the occupancy of each macrocell's 8x8x8 subcells, which lets a point location rule out a point
+// that no element's box holds without searching for its element (SubcellOccupancy).
 #pragma once
 #include <cstdint>
 
@@ -114,9 +114,10 @@ inline void mark_subcells(const vec3i& lo, const vec3i& hi, const vec3i& cell, S
 }
 
 // Which subcells of each non-empty macrocell some element's corner box overlaps (MacroCells::
-// occupied). A point in any other subcell lies in no element: point location tests an element
-// only where the element's corner box holds the point (UMeshView::in_element), so a search of the
-// element BVH for it would find nothing. On a mesh that does not fill its macrocells (the twisted
+// subcells). A point in any other subcell lies in no element: point location tests an element
+// only where the element's corner box holds the point (UMeshView::in_element, CompactMeshView::
+// test_element), so a search for it (the element BVH, the compact tree's leaves) would find
+// nothing. On a mesh that does not fill its macrocells (the twisted
 // boundary of the mixed demo, holes, the space around a body) rays sample such points, and each
 // cost a search from the BVH's root.
 struct SubcellOccupancy {

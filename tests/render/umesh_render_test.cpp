@@ -193,10 +193,7 @@ TEST(MeshRender, WalkStartsChangeNoPixelAndHoldTheirCellsCentre) {
   }
 }
 
-// A sample in a subcell that no element's box overlaps is NaN without a search of the element
-// BVH (SubcellOccupancy): the same image bit for bit as with every such sample searched, on the
-// meshes that leave parts of their macrocells empty. A CUDA frame's view has no masks.
-// The same image with the masks as without, bit for bit; something drawn.
+// The same image with the view's subcell masks as without, bit for bit; something drawn.
 template <typename Volume>
 void expect_masks_change_no_pixel(FrameView<Volume> view) {
   ASSERT_NE(view.volume.mesh.occupancy.mask_of_region, nullptr);

@@ -480,10 +480,10 @@ void DatasetWriter::write_macrocells(const MacroCells& cells) {
 void DatasetWriter::write_subcells(const MacroCells::SubcellMasks& subcells) {
   const size_t index_bytes = subcells.of_region.size() * sizeof(uint32_t);
   std::vector<uint8_t> bytes(index_bytes + subcells.masks.size() * sizeof(SubcellMask));
-  if (!bytes.empty()) {
-    std::memcpy(bytes.data(), subcells.of_region.data(), index_bytes);
+  // An empty vector's data() may be null, which memcpy must not get even for no bytes.
+  if (index_bytes > 0) std::memcpy(bytes.data(), subcells.of_region.data(), index_bytes);
+  if (bytes.size() > index_bytes)
     std::memcpy(bytes.data() + index_bytes, subcells.masks.data(), bytes.size() - index_bytes);
-  }
   write_file(dir_ / dataset_files::kMeshSubcells, bytes.data(), bytes.size());
   manifest_.mesh.subcell_masks = int64_t(subcells.masks.size());
 }
@@ -824,8 +824,8 @@ void Dataset::read_stored_subcells() {
   MacroCells::SubcellMasks& s = stored_cells_.subcells;
   s.of_region.resize(regions);
   s.masks.resize(masks);
-  read_exact(path, 0, s.of_region.data(), index_bytes);
-  read_exact(path, index_bytes, s.masks.data(), bytes - index_bytes);
+  if (index_bytes > 0) read_exact(path, 0, s.of_region.data(), index_bytes);
+  if (bytes > index_bytes) read_exact(path, index_bytes, s.masks.data(), bytes - index_bytes);
   topology_bytes_read_ += bytes;
 }
 

@@ -16,6 +16,7 @@
 #include "volstream/umesh/demo.h"
 #include "volstream/umesh/from_mesh_data.h"
 #include "volstream/umesh/macrocells.h"
+#include "volstream/umesh/mesh_accel.h"
 #include "volstream/volume/umesh_volume.h"
 
 namespace vs {
@@ -367,12 +368,7 @@ TEST_P(MacrocellRangesTest, SubcellMasksAreTheElementBoxesOverlaps) {
   size_t partial = 0;
   const MacroGrid& g = cells.grid;
   constexpr int n = MacroGrid::kSubcells;
-  std::vector<box3f> boxes;
-  for (const UElement& e : mesh.elements) {
-    box3f b = box3f::make_empty();
-    for (int i = 0; i < e.vertex_count(); ++i) b.extend(mesh.vertices[e.v[i]]);
-    boxes.push_back(b);
-  }
+  const std::vector<box3f> boxes = element_boxes(mesh);
   for (size_t r = 0; r < cells.region_count(); ++r) {
     const vec3i cell = g.cell_at(cells.cell_of_region[r]);
     SubcellMask want;

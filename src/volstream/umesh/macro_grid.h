@@ -96,23 +96,6 @@ struct SubcellMask {
   static_assert(MacroGrid::kSubcells == 8, "a layer of subcells is one 64-bit word");
 };
 
-// Marks in `mask` the subcells of `cell` that lie in the block of subcells [lo, hi] (which
-// must overlap the cell). `Or(word, bits)` sets bits in a word (an atomic OR where threads share
-// the mask).
-template <typename Or>
-inline void mark_subcells(const vec3i& lo, const vec3i& hi, const vec3i& cell, SubcellMask& mask, Or&& set_bits) {
-  constexpr int n = MacroGrid::kSubcells;
-  int first[3], last[3];  // per axis, the block's places in the cell
-  for (int a = 0; a < 3; ++a) {
-    first[a] = lo[a] - n * cell[a] > 0 ? lo[a] - n * cell[a] : 0;
-    last[a] = hi[a] - n * cell[a] < n - 1 ? hi[a] - n * cell[a] : n - 1;
-  }
-  const uint64_t row = (2ull << last[0]) - (1ull << first[0]);  // bits x of one row
-  uint64_t rows = 0;                                            // rows y of one layer
-  for (int y = first[1]; y <= last[1]; ++y) rows |= row << (n * y);
-  for (int z = first[2]; z <= last[2]; ++z) set_bits(mask.layer[z], rows);
-}
-
 // Which subcells of each non-empty macrocell some element's corner box overlaps (MacroCells::
 // subcells). A point in any other subcell lies in no element: point location tests an element
 // only where the element's corner box holds the point (UMeshView::in_element, CompactMeshView::

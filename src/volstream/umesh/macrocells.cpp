@@ -46,13 +46,25 @@ void atomic_max(uint32_t& slot, uint32_t v) {
 void occupy_subcells(const MacroGrid& g, const box3f& box, std::vector<SubcellMask>& masks) {
   constexpr int n = MacroGrid::kSubcells;
   const vec3i lo = g.subcell_of(box.lower), hi = g.subcell_of(box.upper);
-  const auto set_bits = [](uint64_t& word, uint64_t bits) {
-    std::atomic_ref<uint64_t> slot(word);
-    if ((slot.load(std::memory_order_relaxed) & bits) != bits) slot.fetch_or(bits, std::memory_order_relaxed);
-  };
   for (int z = lo.z / n; z <= hi.z / n; ++z)
     for (int y = lo.y / n; y <= hi.y / n; ++y)
-      for (int x = lo.x / n; x <= hi.x / n; ++x) mark_subcells(lo, hi, {x, y, z}, masks[g.index({x, y, z})], set_bits);
+      for (int x = lo.x / n; x <= hi.x / n; ++x) {
+        // The box's places in this cell, per axis; a row of x bits, the rows y of a layer.
+        int first[3], last[3];
+        const vec3i cell{x, y, z};
+        for (int a = 0; a < 3; ++a) {
+          first[a] = std::max(lo[a] - n * cell[a], 0);
+          last[a] = std::min(hi[a] - n * cell[a], n - 1);
+        }
+        const uint64_t row = (2ull << last[0]) - (1ull << first[0]);
+        uint64_t rows = 0;
+        for (int k = first[1]; k <= last[1]; ++k) rows |= row << (n * k);
+        SubcellMask& mask = masks[g.index(cell)];
+        for (int k = first[2]; k <= last[2]; ++k) {
+          std::atomic_ref<uint64_t> word(mask.layer[k]);
+          if ((word.load(std::memory_order_relaxed) & rows) != rows) word.fetch_or(rows, std::memory_order_relaxed);
+        }
+      }
 }
 
 // Calls f(cell index) for every grid cell in [lo, hi].

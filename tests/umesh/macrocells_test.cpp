@@ -12,13 +12,11 @@
 #include <set>
 #include <vector>
 
-#include "test_util.h"
 #include "volstream/render/integrators/umesh_renderer.h"
 #include "volstream/umesh/demo.h"
 #include "volstream/umesh/from_mesh_data.h"
 #include "volstream/umesh/macrocells.h"
 #include "volstream/umesh/mesh_accel.h"
-#include "volstream/umesh/mesh_index.h"
 #include "volstream/volume/umesh_volume.h"
 
 namespace vs {
@@ -424,28 +422,6 @@ TEST_P(MacrocellRangesTest, SubcellMasksAreTheElementBoxesOverlaps) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Demos, MacrocellRangesTest, ::testing::Values("tets", "mixed", "holes"));
-
-// Datasets converted before the cells shrank to kElementsPerMacrocell store grids of
-// kLegacyElementsPerMacrocell elements a cell: a load takes either grid (and renders on it), and
-// refuses any other.
-TEST(StoredMacrocells, TodaysGridAndTheLegacyOneAreAcceptedAndNoOther) {
-  const UMesh mesh = demo_umesh("mixed", 4000);
-  const box3f bounds = build_macrocells(mesh).grid.bounds;
-  const uint64_t n = mesh.elements.size();
-  const auto load = [&](const MacroGrid& grid) {
-    return macrocells_from_stored(grid, stored_macrocells(build_macrocells(mesh, &grid)), n, "mesh_macrocells.bin");
-  };
-  const MacroGrid today = macro_grid(bounds, n), legacy = macro_grid(bounds, n, kLegacyElementsPerMacrocell);
-  ASSERT_NE(today.dims, legacy.dims);
-  EXPECT_GT(today.cell_count(), legacy.cell_count());
-  EXPECT_EQ(load(today).cell_of_region, build_macrocells(mesh, &today).cell_of_region);
-  EXPECT_EQ(load(legacy).cell_of_region, build_macrocells(mesh, &legacy).cell_of_region);
-  const MacroGrid other = macro_grid(bounds, n, 32);
-  ASSERT_NE(other.dims, today.dims);
-  const std::string line = test::input_error_line([&] { load(other); });
-  EXPECT_NE(line.find("mesh_macrocells.bin"), std::string::npos) << line;
-  EXPECT_NE(line.find("is not the one its bounds and element count give"), std::string::npos) << line;
-}
 
 TEST(StepWidthLadder, RoundsDownToEighthOctaves) {
   std::mt19937 rng(3);

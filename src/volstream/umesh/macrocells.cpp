@@ -117,12 +117,12 @@ class CellRuns {
 
 }  // namespace
 
-MacroGrid macro_grid(const box3f& bounds, uint64_t elements, double per_cell) {
+MacroGrid macro_grid(const box3f& bounds, uint64_t elements) {
   MacroGrid g;
   g.bounds = bounds;
   const vec3f size = vmax(g.bounds.size(), vec3f(1e-30f));
-  // Cubic cells, about per_cell elements each, at most 256 per axis.
-  const double cells = std::max(1.0, double(elements) / per_cell);
+  // Cubic cells, about kElementsPerMacrocell elements each, at most 256 per axis.
+  const double cells = std::max(1.0, double(elements) / kElementsPerMacrocell);
   const double edge = std::cbrt(double(size.x) * size.y * size.z / cells);
   for (int a = 0; a < 3; ++a) {
     // Clamped as a double: a stored grid's hostile bounds may ask for more cells than an int holds.

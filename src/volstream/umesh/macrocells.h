@@ -24,13 +24,7 @@
 
 namespace vs {
 
-// 64: against 128, a finer grid culls more of a narrow transfer function's empty space and fits
-// each cell's step width to fewer elements (paired whole commands on the demo meshes: 7-16%
-// shorter with the reference encoding, -6% to +3% with the compact one; 1-3% more bytes per
-// element; bench/RESULTS.md). Datasets converted before store grids of 128
-// (kLegacyElementsPerMacrocell), which loads still accept and render on.
-inline constexpr double kElementsPerMacrocell = 64;
-inline constexpr double kLegacyElementsPerMacrocell = 128;
+inline constexpr double kElementsPerMacrocell = 128;
 
 // Every cell of g in the block of cells [lo, hi] (inclusive, clamped to the grid) that the ray
 // org + t dir (t >= 0) crosses, front to back, as visit(index, t0, t1): the cell's g.index and
@@ -136,8 +130,8 @@ std::vector<vec3d> element_centroids(const UMesh& mesh);
 std::vector<vec3d> element_centroids(const CompactMesh& mesh);
 
 // The grid build_macrocells makes over elements with these bounds (of their boxes): cubic cells,
-// about `per_cell` elements each, at most 256 per axis.
-MacroGrid macro_grid(const box3f& bounds, uint64_t elements, double per_cell = kElementsPerMacrocell);
+// about kElementsPerMacrocell elements each, at most 256 per axis.
+MacroGrid macro_grid(const box3f& bounds, uint64_t elements);
 
 // A step width rounded down to a power of 2^(1/8) (MacroCells::step_width).
 float ladder_width(float width);

@@ -17,23 +17,17 @@ namespace {
 
 bool finite(const vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-bool same_cells(const MacroGrid& a, const MacroGrid& b) {
-  for (int k = 0; k < 3; ++k)
-    if (a.dims[k] != b.dims[k] || a.cell_size[k] != b.cell_size[k]) return false;
-  return true;
-}
-
-// The grid is one that build_macrocells makes over its bounds (so a rank renders on one
-// process's grid, and every cell index is in range): today's, or that of a dataset converted
-// before the cells shrank to kElementsPerMacrocell.
+// The grid is the one build_macrocells makes over its bounds (so a rank renders on one
+// process's grid, and every cell index is in range).
 void check_grid(const MacroGrid& grid, uint64_t elements, const std::string& file) {
   const box3f& b = grid.bounds;
   input_check(
       finite(b.lower) && finite(b.upper) && b.lower.x <= b.upper.x && b.lower.y <= b.upper.y && b.lower.z <= b.upper.z,
       file, "the macrocell grid's bounds are not a finite box");
-  input_check(same_cells(grid, macro_grid(b, elements)) ||
-                  same_cells(grid, macro_grid(b, elements, kLegacyElementsPerMacrocell)),
-              file, "the macrocell grid is not the one its bounds and element count give");
+  const MacroGrid expected = macro_grid(b, elements);
+  for (int a = 0; a < 3; ++a)
+    input_check(grid.dims[a] == expected.dims[a] && grid.cell_size[a] == expected.cell_size[a], file,
+                "the macrocell grid is not the one its bounds and element count give");
 }
 
 }  // namespace

@@ -22,10 +22,10 @@ namespace {
 // the visible cells one by one, which give a DVR frame the samples of UMeshVolume's merged runs
 // (the lattice march); with isosurfaces they do not: after a sample in a hole, each cell's
 // interval takes an entry sample at its face, where a run takes none. Isosurface frames use the
-// runs (`cells` false), so that both sides differ in point location alone.
+// runs (`per_cell_intervals` false), so that both sides differ in point location alone.
 struct ExhaustiveMeshVolume : UMeshVolume {
   uint32_t element_count = 0;
-  bool cells = true;
+  bool per_cell_intervals = true;
   float sample(int field, uint32_t, const vec3f& p) const {
     ElementHit hit;
     float best = INFINITY;
@@ -40,7 +40,7 @@ struct ExhaustiveMeshVolume : UMeshVolume {
   float sample_near(int field, uint32_t region, const vec3f& p) const { return sample(field, region, p); }
   template <typename Visit>
   void for_each_interval(const vec3f& org, const vec3f& dir, Visit&& visit) const {
-    if (!cells) return UMeshVolume::for_each_interval(org, dir, visit);
+    if (!per_cell_intervals) return UMeshVolume::for_each_interval(org, dir, visit);
     for_each_cell_along(grid, org, dir, [&](uint64_t cell, float t0, float t1) {
       const int32_t region = region_of_cell[cell];
       return region < 0 || !visible[region] || visit(RayInterval{uint32_t(region), t0, t1});
@@ -94,7 +94,7 @@ TEST_P(MeshRenderTest, EqualsExhaustiveElementSearch) {
   reference.height = view.height;
   static_cast<UMeshVolume&>(reference.volume) = view.volume;
   reference.volume.element_count = uint32_t(mesh.elements.size());
-  reference.volume.cells = !c.iso;
+  reference.volume.per_cell_intervals = !c.iso;
   const Image fast = render_view_cpu(view, nullptr), slow = render_view_cpu(reference, nullptr);
   double worst = 0, alpha = 0;
   for (size_t i = 0; i < fast.rgba.size(); ++i) worst = std::max(worst, double(std::fabs(fast.rgba[i] - slow.rgba[i])));

@@ -96,6 +96,8 @@ median() { tr ' ' '\n' | grep -v '^$' | sort -g | awk '{ v[NR] = $1 } END {
 jget() { "$PY" -c "import json,sys; d=json.load(open(sys.argv[1])); v=eval(sys.argv[2]); print(v)" "$@"; }
 now() { date +%s.%N; }
 elapsed() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.4f", b - a }'; }
+# ratio_of_medians A_VALUES B_VALUES: median(A) / median(B), two decimals.
+ratio_of_medians() { awk -v a="$(echo "$1" | median)" -v b="$(echo "$2" | median)" 'BEGIN { printf "%.2f", a / b }'; }
 
 echo "# $(date -u +%FT%TZ) umesh_vs_vtk: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'),"\
   "$(awk '/MemTotal/ { printf "%.0f GiB", $2 / 1048576 }' /proc/meminfo), load average $(cut -d' ' -f1-3 /proc/loadavg)"
@@ -198,10 +200,10 @@ run_look() {
   echo "image (volstream vs VTK, 8-bit sRGB units): $(jget "$C" '" ".join("%s %s" % (k, ("%.4g" % v) if isinstance(v, float) else v) for k, v in d.items())')"
 
   local r_second r_whole r_target
-  r_second=$(awk -v a="$(echo "${vtk_second[*]}" | median)" -v b="$(echo "${vs_render[*]}" | median)" 'BEGIN { printf "%.2f", a / b }')
+  r_second=$(ratio_of_medians "${vtk_second[*]}" "${vs_render[*]}")
   # The issue's target: volstream's whole command against VTK's second render.
-  r_target=$(awk -v a="$(echo "${vtk_second[*]}" | median)" -v b="$(echo "${vs_whole[*]}" | median)" 'BEGIN { printf "%.2f", a / b }')
-  r_whole=$(awk -v a="$(echo "${vtk_whole[*]}" | median)" -v b="$(echo "${vs_whole[*]}" | median)" 'BEGIN { printf "%.2f", a / b }')
+  r_target=$(ratio_of_medians "${vtk_second[*]}" "${vs_whole[*]}")
+  r_whole=$(ratio_of_medians "${vtk_whole[*]}" "${vs_whole[*]}")
   echo "volstream render s: $(echo "${vs_render[*]}" | stats), whole command s: $(echo "${vs_whole[*]}" | stats), peak RSS MiB: $(echo "${vs_rss[*]}" | median)"
   echo "VTK read s: $(echo "${vtk_read[*]}" | stats), tetrahedralize s: $(echo "${vtk_tet[*]}" | stats)"
   echo "VTK first render s: $(echo "${vtk_first[*]}" | stats), second render s: $(echo "${vtk_second[*]}" | stats)"

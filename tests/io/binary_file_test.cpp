@@ -42,6 +42,21 @@ TEST(MapRecords, RefusesAFileOfAnotherSize) {
   EXPECT_TRUE(map_records<uint32_t>(file_of({}, "empty.bin"), 0).empty());
 }
 
+// Exact reads: a range inside the file, a range past its end refused, and zero bytes read as
+// nothing (into an empty vector's data(), which may be null) anywhere in the file or past it.
+TEST(ReadExact, ReadsTheRangeRefusesPastTheEndAndReadsNothingForZeroBytes) {
+  const auto path = file_of(counting(10), "ten.bin");
+  uint32_t two[2] = {};
+  read_exact(path, 3 * sizeof(uint32_t), two, sizeof two);
+  EXPECT_EQ(two[0], 10u);
+  EXPECT_EQ(two[1], 11u);
+  EXPECT_THROW(read_exact(path, 9 * sizeof(uint32_t), two, sizeof two), InputError);
+  std::vector<uint32_t> none;
+  EXPECT_NO_THROW(read_exact(path, 0, none.data(), 0));
+  EXPECT_NO_THROW(read_exact(path, 1000, nullptr, 0));
+  EXPECT_TRUE(read_records<uint32_t>(file_of({}, "empty_records.bin"), 0).empty());
+}
+
 TEST(HostArray, WritingToAViewCopiesItAndLeavesTheFileAlone) {
   const auto path = file_of(counting(1000), "kept.bin");
   HostArray<uint32_t> a = map_records<uint32_t>(path, 1000);

@@ -35,18 +35,22 @@ MacroGrid test_grid() {
   return g;
 }
 
-// cell_of clamps the quotient and truncates; the plain formula floors and then clamps. The two
-// agree everywhere: random points, cell faces, far and non-finite coordinates.
+// cell_of and subcell_of clamp the quotient and truncate; the plain formula floors and then
+// clamps. They agree everywhere: random points, cell faces, far and non-finite coordinates. The
+// lanes forms (the macrocells' pass) give the same ints, and a subcell's cell is p's cell.
 TEST(MacroGrid, CellOfIsTheFlooredQuotientClamped) {
   const MacroGrid g = test_grid();
-  auto floored_clamped = [&](const vec3f& p) {
+  constexpr int n = MacroGrid::kSubcells;
+  auto floored_clamped = [&](const vec3f& p, int per_cell) {
     vec3i c;
     for (int a = 0; a < 3; ++a) {
-      const float i = std::floor((p[a] - g.bounds.lower[a]) / g.cell_size[a]);
-      c[a] = i >= 0.f ? (i < float(g.dims[a]) ? int(i) : g.dims[a] - 1) : 0;
+      const float i = std::floor(float(per_cell) * ((p[a] - g.bounds.lower[a]) / g.cell_size[a]));
+      const int count = per_cell * g.dims[a];
+      c[a] = i >= 0.f ? (i < float(count) ? int(i) : count - 1) : 0;
     }
     return c;
   };
+  const MacroGrid::Lanes lanes = g.lanes();
   std::vector<float> coordinates = {NAN, INFINITY, -INFINITY, 1e30f, -1e30f, -0.f, 0.f};
   for (int a = 0; a < 3; ++a)
     for (int k = -1; k <= g.dims[a] + 1; ++k) {
@@ -59,8 +63,16 @@ TEST(MacroGrid, CellOfIsTheFlooredQuotientClamped) {
   std::uniform_int_distribution<size_t> pick(0, coordinates.size() - 1);
   for (int i = 0; i < 20000; ++i) {
     const vec3f p(coordinates[pick(rng)], coordinates[pick(rng)], coordinates[pick(rng)]);
-    const vec3i got = g.cell_of(p), want = floored_clamped(p);
+    const vec3i got = g.cell_of(p), want = floored_clamped(p, 1);
     ASSERT_TRUE(got.x == want.x && got.y == want.y && got.z == want.z) << p.x << " " << p.y << " " << p.z;
+    const vec3i sub = g.subcell_of(p), want_sub = floored_clamped(p, n);
+    ASSERT_TRUE(sub.x == want_sub.x && sub.y == want_sub.y && sub.z == want_sub.z) << p.x << " " << p.y << " " << p.z;
+    const simd::i4 sub_lanes = MacroGrid::subcell_of(lanes, p), cell_lanes = MacroGrid::cell_of(lanes, p);
+    for (int a = 0; a < 3; ++a) {
+      ASSERT_EQ(sub_lanes[a], sub[a]) << p.x << " " << p.y << " " << p.z;
+      ASSERT_EQ(cell_lanes[a], got[a]);
+      ASSERT_EQ(sub[a] / n, got[a]);
+    }
   }
 }
 

@@ -54,6 +54,7 @@ void read_runs(const std::filesystem::path& path, const std::vector<ByteRun>& ru
   FilePtr f = open_or_throw(path, "rb");
   auto* out = static_cast<unsigned char*>(dst);
   for (const ByteRun& run : runs) {
+    if (run.bytes == 0) continue;  // nothing to read (dst may be an empty vector's null data())
     if (fseeko(f.get(), off_t(run.offset), SEEK_SET) != 0)
       input_error(path.string(), "cannot seek to " + std::to_string(run.offset));
     if (std::fread(out, 1, run.bytes, f.get()) != run.bytes)
@@ -81,7 +82,7 @@ std::shared_ptr<const void> map_file(const std::filesystem::path& path, uint64_t
 std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes) {
   const uint64_t size = file_size_checked(path, max_bytes);
   std::string text(size, '\0');
-  if (size) read_exact(path, 0, text.data(), size);
+  read_exact(path, 0, text.data(), size);
   return text;
 }
 

@@ -14,7 +14,8 @@ namespace vs {
 // FIFO, socket or device (which would block or never end), or a file over max_bytes. Every
 // reader checks its input with this before opening it.
 uint64_t file_size_checked(const std::filesystem::path& path, uint64_t max_bytes = UINT64_MAX);
-// Reads exactly `bytes` bytes from `offset`; InputError if the file is shorter.
+// Reads exactly `bytes` bytes from `offset`; InputError if the file is shorter. Zero bytes read
+// nothing (dst may be an empty vector's null data()).
 void read_exact(const std::filesystem::path& path, uint64_t offset, void* dst, uint64_t bytes);
 // Reads several byte ranges of one file back to back into dst, through one open file.
 struct ByteRun {
@@ -45,7 +46,7 @@ template <typename T>
 std::vector<T> read_records(const std::filesystem::path& path, uint64_t count, uint64_t allowed_padding = 1) {
   const uint64_t bytes = checked_record_bytes<T>(path, count, allowed_padding);
   std::vector<T> out(count);
-  if (bytes) read_exact(path, 0, out.data(), bytes);
+  read_exact(path, 0, out.data(), bytes);
   return out;
 }
 

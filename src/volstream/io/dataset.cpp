@@ -824,8 +824,8 @@ void Dataset::read_stored_subcells() {
   MacroCells::SubcellMasks& s = stored_cells_.subcells;
   s.of_region.resize(regions);
   s.masks.resize(masks);
-  if (index_bytes > 0) read_exact(path, 0, s.of_region.data(), index_bytes);
-  if (bytes > index_bytes) read_exact(path, index_bytes, s.masks.data(), bytes - index_bytes);
+  read_exact(path, 0, s.of_region.data(), index_bytes);
+  read_exact(path, index_bytes, s.masks.data(), bytes - index_bytes);
   topology_bytes_read_ += bytes;
 }
 

@@ -22,7 +22,7 @@ std::string quoted(std::string_view w) {
 ParseCursor::ParseCursor(const std::filesystem::path& path) : file_(path.string()) {
   const uint64_t size = file_size_checked(path);
   data_.resize(size);
-  if (size) read_exact(path, 0, data_.data(), size);
+  read_exact(path, 0, data_.data(), size);
 }
 
 void ParseCursor::fail(const std::string& what) const { input_error(file_, what); }

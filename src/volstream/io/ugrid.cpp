@@ -250,7 +250,7 @@ void attach_raw_scalars(MeshData& mesh, const std::string& name, const fs::path&
     input_error(raw_f32.string(), "size " + std::to_string(size) + " bytes, expected " + std::to_string(expected) +
                                       " (one float32 per point, " + std::to_string(mesh.points.size()) + " points)");
   std::string bytes(size, '\0');
-  if (size) read_exact(raw_f32, 0, bytes.data(), size);
+  read_exact(raw_f32, 0, bytes.data(), size);
   MeshArray a;
   a.name = name;
   a.values.resize(mesh.points.size());

@@ -483,7 +483,7 @@ void read_file_attributes(VtuFile& f) {
 std::string read_whole_file(const fs::path& file) {
   const uint64_t size = file_size_checked(file, kMaxFileBytes);
   std::string text(size, '\0');
-  if (size) read_exact(file, 0, text.data(), size);
+  read_exact(file, 0, text.data(), size);
   return text;
 }
 

@@ -12,6 +12,7 @@
 namespace vs {
 
 struct MacroGrid {
+  static constexpr int kSubcells = 8;  // per cell and axis (subcell_of)
   box3f bounds;
   vec3i dims{1, 1, 1};
   vec3f cell_size{1.f, 1.f, 1.f};
@@ -23,20 +24,28 @@ struct MacroGrid {
   // On the host the three axes go on one SSE register (scalar, GCC branches on each comparison),
   // with the grid's constants as lanes that a pass over the elements makes once (Lanes).
   struct Lanes {
-    simd::f4 lower, size, last;
+    simd::f4 lower, size, last, last_subcell;
   };
   Lanes lanes() const {
     Lanes g;
     g.lower = simd::lanes_of(bounds.lower);
     g.size = simd::f4{cell_size.x, cell_size.y, cell_size.z, 1.f};
     g.last = simd::f4{float(dims.x - 1), float(dims.y - 1), float(dims.z - 1), 0.f};
+    g.last_subcell =
+        simd::f4{float(kSubcells * dims.x - 1), float(kSubcells * dims.y - 1), float(kSubcells * dims.z - 1), 0.f};
     return g;
   }
-  // The cell as lanes x, y, z (the fourth is 0).
+  // q truncated after clamping it to [0, last] (NaN gives 0), lanes x, y, z (the fourth is 0).
+  static VS_FORCE_INLINE simd::i4 clamped_floor(const simd::f4& q, const simd::f4& last) {
+    const simd::f4 zero = {}, above = q > zero ? q : zero;
+    return __builtin_convertvector(above < last ? above : last, simd::i4);
+  }
   static VS_FORCE_INLINE simd::i4 cell_of(const Lanes& g, const vec3f& p) {
-    const simd::f4 q = (simd::lanes_of(p) - g.lower) / g.size, zero = {};
-    const simd::f4 above = q > zero ? q : zero;
-    return __builtin_convertvector(above < g.last ? above : g.last, simd::i4);
+    return clamped_floor((simd::lanes_of(p) - g.lower) / g.size, g.last);
+  }
+  // subcell_of(p) below as lanes, with the same operations in the same order (the same ints).
+  static VS_FORCE_INLINE simd::i4 subcell_of(const Lanes& g, const vec3f& p) {
+    return clamped_floor(float(kSubcells) * ((simd::lanes_of(p) - g.lower) / g.size), g.last_subcell);
   }
   VS_FORCE_INLINE vec3i cell_of(const vec3f& p) const {
     const simd::i4 c = cell_of(lanes(), p);
@@ -77,7 +86,6 @@ struct MacroGrid {
   // cell_of's quotient times kSubcells (a power of 2: exact), so the cell of subcell s is
   // s / kSubcells = cell_of(p), and like cell_of it is monotonic in each axis: a point in a box
   // lies between the subcells of the box's corners.
-  static constexpr int kSubcells = 8;
   VS_HOST_DEVICE vec3i subcell_of(const vec3f& p) const {
     vec3i s;
     for (int a = 0; a < 3; ++a) {

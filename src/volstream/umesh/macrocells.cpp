@@ -40,30 +40,35 @@ void atomic_max(uint32_t& slot, uint32_t v) {
   }
 }
 
-// Marks the subcells of each cell that the box overlaps in `masks` (per grid cell), by the
-// subcells of its corners (MacroGrid::subcell_of). Neighbouring elements mostly mark subcells
-// already marked, which costs a load and no write.
-void occupy_subcells(const MacroGrid& g, const box3f& box, std::vector<SubcellMask>& masks) {
+// Subcell rows first..last of a layer (a byte per row): all bits of those bytes.
+uint64_t row_bytes(int first, int last) { return (~0ull >> (8 * (7 - last))) & (~0ull << (8 * first)); }
+
+// Marks the subcells of each cell that a box overlaps in `masks` (per grid cell), from the
+// subcells of its corners, lo and hi (MacroGrid::subcell_of). Neighbouring elements mostly mark
+// subcells already marked: a cell's eight layers are read and compared without a loop over the
+// box's rows and layers (their counts vary from box to box), and written only where some
+// subcell is missing.
+void occupy_subcells(const MacroGrid& g, const simd::i4& lo, const simd::i4& hi, std::vector<SubcellMask>& masks) {
   constexpr int n = MacroGrid::kSubcells;
-  const vec3i lo = g.subcell_of(box.lower), hi = g.subcell_of(box.upper);
-  for (int z = lo.z / n; z <= hi.z / n; ++z)
-    for (int y = lo.y / n; y <= hi.y / n; ++y)
-      for (int x = lo.x / n; x <= hi.x / n; ++x) {
-        // The box's places in this cell, per axis; a row of x bits, the rows y of a layer.
-        int first[3], last[3];
-        const vec3i cell{x, y, z};
-        for (int a = 0; a < 3; ++a) {
-          first[a] = std::max(lo[a] - n * cell[a], 0);
-          last[a] = std::min(hi[a] - n * cell[a], n - 1);
-        }
+  static_assert(n == 8, "a row of subcells is a byte, a layer a 64-bit word");
+  const simd::i4 cell_lo = lo / n, cell_hi = hi / n;
+  for (int z = cell_lo[2]; z <= cell_hi[2]; ++z)
+    for (int y = cell_lo[1]; y <= cell_hi[1]; ++y)
+      for (int x = cell_lo[0]; x <= cell_hi[0]; ++x) {
+        // The box's places in this cell, per axis: an x run of bits, repeated in rows y of layers z.
+        const simd::i4 origin = simd::i4{x, y, z, 0} * n, below = lo - origin, above = hi - origin;
+        const simd::i4 first = below > 0 ? below : 0, last = above < n - 1 ? above : n - 1;
         const uint64_t row = (2ull << last[0]) - (1ull << first[0]);
-        uint64_t rows = 0;
-        for (int k = first[1]; k <= last[1]; ++k) rows |= row << (n * k);
-        SubcellMask& mask = masks[g.index(cell)];
-        for (int k = first[2]; k <= last[2]; ++k) {
-          std::atomic_ref<uint64_t> word(mask.layer[k]);
-          if ((word.load(std::memory_order_relaxed) & rows) != rows) word.fetch_or(rows, std::memory_order_relaxed);
+        const uint64_t rows = (row * 0x0101010101010101ull) & row_bytes(first[1], last[1]);
+        SubcellMask& mask = masks[g.index({x, y, z})];
+        uint64_t missing = 0;
+        for (int k = 0; k < n; ++k) {
+          const uint64_t wanted = first[2] <= k && k <= last[2] ? rows : 0;
+          missing |= wanted & ~std::atomic_ref<uint64_t>(mask.layer[k]).load(std::memory_order_relaxed);
         }
+        if (missing == 0) continue;
+        for (int k = first[2]; k <= last[2]; ++k)
+          std::atomic_ref<uint64_t>(mask.layer[k]).fetch_or(rows, std::memory_order_relaxed);
       }
 }
 
@@ -87,11 +92,7 @@ void for_each_cell(const MacroGrid& g, const box3f& b, F&& f) {
 template <typename Value, typename Merge, typename Store>
 class CellRuns {
  public:
-  CellRuns(const MacroGrid& grid, Merge merge, Store store)
-      : grid_(grid), lanes_(grid.lanes()), merge_(merge), store_(store) {}
-  void add(const box3f& box, const Value& v) {
-    add_cells(MacroGrid::cell_of(lanes_, box.lower), MacroGrid::cell_of(lanes_, box.upper), v);
-  }
+  CellRuns(const MacroGrid& grid, Merge merge, Store store) : grid_(grid), merge_(merge), store_(store) {}
   // The cells from lo to hi (lanes x, y, z and 0, as MacroGrid::cell_of gives them).
   void add_cells(const simd::i4& lo, const simd::i4& hi, const Value& v) {
     if (simd::all_equal(lo, lo_) && simd::all_equal(hi, hi_)) {
@@ -108,7 +109,6 @@ class CellRuns {
 
  private:
   const MacroGrid& grid_;
-  const MacroGrid::Lanes lanes_;
   Merge merge_;
   Store store_;
   simd::i4 lo_{}, hi_ = simd::i4{} - 1;
@@ -207,6 +207,7 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, box3f* seen, Element
   std::vector<SubcellMask> subcells(n);  // per grid cell
   box3f bounds = box3f::make_empty();
   std::mutex merge;
+  const MacroGrid::Lanes lanes = m.grid.lanes();
   const Stopwatch watch;
   parallel_for_ranges(
       items,
@@ -216,8 +217,10 @@ MacroCells build_over(int64_t items, const MacroGrid* grid, box3f* seen, Element
         for (int64_t item = begin; item < end; ++item)
           visit_elements(item, [&](const box3f& box, const uint32_t*, int) {
             b.extend(box);
-            runs.add(box, ordered(element_size_cubed(box)));
-            occupy_subcells(m.grid, box, subcells);
+            // One quotient per corner for both: the cell of a subcell is subcell / kSubcells.
+            const simd::i4 lo = MacroGrid::subcell_of(lanes, box.lower), hi = MacroGrid::subcell_of(lanes, box.upper);
+            runs.add_cells(lo / MacroGrid::kSubcells, hi / MacroGrid::kSubcells, ordered(element_size_cubed(box)));
+            occupy_subcells(m.grid, lo, hi, subcells);
           });
         runs.flush();
         const std::lock_guard<std::mutex> lock(merge);

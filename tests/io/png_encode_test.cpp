@@ -100,7 +100,7 @@ TEST(PngEncode, SlicesHoldEnoughRowsAndAtMostOnePerThread) {
   EXPECT_EQ(png_slice_rows(512, 1 + 512 * 3, 1), 512u);
   EXPECT_EQ(png_slice_rows(512, 1 + 512 * 3, 2), 256u);
   EXPECT_EQ(png_slice_rows(512, 1 + 512 * 3, 64), 86u);  // 128 KiB of 1537-byte rows
-  EXPECT_EQ(png_slice_rows(3, 10, 8), 3u);                // a small image: one slice
+  EXPECT_EQ(png_slice_rows(3, 10, 8), 3u);               // a small image: one slice
   EXPECT_EQ(png_slice_rows(1, 1, 0), 1u);
 }
 

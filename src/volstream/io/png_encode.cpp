@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
 
@@ -43,35 +44,41 @@ void filter_row(const PngPixels& px, uint32_t y, uint8_t* out) {
   const size_t bytes = size_t(px.width) * size_t(px.channels), bpp = size_t(px.channels);
   const uint8_t* row = px.rows + size_t(y) * bytes;
   const uint8_t* above = y > 0 ? row - bytes : nullptr;
+  const auto left_of = [&](size_t i) -> uint8_t { return i >= bpp ? row[i - bpp] : 0; };  // Sub's predictor
+  const auto above_of = [&](size_t i) -> uint8_t { return above ? above[i] : 0; };        // Up's
   uint64_t sub_cost = 0, up_cost = 0;
   for (size_t i = 0; i < bytes; ++i) {
-    const uint8_t sub = uint8_t(row[i] - (i >= bpp ? row[i - bpp] : 0));
-    const uint8_t up = uint8_t(row[i] - (above ? above[i] : 0));
-    sub_cost += uint64_t(std::abs(int(int8_t(sub))));
-    up_cost += uint64_t(std::abs(int(int8_t(up))));
+    sub_cost += uint64_t(std::abs(int(int8_t(uint8_t(row[i] - left_of(i))))));
+    up_cost += uint64_t(std::abs(int(int8_t(uint8_t(row[i] - above_of(i))))));
   }
   const bool use_sub = sub_cost < up_cost;
   out[0] = use_sub ? 1 : 2;  // PNG filter types: 1 Sub, 2 Up
-  for (size_t i = 0; i < bytes; ++i)
-    out[1 + i] = uint8_t(row[i] - (use_sub ? (i >= bpp ? row[i - bpp] : 0) : (above ? above[i] : 0)));
+  for (size_t i = 0; i < bytes; ++i) out[1 + i] = uint8_t(row[i] - (use_sub ? left_of(i) : above_of(i)));
 }
 
-// One slice of rows as a raw deflate stream (no header or checksum); `last` ends the data,
-// another ends with a sync flush, on a byte boundary. adler gets the filtered rows' Adler-32.
-std::vector<uint8_t> deflate_slice(const PngPixels& px, uint32_t first_row, uint32_t rows, bool last,
-                                   uLong& adler, uLong& filtered_bytes) {
+// One slice of rows: a raw deflate stream (no header or checksum) and the Adler-32 and length of
+// the filtered rows it holds.
+struct DeflatedSlice {
+  std::vector<uint8_t> stream;
+  uLong adler = 0, bytes = 0;
+};
+
+// `last` ends the data; another slice ends with a sync flush, on a byte boundary.
+DeflatedSlice deflate_slice(const PngPixels& px, uint32_t first_row, uint32_t rows, bool last) {
   const size_t row_bytes = 1 + size_t(px.width) * size_t(px.channels);
   std::vector<uint8_t> filtered(row_bytes * rows);
   for (uint32_t r = 0; r < rows; ++r) filter_row(px, first_row + r, filtered.data() + r * row_bytes);
-  adler = adler32(adler32(0L, nullptr, 0), filtered.data(), uInt(filtered.size()));
-  filtered_bytes = uLong(filtered.size());
+  DeflatedSlice slice;
+  slice.adler = adler32(adler32(0L, nullptr, 0), filtered.data(), uInt(filtered.size()));
+  slice.bytes = uLong(filtered.size());
   z_stream z{};
   // Level 5 and the strategy for filtered rows, as write_png asked of libpng (bench/RESULTS.md).
   constexpr int kLevel = 5, kRawWindowBits = -15, kMemLevel = 8;
   if (deflateInit2(&z, kLevel, Z_DEFLATED, kRawWindowBits, kMemLevel, Z_FILTERED) != Z_OK)
     throw std::runtime_error("zlib: deflateInit2 failed");
   // Room for the worst case and the flush's empty stored block.
-  std::vector<uint8_t> out(deflateBound(&z, uLong(filtered.size())) + 16);
+  std::vector<uint8_t>& out = slice.stream;
+  out.resize(deflateBound(&z, uLong(filtered.size())) + 16);
   z.next_in = filtered.data();
   z.avail_in = uInt(filtered.size());
   z.next_out = out.data();
@@ -81,7 +88,31 @@ std::vector<uint8_t> deflate_slice(const PngPixels& px, uint32_t first_row, uint
   out.resize(out.size() - z.avail_out);
   deflateEnd(&z);
   if (!done) throw std::runtime_error("zlib: deflate failed");
-  return out;
+  return slice;
+}
+
+// The rows filtered and deflated in slices on the pool's threads, joined into one zlib stream:
+// header (deflate, 32 KiB window, level 5's "default" flag; a multiple of 31 as RFC 1950 asks),
+// the slices' streams, the Adler-32 of all filtered rows.
+std::vector<uint8_t> zlib_stream(const PngPixels& px) {
+  const uint64_t row_bytes = 1 + uint64_t(px.width) * uint64_t(px.channels);
+  const uint32_t slice_rows = png_slice_rows(px.height, row_bytes, tbb::this_task_arena::max_concurrency());
+  const uint32_t slices = (px.height + slice_rows - 1) / slice_rows;
+  std::vector<DeflatedSlice> deflated(slices);
+  parallel_for_ranges(int64_t(slices), [&](int64_t begin, int64_t end) {
+    for (int64_t s = begin; s < end; ++s) {
+      const uint32_t first = uint32_t(s) * slice_rows, rows = std::min(slice_rows, px.height - first);
+      deflated[size_t(s)] = deflate_slice(px, first, rows, s + 1 == slices);
+    }
+  });
+  std::vector<uint8_t> idat = {0x78, 0x5e};
+  uLong adler = deflated[0].adler;
+  for (uint32_t s = 0; s < slices; ++s) {
+    idat.insert(idat.end(), deflated[s].stream.begin(), deflated[s].stream.end());
+    if (s > 0) adler = adler32_combine(adler, deflated[s].adler, z_off_t(deflated[s].bytes));
+  }
+  put_u32(idat, uint32_t(adler));
+  return idat;
 }
 
 }  // namespace
@@ -90,7 +121,8 @@ uint32_t png_slice_rows(uint32_t height, uint64_t row_bytes, int threads) {
   const uint64_t by_size = std::max<uint64_t>(1, (kMinSliceBytes + row_bytes - 1) / std::max<uint64_t>(row_bytes, 1));
   const uint64_t by_threads = (uint64_t(height) + uint64_t(std::max(threads, 1)) - 1) / uint64_t(std::max(threads, 1));
   const uint64_t at_most = std::max<uint64_t>(1, kMaxChunkBytes / std::max<uint64_t>(row_bytes, 1));
-  return uint32_t(std::clamp<uint64_t>(std::min(std::max(by_size, by_threads), at_most), 1, std::max<uint32_t>(height, 1)));
+  return uint32_t(
+      std::clamp<uint64_t>(std::min(std::max(by_size, by_threads), at_most), 1, std::max<uint32_t>(height, 1)));
 }
 
 std::vector<uint8_t> encode_png(const PngPixels& px) {
@@ -100,32 +132,13 @@ std::vector<uint8_t> encode_png(const PngPixels& px) {
       uint64_t(px.width) * uint64_t(px.channels) + 1 > 0x7fffffffu)
     throw std::logic_error("encode_png: " + std::to_string(px.width) + "x" + std::to_string(px.height) +
                            " is not a PNG size");
-  const uint64_t row_bytes = 1 + uint64_t(px.width) * uint64_t(px.channels);
-  const uint32_t slice_rows = png_slice_rows(px.height, row_bytes, tbb::this_task_arena::max_concurrency());
-  const uint32_t slices = (px.height + slice_rows - 1) / slice_rows;
-  std::vector<std::vector<uint8_t>> deflated(slices);
-  std::vector<uLong> adlers(slices), lengths(slices);
-  parallel_for_ranges(int64_t(slices), [&](int64_t begin, int64_t end) {
-    for (int64_t s = begin; s < end; ++s) {
-      const uint32_t first = uint32_t(s) * slice_rows, rows = std::min(slice_rows, px.height - first);
-      deflated[size_t(s)] = deflate_slice(px, first, rows, s + 1 == slices, adlers[size_t(s)], lengths[size_t(s)]);
-    }
-  });
-  // The zlib stream: header (deflate, 32 KiB window, level 5's "default" flag; a multiple of
-  // 31 as RFC 1950 asks), the slices' streams, the Adler-32 of all filtered rows.
-  std::vector<uint8_t> idat = {0x78, 0x5e};
-  uLong adler = adlers[0];
-  for (uint32_t s = 0; s < slices; ++s) {
-    idat.insert(idat.end(), deflated[s].begin(), deflated[s].end());
-    if (s > 0) adler = adler32_combine(adler, adlers[s], z_off_t(lengths[s]));
-  }
-  put_u32(idat, uint32_t(adler));
+  const std::vector<uint8_t> idat = zlib_stream(px);
   // The file: signature, header, the sRGB chunks as libpng's png_set_sRGB_gAMA_and_cHRM writes
   // them (gamma 1/2.2 and the sRGB primaries and white point, x100000, for readers without sRGB
   // support), the data, the end.
   std::vector<uint8_t> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   std::vector<uint8_t> header = u32s({px.width, px.height});
-  const uint8_t color_type = px.channels == 4 ? 6 : 2;  // RGBA or RGB
+  const uint8_t color_type = px.channels == 4 ? 6 : 2;    // RGBA or RGB
   header.insert(header.end(), {8, color_type, 0, 0, 0});  // 8 bits, deflate, adaptive filters, no interlace
   put_chunk(png, "IHDR", header);
   put_chunk(png, "gAMA", u32s({45455}));

@@ -1,7 +1,7 @@
 // The sliced PNG encoder (io/png_encode.h) against libpng's reader: every image decodes to its
-// own bytes, whatever the number of slices (one thread to eight), size (1x1 to several slices of
-// wide rows) or channels, and the zlib stream of the IDAT chunks inflates whole with zlib's
-// own checksum test. Also the chunks libpng wrote before: the sRGB chunks and their values.
+// own bytes, in one slice or several (1x1 to wide rows), RGB or RGBA, and the zlib stream of the
+// IDAT chunks inflates whole with zlib's own checksum test; one to eight threads write the same
+// file. Also the chunks libpng wrote before: the sRGB chunks and their values.
 #include <gtest/gtest.h>
 #include <png.h>
 #include <tbb/task_arena.h>
@@ -65,7 +65,8 @@ std::vector<uint8_t> decoded(const std::vector<uint8_t>& png, int channels, uint
   return out;
 }
 
-void expect_round_trip(uint32_t width, uint32_t height, int channels, int threads) {
+// The file, the same bytes whatever the number of threads.
+std::vector<uint8_t> expect_round_trip(uint32_t width, uint32_t height, int channels, int threads) {
   const std::vector<uint8_t> pixels = test_pixels(width, height, channels, width * 31 + height);
   std::vector<uint8_t> png;
   tbb::task_arena(threads).execute([&] { png = encode_png({pixels.data(), width, height, channels}); });
@@ -84,24 +85,29 @@ void expect_round_trip(uint32_t width, uint32_t height, int channels, int thread
   uLongf size = uLongf(rows.size());
   EXPECT_EQ(uncompress(rows.data(), &size, stream.data(), uLong(stream.size())), Z_OK) << what;
   EXPECT_EQ(size, rows.size() - 1) << what;
+  return png;
 }
 
-TEST(PngEncode, DecodesToItsPixelsWhateverTheSlices) {
-  for (int threads : {1, 2, 3, 8}) {
-    expect_round_trip(1, 1, 3, threads);
-    expect_round_trip(7, 3, 4, threads);
-    expect_round_trip(512, 512, 3, threads);  // a render: 768 KiB, up to 6 slices
-    expect_round_trip(300, 700, 4, threads);
-    expect_round_trip(3000, 90, 3, threads);  // wide rows: 15 rows a slice at least
+TEST(PngEncode, DecodesToItsPixelsTheSameFileWhateverTheThreads) {
+  struct Size {
+    uint32_t width, height;
+    int channels;
+  };
+  // One slice; a render (768 KiB: 6 slices); RGBA; wide rows (15 a slice).
+  for (const Size& s : {Size{1, 1, 3}, Size{7, 3, 4}, Size{512, 512, 3}, Size{300, 700, 4}, Size{3000, 90, 3}}) {
+    const std::vector<uint8_t> one_thread = expect_round_trip(s.width, s.height, s.channels, 1);
+    for (int threads : {2, 3, 8})
+      EXPECT_EQ(expect_round_trip(s.width, s.height, s.channels, threads), one_thread)
+          << s.width << "x" << s.height << ", " << threads << " threads";
   }
 }
 
-TEST(PngEncode, SlicesHoldEnoughRowsAndAtMostOnePerThread) {
-  EXPECT_EQ(png_slice_rows(512, 1 + 512 * 3, 1), 512u);
-  EXPECT_EQ(png_slice_rows(512, 1 + 512 * 3, 2), 256u);
-  EXPECT_EQ(png_slice_rows(512, 1 + 512 * 3, 64), 86u);  // 128 KiB of 1537-byte rows
-  EXPECT_EQ(png_slice_rows(3, 10, 8), 3u);               // a small image: one slice
-  EXPECT_EQ(png_slice_rows(1, 1, 0), 1u);
+TEST(PngEncode, SlicesAre128KiBOfRows) {
+  EXPECT_EQ(png_slice_rows(512, 1 + 512 * 3), 86u);  // 128 KiB of 1537-byte rows, rounded up
+  EXPECT_EQ(png_slice_rows(3, 10), 3u);              // a small image: one slice
+  EXPECT_EQ(png_slice_rows(1, 1), 1u);
+  EXPECT_EQ(png_slice_rows(100, 1u << 20), 1u);  // rows over 128 KiB: one a slice
+  EXPECT_EQ(png_slice_rows(100, 3u << 29), 1u);  // even over the 1 GiB cap
 }
 
 TEST(PngEncode, WritesTheSrgbChunksAndRefusesWhatPngCannotHold) {

@@ -1,6 +1,5 @@
 #include "volstream/io/png_encode.h"
 
-#include <tbb/task_arena.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -96,7 +95,7 @@ DeflatedSlice deflate_slice(const PngPixels& px, uint32_t first_row, uint32_t ro
 // the slices' streams, the Adler-32 of all filtered rows.
 std::vector<uint8_t> zlib_stream(const PngPixels& px) {
   const uint64_t row_bytes = 1 + uint64_t(px.width) * uint64_t(px.channels);
-  const uint32_t slice_rows = png_slice_rows(px.height, row_bytes, tbb::this_task_arena::max_concurrency());
+  const uint32_t slice_rows = png_slice_rows(px.height, row_bytes);
   const uint32_t slices = (px.height + slice_rows - 1) / slice_rows;
   std::vector<DeflatedSlice> deflated(slices);
   parallel_for_ranges(int64_t(slices), [&](int64_t begin, int64_t end) {
@@ -117,12 +116,10 @@ std::vector<uint8_t> zlib_stream(const PngPixels& px) {
 
 }  // namespace
 
-uint32_t png_slice_rows(uint32_t height, uint64_t row_bytes, int threads) {
-  const uint64_t by_size = std::max<uint64_t>(1, (kMinSliceBytes + row_bytes - 1) / std::max<uint64_t>(row_bytes, 1));
-  const uint64_t by_threads = (uint64_t(height) + uint64_t(std::max(threads, 1)) - 1) / uint64_t(std::max(threads, 1));
-  const uint64_t at_most = std::max<uint64_t>(1, kMaxChunkBytes / std::max<uint64_t>(row_bytes, 1));
-  return uint32_t(
-      std::clamp<uint64_t>(std::min(std::max(by_size, by_threads), at_most), 1, std::max<uint32_t>(height, 1)));
+uint32_t png_slice_rows(uint32_t height, uint64_t row_bytes) {
+  const uint64_t rows = (kSliceBytes + row_bytes - 1) / std::max<uint64_t>(row_bytes, 1);
+  const uint64_t at_most = kMaxChunkBytes / std::max<uint64_t>(row_bytes, 1);
+  return uint32_t(std::clamp<uint64_t>(std::min(rows, at_most), 1, std::max<uint32_t>(height, 1)));
 }
 
 std::vector<uint8_t> encode_png(const PngPixels& px) {

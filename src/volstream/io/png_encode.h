@@ -5,8 +5,7 @@
 // deflated on its own thread as a raw deflate stream that ends on a byte boundary (a sync
 // flush: an empty stored block) except the last, which ends the data. Their concatenation,
 // behind the zlib header and before the Adler-32 of all rows (combined from the slices'), is one
-// zlib stream, as pigz writes them. A slice starts without the previous slice's window, which
-// costs a few hundred bytes at each seam.
+// zlib stream, as pigz writes them. A slice starts without the previous slice's window.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -24,10 +23,11 @@ struct PngPixels {
 // level 5. std::logic_error for a size PNG cannot hold or channels other than 3 and 4.
 std::vector<uint8_t> encode_png(const PngPixels& pixels);
 
-// Rows per slice: every slice holds at least kMinSliceBytes of filtered rows (a smaller
-// slice's deflate loses more to its fresh window than its thread gains) and at most 1 GiB, and
-// there is at most one slice per thread of the pool where that allows.
-inline constexpr uint64_t kMinSliceBytes = 128 * 1024;
-uint32_t png_slice_rows(uint32_t height, uint64_t row_bytes, int threads);
+// Rows per slice: kSliceBytes of filtered rows (at least one row, at most 1 GiB), whatever the
+// number of threads, so that an image's file is the same bytes on every machine. Slices of
+// 128 KiB made the renders' files 0.9-3% smaller than one slice per thread (bench/RESULTS.md)
+// and give each of a few threads several slices.
+inline constexpr uint64_t kSliceBytes = 128 * 1024;
+uint32_t png_slice_rows(uint32_t height, uint64_t row_bytes);
 
 }  // namespace vs

@@ -65,7 +65,8 @@ std::vector<uint8_t> decoded(const std::vector<uint8_t>& png, int channels, uint
   return out;
 }
 
-// The file, the same bytes whatever the number of threads.
+// The test image encoded on `threads` threads, checked to decode to its pixels and to hold a zlib
+// stream that inflates whole; the file is returned for the caller to compare.
 std::vector<uint8_t> expect_round_trip(uint32_t width, uint32_t height, int channels, int threads) {
   const std::vector<uint8_t> pixels = test_pixels(width, height, channels, width * 31 + height);
   std::vector<uint8_t> png;

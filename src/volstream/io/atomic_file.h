@@ -19,7 +19,6 @@ class AtomicFile {
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
 
-  FILE* file() const { return file_; }           // for writers that take a FILE* (the image writers); checked at commit
   void write(const void* data, uint64_t bytes);  // InputError on a short write (disk full)
   void write(const std::string& text) { write(text.data(), text.size()); }
   // Flushes, syncs and closes (each checked), then renames over the target.

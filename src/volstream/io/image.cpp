@@ -132,9 +132,7 @@ void write_png(const Image& img, const std::string& path, const ImageWriteOption
     bytes = to_rgb8(img, opt.background);
   }
   const std::vector<uint8_t> png = encode_png({bytes.data(), img.width, img.height, channels});
-  AtomicFile out(path);
-  std::fwrite(png.data(), 1, png.size(), out.file());
-  out.commit();  // checks every buffered write and the close
+  write_file_atomic(path, png.data(), png.size());
 }
 
 void write_pfm(const Image& img, const std::string& path, const ImageWriteOptions& opt) {

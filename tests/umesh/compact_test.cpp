@@ -148,7 +148,7 @@ TEST_P(CompactTest, WalkFromTheHintEqualsSearchAlongLines) {
   for (const vec3f& v : e.mesh.vertices) b.extend(v);
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-0.1f, 1.1f);
-  int walked = 0;
+  int walked = 0, holes = 0;
   for (int line = 0; line < 100; ++line) {
     const vec3f from = b.lower + b.size() * vec3f(u(rng), u(rng), u(rng));
     const vec3f to = b.lower + b.size() * vec3f(u(rng), u(rng), u(rng));
@@ -158,12 +158,20 @@ TEST_P(CompactTest, WalkFromTheHintEqualsSearchAlongLines) {
       const int64_t before = hint.element;
       const float got = compact.sample(local.data(), p, hint), want = compact.sample(local.data(), p);
       ASSERT_EQ(std::isnan(got), std::isnan(want)) << "line " << line << " sample " << i;
-      if (std::isnan(want)) continue;
+      // After a sample in no element the next skips the walk; the element stays, where the
+      // search starts.
+      ASSERT_EQ(hint.in_hole, std::isnan(want)) << "line " << line << " sample " << i;
+      if (std::isnan(want)) {
+        EXPECT_EQ(hint.element, before) << "line " << line << " sample " << i;
+        holes += 1;
+        continue;
+      }
       walked += before >= 0 ? 1 : 0;
       EXPECT_NEAR(got, want, 1e-6f * std::max(1.f, std::fabs(want))) << "line " << line << " sample " << i;
     }
   }
   EXPECT_GT(walked, 1000);
+  EXPECT_GT(holes, 100);
 }
 
 // Calls f(leaf, element, corner, v, n, face) for every face of every element of `view`.

@@ -68,13 +68,14 @@ TEST_P(MeshProbeTest, EveryElementCentroidIsFound) {
 
 // The walk from the ray's hint (the previous sample's element, and a tet's kept solve) gives
 // what a search from scratch gives, along random lines sampled as rays are: in and out of the
-// mesh, through holes and across the parts of a non-convex one.
+// mesh, through holes and across the parts of a non-convex one; a sample in no element sets
+// in_hole, and the next one searches without walking.
 TEST_P(MeshProbeTest, WalkFromTheHintEqualsSearchAlongLines) {
   const DemoMesh d = demo(GetParam(), 3000);
   const UMeshRenderer renderer(d.mesh, d.transform);
   const UMeshView mesh = renderer.mesh_view();
   const std::vector<vec3f> ends = random_points(d, 200, 5);
-  int walked = 0;
+  int walked = 0, holes = 0;
   for (size_t line = 0; line + 1 < ends.size(); line += 2) {
     UMeshView::Hint hint;
     for (int i = 0; i <= 200; ++i) {
@@ -82,12 +83,19 @@ TEST_P(MeshProbeTest, WalkFromTheHintEqualsSearchAlongLines) {
       const bool from_hint = hint.element >= 0;
       const float got = mesh.sample(d.density.data(), p, hint), want = mesh.sample(d.density.data(), p);
       ASSERT_EQ(std::isnan(got), std::isnan(want)) << "line " << line << " sample " << i;
-      if (std::isnan(want)) continue;
+      // After a sample in no element the next one searches without a walk.
+      ASSERT_EQ(hint.in_hole, std::isnan(want)) << "line " << line << " sample " << i;
+      if (std::isnan(want)) {
+        EXPECT_EQ(hint.element, -1) << "line " << line << " sample " << i;
+        holes += 1;
+        continue;
+      }
       walked += from_hint ? 1 : 0;
       EXPECT_NEAR(got, want, 1e-6f * std::max(1.f, std::fabs(want))) << "line " << line << " sample " << i;
     }
   }
   EXPECT_GT(walked, 5000);
+  EXPECT_GT(holes, 500);
 }
 
 // A tet's walk record holds its solve (the weights at any point, inside or out, are the fresh

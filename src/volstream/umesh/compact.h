@@ -555,6 +555,7 @@ struct CompactMeshView {
     uint8_t corner[8];
     uint16_t v[8];
     uint32_t first_vertex = 0;
+    bool in_hole = false;  // as UMeshView::Hint::in_hole, but the element stays: the search starts near it
   };
 
   // Walks from the hint's element towards p across the faces p lies beyond (as UMeshView::walk,
@@ -604,8 +605,9 @@ struct CompactMeshView {
   VS_HOST_DEVICE Hit locate(const vec3f& p, Hint& hint) const {
     Hit hit;
     float best = INFINITY;
-    if (hint.element >= 0 && walk(hint, p, hit)) return hit;
+    if (hint.element >= 0 && !hint.in_hole && walk(hint, p, hit)) return hit;
     hit = Hit{};
+    hint.in_hole = true;
     if (occupancy.rules_out(p)) return hit;
     if (hint.element >= 0) {
       const uint32_t leaf = uint32_t(hint.element / kMultiLeafSize);
@@ -614,7 +616,7 @@ struct CompactMeshView {
     } else {
       search(p, hit, best);
     }
-    if (hit.leaf >= 0) hint.element = hit.leaf * int64_t(kMultiLeafSize) + hit.slot;
+    if (hit.leaf >= 0) hint.element = hit.leaf * int64_t(kMultiLeafSize) + hit.slot, hint.in_hole = false;
     return hit;
   }
 

@@ -126,6 +126,11 @@ struct UMeshView {
   struct Hint {
     int64_t element = -1;
     shape::KeptSolve solve;
+    // The last sample lay in no element (a hole, a notch, beyond the mesh inside its grid; the
+    // element is then -1): the next one goes to the search without a walk, which from the
+    // element before the hole would only reach the boundary again (Newton's solves on the way),
+    // nor one from its macrocell's start (MeshVolume::start_walk).
+    bool in_hole = false;
   };
 
   static constexpr int kMaxWalk = 8;
@@ -254,12 +259,13 @@ struct UMeshView {
   // consecutive samples are close, so a walk of a step or two over face neighbours usually
   // finds p; where it does not (the boundary, an unmatched face, a long way), the BVH search
   // decides, so the result is locate(p)'s (a strict hit wins; none may be missed). The element
-  // found is the next hint.
+  // found is the next hint (none: -1, and in_hole).
   VS_HOST_DEVICE ElementHit locate(const vec3f& p, Hint& hint) const {
     ElementHit hit;
     if (hint.element >= 0 && neighbors && walk(hint, p, hit)) return hit;
     hit = locate(p);
-    if (hit.element >= 0) hint.element = hit.element;
+    hint.element = hit.element;
+    hint.in_hole = hit.element < 0;
     return hit;
   }
 

@@ -41,7 +41,7 @@ struct MeshVolume {
   VS_FORCE_INLINE VS_HOST_DEVICE float sample(int field, uint32_t, const vec3f& p, Hint& hint) const {
 #if !defined(__CUDA_ARCH__)
     if constexpr (std::is_same_v<Locator, UMeshView>)
-      if (hint.element < 0 && walk_starts) start_walk(p, hint);
+      if (hint.element < 0 && walk_starts && !hint.in_hole) start_walk(p, hint);
 #endif
     return mesh.sample(fields[field], p, hint);
   }

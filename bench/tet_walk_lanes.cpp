@@ -16,7 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -254,6 +254,7 @@ double median_seconds(int repeats, F&& run) {
 
 Options parse(int argc, char** argv) {
   Options o;
+  if (argc % 2 == 0) throw std::invalid_argument(std::string("option ") + argv[argc - 1] + " has no value");
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string key = argv[i];
     const char* value = argv[i + 1];
@@ -267,22 +268,19 @@ Options parse(int argc, char** argv) {
       o.step = float(std::atof(value));
     else if (key == "--repeats")
       o.repeats = std::atoi(value);
-    else {
-      std::fprintf(stderr, "volstream_bench_tet_walk: unknown option %s\n", key.c_str());
-      std::exit(2);
-    }
+    else
+      throw std::invalid_argument("unknown option " + key);
   }
+  if (o.width < 1 || o.samples < 1 || o.repeats < 1 || !(o.step > 0.f))
+    throw std::invalid_argument("--width, --samples, --repeats and --step must be positive");
   return o;
 }
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int main(int argc, char** argv) try {
   const Options o = parse(argc, argv);
-  if (!vs::simd::use_avx2()) {
-    std::fprintf(stderr, "volstream_bench_tet_walk: this CPU has no AVX2\n");
-    return 2;
-  }
+  if (!vs::simd::use_avx2()) throw std::runtime_error("this CPU has no AVX2");
   const vs::MeshData data = vs::make_mesh_demo({"tets", o.elements, 1}, 0);
   const vs::UMesh mesh = vs::make_umesh(data, vs::mesh_transform(data), "demo");
   const vs::MeshAccel accel = vs::build_mesh_accel(mesh);
@@ -316,4 +314,7 @@ int main(int argc, char** argv) {
               (unsigned long long)lanes.tests, 1e9 * t_lanes / double(lanes.tests));
   std::printf("scalar / lanes time %.2f; rays whose sums differ by more than 1e-4: %zu\n", t_scalar / t_lanes, differ);
   return differ == 0 ? 0 : 1;
+} catch (const std::exception& e) {
+  std::fprintf(stderr, "volstream_bench_tet_walk: %s\n", e.what());
+  return 2;
 }

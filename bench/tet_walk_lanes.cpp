@@ -2,8 +2,9 @@
 // time through the tets' walk records (umesh/element_bvh.h): per sample, record tests until the
 // tet holding the sample, then its four corners' values. This driver walks the same rays that way
 // and eight at a time in AVX2 lanes (a record's 12 floats, its neighbour and the corners' values
-// by gathers; a lane whose ray is done takes the next one), checks that both give the same
-// per-ray sums of the sampled values, and prints nanoseconds per record test of each.
+// by gathers; a lane whose ray is done takes the next one) and four at a time on scalar registers
+// (walk_interleaved), checks that all give the same per-ray sums of the sampled values, and prints
+// nanoseconds per record test of each.
 // The rays (make_rays: a grid of width x width parallel rays, in the renderer's tile order) take
 // up to `samples` steps of `step` times the mean tet box width, and stop at the mesh's boundary or
 // where a sample's walk takes more than UMeshView::kMaxWalk tests (where the renderer would search
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -67,6 +69,52 @@ Walked walk_scalar(const vs::UMeshView& m, const float* values, const Rays& rays
       sum += w[0] * values[v[0]] + w[1] * values[v[1]] + w[2] * values[v[2]] + w[3] * values[v[3]];
     }
     out.sums[r] = sum;
+  }
+  return out;
+}
+
+// Four rays at a time on scalar registers, one record test each per round, as walk_scalar tests
+// them: the four chains of dependent loads and arithmetic do not depend on one another, so the core
+// can overlap them where one ray's chain alone leaves it waiting.
+Walked walk_interleaved(const vs::UMeshView& m, const float* values, const Rays& rays, int samples, float dt) {
+  constexpr int kRays = 4;
+  struct Walk {
+    size_t ray = 0;
+    uint32_t e = 0;
+    int k = 0, walked = 0;
+    float sum = 0.f;
+    bool active = false;
+  };
+  Walked out{std::vector<float>(rays.start.size(), 0.f), 0};
+  size_t next = 0;
+  const auto take_next = [&](Walk& w) {
+    w.active = next < rays.start.size();
+    if (w.active) w = {next, rays.start[next], 0, 0, 0.f, true}, ++next;
+  };
+  const auto finish = [&](Walk& w) {
+    out.sums[w.ray] = w.sum;
+    take_next(w);
+  };
+  Walk walks[kRays];
+  for (Walk& w : walks) take_next(w);
+  for (bool any = true; any;) {
+    any = false;
+    for (Walk& w : walks) {
+      if (!w.active) continue;
+      any = true;
+      ++out.tests;
+      const vec3f p = rays.origin[w.ray] + rays.dir[w.ray] * (float(w.k) * dt);
+      float weight[4];
+      if (m.record_step(w.e, p, weight)) {
+        const uint32_t* v = m.elements[w.e].v;
+        w.sum +=
+            weight[0] * values[v[0]] + weight[1] * values[v[1]] + weight[2] * values[v[2]] + weight[3] * values[v[3]];
+        w.walked = 0;
+        if (++w.k == samples) finish(w);
+      } else if (w.e == kNone || ++w.walked == vs::UMeshView::kMaxWalk) {
+        finish(w);
+      }
+    }
   }
   return out;
 }
@@ -240,16 +288,15 @@ float mean_box_width(const vs::UMesh& mesh) {
   return float(sum / double(n));
 }
 
-template <typename F>
-double median_seconds(int repeats, F&& run) {
-  std::vector<double> t;
-  for (int i = 0; i < repeats; ++i) {
-    const auto start = std::chrono::steady_clock::now();
-    run();
-    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+double seconds_of(const std::function<void()>& run) {
+  const auto start = std::chrono::steady_clock::now();
+  run();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
 }
 
 Options parse(int argc, char** argv) {
@@ -298,21 +345,38 @@ int main(int argc, char** argv) try {
   const Rays rays = make_rays(vs::view_of(mesh, accel), box, o.width);
   const float dt = o.step * mean_box_width(mesh);
 
-  Walked scalar, lanes;
-  const double t_scalar =
-      median_seconds(o.repeats, [&] { scalar = walk_scalar(view, values.data(), rays, o.samples, dt); });
-  const double t_lanes =
-      median_seconds(o.repeats, [&] { lanes = walk_lanes(view, values.data(), rays, o.samples, dt); });
+  // The three walks in turn, round after round, so that a slow stretch of a shared machine
+  // falls on all three; each round's time ratios, then their medians.
+  Walked scalar, lanes, interleaved;
+  std::vector<double> t_scalar, t_lanes, t_interleaved, lanes_gain, interleaved_gain;
+  for (int round = 0; round < o.repeats; ++round) {
+    t_scalar.push_back(seconds_of([&] { scalar = walk_scalar(view, values.data(), rays, o.samples, dt); }));
+    t_lanes.push_back(seconds_of([&] { lanes = walk_lanes(view, values.data(), rays, o.samples, dt); }));
+    t_interleaved.push_back(
+        seconds_of([&] { interleaved = walk_interleaved(view, values.data(), rays, o.samples, dt); }));
+    lanes_gain.push_back(t_scalar.back() / t_lanes.back());
+    interleaved_gain.push_back(t_scalar.back() / t_interleaved.back());
+  }
   size_t differ = 0;
   for (size_t r = 0; r < scalar.sums.size(); ++r)
-    if (std::fabs(scalar.sums[r] - lanes.sums[r]) > 1e-4f * (1.f + std::fabs(scalar.sums[r]))) ++differ;
+    for (const Walked* other : {&lanes, &interleaved})
+      if (std::fabs(scalar.sums[r] - other->sums[r]) > 1e-4f * (1.f + std::fabs(scalar.sums[r]))) ++differ;
   std::printf("tets %zu, rays %zu (of a %dx%d grid), samples up to %d, step %.4f (%.2f of the mean box width)\n",
               mesh.elements.size(), rays.start.size(), o.width, o.width, o.samples, double(dt), double(o.step));
-  std::printf("scalar: %.3f s median of %d, %llu record tests, %.2f ns a test\n", t_scalar, o.repeats,
-              (unsigned long long)scalar.tests, 1e9 * t_scalar / double(scalar.tests));
-  std::printf("lanes:  %.3f s median of %d, %llu record tests, %.2f ns a test\n", t_lanes, o.repeats,
-              (unsigned long long)lanes.tests, 1e9 * t_lanes / double(lanes.tests));
-  std::printf("scalar / lanes time %.2f; rays whose sums differ by more than 1e-4: %zu\n", t_scalar / t_lanes, differ);
+  const auto report = [&](const char* name, const Walked& w, const std::vector<double>& t) {
+    std::printf("%-12s %.3f s median of %d rounds, %llu record tests, %.2f ns a test\n", name, median(t), o.repeats,
+                (unsigned long long)w.tests, 1e9 * median(t) / double(w.tests));
+  };
+  report("scalar:", scalar, t_scalar);
+  report("lanes:", lanes, t_lanes);
+  report("interleaved:", interleaved, t_interleaved);
+  std::printf(
+      "scalar / lanes %.2f [%.2f..%.2f], scalar / interleaved %.2f [%.2f..%.2f] (per round: median [min..max]);"
+      " sums differing by more than 1e-4: %zu\n",
+      median(lanes_gain), *std::min_element(lanes_gain.begin(), lanes_gain.end()),
+      *std::max_element(lanes_gain.begin(), lanes_gain.end()), median(interleaved_gain),
+      *std::min_element(interleaved_gain.begin(), interleaved_gain.end()),
+      *std::max_element(interleaved_gain.begin(), interleaved_gain.end()), differ);
   return differ == 0 ? 0 : 1;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "volstream_bench_tet_walk: %s\n", e.what());

@@ -278,14 +278,12 @@ Rays make_rays(const vs::UMeshView& located, const vs::box3f& box, int width) {
 
 float mean_box_width(const vs::UMesh& mesh) {
   double sum = 0.0;
-  const size_t n = std::min<size_t>(mesh.elements.size(), 10000);
-  for (size_t e = 0; e < n; ++e) {
-    vs::box3f b = vs::box3f::make_empty();
-    for (int i = 0; i < mesh.elements[e].vertex_count(); ++i) b.extend(mesh.vertices[mesh.elements[e].v[i]]);
+  const std::vector<vs::box3f> boxes = vs::element_boxes(mesh);
+  for (const vs::box3f& b : boxes) {
     const vec3f s = b.size();
     sum += std::cbrt(double(s.x) * s.y * s.z);
   }
-  return float(sum / double(n));
+  return float(sum / double(boxes.size()));
 }
 
 double seconds_of(const std::function<void()>& run) {

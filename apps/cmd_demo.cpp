@@ -9,6 +9,7 @@
 #include "volstream/io/ugrid.h"
 #include "volstream/io/vtk_legacy.h"
 #include "volstream/io/vtu.h"
+#include "volstream/umesh/mesh_pieces.h"
 
 namespace vs::cli {
 
@@ -19,12 +20,14 @@ void write_mesh_file(const std::filesystem::path& file, const MeshData& mesh) {
     return name.size() >= suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
   };
   if (ends_with(".vtu")) return write_vtu(file, mesh);
+  // As a parallel run writes it: four pieces, each with a layer of ghost cells.
+  if (ends_with(".pvtu")) return write_pvtu(file, cut_into_pieces(mesh, 4, mesh.cell_count() / 16));
   if (ends_with(".vtk")) return write_vtk_legacy(file, mesh);
   if (ends_with(".lb8.ugrid")) return write_ugrid(file, mesh, UgridEncoding::lb8);
   if (ends_with(".b8.ugrid")) return write_ugrid(file, mesh, UgridEncoding::b8);
   if (ends_with(".lb4.ugrid")) return write_ugrid(file, mesh, UgridEncoding::lb4);
   if (ends_with(".ugrid")) return write_ugrid(file, mesh, UgridEncoding::ascii);
-  throw UsageError("--write-mesh: cannot tell the format of " + name + " (.vtu, .vtk, .ugrid)");
+  throw UsageError("--write-mesh: cannot tell the format of " + name + " (.vtu, .pvtu, .vtk, .ugrid)");
 }
 }  // namespace
 
@@ -56,8 +59,9 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--steps", args->steps, "number of time steps")->capture_default_str()->check(CLI::Range(1, 100000));
   cmd->add_option("-o,--output", args->out, "output dataset directory")->required();
   cmd->add_option("--write-mesh", args->mesh_files,
-                  "mesh demos: also write step 0 as a mesh file (.vtu appended raw, .vtk binary 5.1, "
-                  "NAME.{lb8,b8,lb4}.ugrid or ascii .ugrid: the format from the name); repeatable");
+                  "mesh demos: also write step 0 as a mesh file (.vtu appended raw; .pvtu: four .vtu pieces with "
+                  "ghost cells beside it, as a parallel writer's; .vtk binary 5.1; NAME.{lb8,b8,lb4}.ugrid or "
+                  "ascii .ugrid: the format from the name); repeatable");
   cmd->add_flag("--file-order", args->file_order,
                 "also write every step in the generator's cell order and the permutation to device order "
                 "(file_index.bin), for the streaming pipeline's flatten pass (doubles the values on disk)");

@@ -1,10 +1,12 @@
 // VTK XML unstructured grids and ParaView collections: valid files in several encodings (ascii,
-// inline base64 + zlib, appended raw, appended base64 + zlib with UInt32 headers and two pieces'
-// worth of arrays) and a .pvd, one of them patched or truncated.
+// inline base64 + zlib, appended raw, appended raw + LZ4, appended raw + LZMA, appended base64 +
+// zlib with UInt32 headers and two pieces' worth of arrays), a .pvd, and a .pvtu of two ascii
+// pieces with ghost cells (pieces_0.vtu and pieces_1.vtu, also read alone), one of them patched or truncated.
 #include <algorithm>
 
 #include "fuzz_util.h"
 #include "volstream/io/vtu.h"
+#include "volstream/umesh/mesh_pieces.h"
 
 namespace {
 vs::MeshData small_mesh() {
@@ -25,11 +27,18 @@ void make_base(const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
   const MeshData mesh = small_mesh();
   write_vtu(dir / "ascii.vtu", mesh, {.format = Format::ascii});
-  write_vtu(dir / "base64_zlib.vtu", mesh, {.format = Format::base64, .zlib = true, .zlib_block_size = 16});
+  write_vtu(dir / "base64_zlib.vtu", mesh,
+            {.format = Format::base64, .compressor = VtuCompressor::zlib, .block_size = 16});
+  write_vtu(dir / "raw_lz4.vtu", mesh, {.compressor = VtuCompressor::lz4, .block_size = 16});
+  write_vtu(dir / "raw_lzma.vtu", mesh, {.compressor = VtuCompressor::lzma, .block_size = 32});
   write_vtu(dir / "raw.vtu", mesh, {.format = Format::appended_raw, .points_float64 = true});
   write_vtu(dir / "appended_base64.vtu", mesh,
-            {.format = Format::appended_base64, .zlib = true, .header_uint64 = false, .indices_int64 = false});
-  write_pvd(dir / "series.pvd", {{0, dir / "ascii.vtu"}, {1, dir / "raw.vtu"}});
+            {.format = Format::appended_base64,
+             .compressor = VtuCompressor::zlib,
+             .header_uint64 = false,
+             .indices_int64 = false});
+  write_pvd(dir / "series.pvd", {{0, {dir / "ascii.vtu"}}, {1, {dir / "raw.vtu"}}});
+  write_pvtu(dir / "pieces.pvtu", cut_into_pieces(mesh, 2, 1), {.format = Format::ascii});
 }
 }  // namespace
 
@@ -47,6 +56,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (const auto& file : files) {
     if (file.extension() == ".pvd")
       fuzz::expect_clean([&] { read_pvd(file); });
+    else if (file.extension() == ".pvtu")
+      fuzz::expect_clean([&] { read_pvtu(file); });
     else
       fuzz::expect_clean([&] { read_vtu(file); });
   }

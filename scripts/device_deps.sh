@@ -18,6 +18,7 @@ PACKAGES=(
   libcli11-dev nlohmann-json3-dev                                        # command line, manifests
   libtbb-dev libtbb12 libtbbmalloc2 libtbbbind-2-5 libhwloc15            # TBB (its CMake config names them all)
   libpng-dev libpng16-16 zlib1g-dev                                      # PNG, zlib
+  liblz4-dev liblz4-1 liblzma-dev liblzma5                               # .vtu's LZ4 and LZMA blocks
   libgtest-dev libgmock-dev                                              # tests
   libcivetweb-dev libcivetweb1 libturbojpeg0-dev libturbojpeg0           # `volstream view`
 )

@@ -11,7 +11,8 @@ PACKAGES=(
   clang-format                     # the code style (.clang-format), checked by scripts/test.sh
   libcli11-dev nlohmann-json3-dev  # command line, manifests
   libtbb-dev                       # CPU threads (parallel_for)
-  libpng-dev zlib1g-dev            # PNG output
+  libpng-dev zlib1g-dev            # PNG output; zlib-compressed .vtu
+  liblz4-dev liblzma-dev           # LZ4- and LZMA-compressed .vtu (VTK's other two compressors)
   libgtest-dev libgmock-dev        # tests
   ffmpeg                           # video output
   python3 pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests

@@ -5,6 +5,7 @@
 # time series converts; bad mesh input is one line and exit 2; the compact encoding (the default)
 # probes and renders what the reference one does, and refuses reference-only requests.
 source "$(dirname "$0")/common.bash"
+DATA="$(cd "$(dirname "$0")/../data/vtu" && pwd)"
 cd "$WORK"
 
 for demo in tets mixed holes; do
@@ -19,10 +20,11 @@ done
 
 # Every file format the demo writes converts to the same values (UGRID has no data: the linear
 # field comes back through --scalars from a raw float32 file).
+# m.pvtu is four .vtu pieces with ghost cells, as a parallel writer's: joined at convert.
 "$VS" demo mixed --elements 4000 --steps 1 -o ref -q --write-mesh m.vtu --write-mesh m.vtk \
-  --write-mesh m.lb8.ugrid --write-mesh m.b8.ugrid --write-mesh m.ugrid
+  --write-mesh m.lb8.ugrid --write-mesh m.b8.ugrid --write-mesh m.ugrid --write-mesh m.pvtu
 "$VS" probe ref --field linear --points pts_mixed.txt >expected.txt
-for f in m.vtu m.vtk; do
+for f in m.vtu m.vtk m.pvtu; do
   "$VS" convert $f -o conv_$f -q
   "$VS" probe conv_$f --field linear --points pts_mixed.txt >got.txt
   echo -n "$f: "
@@ -73,6 +75,21 @@ for s in 0 1 2; do echo "<DataSet timestep=\"$s.5\" part=\"0\" file=\"s$s.vtu\"/
 printf '</Collection>\n</VTKFile>\n' >>series.pvd
 "$VS" convert series.pvd -o pvd -q
 "$VS" info pvd --json | grep -q '"steps": 3' || fail ".pvd did not give 3 steps"
+
+# VTK's own parallel output (tests/data/vtu/make_vtk_files.py: three pieces with ghost cells) as
+# the parts of one .pvd step: the 135 tets of the whole, the same values at its 64 points.
+echo '<VTKFile type="Collection"><Collection>' >parts.pvd
+for p in 0 1 2; do echo "<DataSet timestep=\"0\" part=\"$p\" file=\"$DATA/vtk_ghosts_$p.vtu\"/>" >>parts.pvd; done
+echo '</Collection></VTKFile>' >>parts.pvd
+"$VS" convert parts.pvd -o parts -q
+"$VS" convert "$DATA/vtk_zlib.vtu" -o whole -q
+"$VS" info parts --json | grep -q '"tetra": 135,' || fail "the .pvd's parts did not join into 135 tets"
+for x in 0 1 2 3; do for y in 0 1 2 3; do for z in 0 1 2 3; do echo "$x $y $z"; done; done; done >grid_points.txt
+"$VS" probe parts --field RTData --points grid_points.txt >got.txt
+"$VS" probe whole --field RTData --points grid_points.txt >want.txt
+echo -n "parts.pvd: "
+compare_probes got.txt want.txt || fail "the .pvd's parts differ from VTK's whole mesh at its points"
+grep -q nan got.txt && fail "a grid point of the wavelet probed outside"
 
 # Bad input: a truncated file, a .pvd whose steps have different meshes, an unknown scalars spec.
 head -c 3000 m.vtu >trunc.vtu

@@ -13,6 +13,7 @@
 #include "volstream/io/vtu.h"
 #include "volstream/umesh/compact.h"
 #include "volstream/umesh/from_mesh_data.h"
+#include "volstream/umesh/mesh_pieces.h"
 #include "volstream/umesh/spatial_order.h"
 #include "volstream/umesh/split_tets.h"
 
@@ -54,9 +55,20 @@ std::string lower_extension(const fs::path& file) {
 MeshData read_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   if (ext == ".vtu") return read_vtu(file);
+  if (ext == ".pvtu") return read_pvtu(file);
   if (ext == ".vtk") return read_vtk_legacy(file);
   if (ext == ".ugrid") return read_ugrid(file);
-  input_error(file.string(), "not a mesh file (.vtu, .vtk, .ugrid, or a .pvd collection of them)");
+  input_error(file.string(), "not a mesh file (.vtu, .pvtu, .vtk, .ugrid, or a .pvd collection of them)");
+}
+
+// A step's parts (a .pvd's entries of one time) as one mesh.
+MeshData read_parts(const std::vector<fs::path>& parts, const std::string& origin) {
+  if (parts.size() == 1) return read_mesh_file(parts.front());
+  std::vector<MeshData> meshes;
+  for (const fs::path& part : parts) meshes.push_back(read_mesh_file(part));
+  MeshData m = join_pieces(std::move(meshes), origin);
+  check_mesh(m, origin);
+  return m;
 }
 
 class FileSeries : public MeshSeries {
@@ -66,11 +78,11 @@ class FileSeries : public MeshSeries {
   int step_count() const override { return int(steps_.size()); }
   double step_time(int step) const override { return steps_.at(size_t(step)).time; }
   MeshData read_step(int step) override {
-    MeshData m = read_mesh_file(steps_.at(size_t(step)).file);
+    MeshData m = read_parts(steps_.at(size_t(step)).parts, origin(step));
     for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
     return m;
   }
-  std::string origin(int step) const override { return steps_.at(size_t(step)).file.string(); }
+  std::string origin(int step) const override { return steps_.at(size_t(step)).parts.front().string(); }
   std::string description() const override { return description_; }
 
  private:
@@ -82,6 +94,7 @@ class FileSeries : public MeshSeries {
 std::string format_name(const fs::path& file) {
   const std::string ext = lower_extension(file);
   if (ext == ".vtu") return "VTK XML unstructured grid";
+  if (ext == ".pvtu") return "VTK XML parallel unstructured grid";
   if (ext == ".vtk") return "legacy VTK unstructured grid";
   if (ext == ".pvd") return "ParaView collection";
   return "UGRID";
@@ -91,7 +104,7 @@ std::string format_name(const fs::path& file) {
 
 bool is_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
-  return ext == ".vtu" || ext == ".vtk" || ext == ".pvd" || ext == ".ugrid";
+  return ext == ".vtu" || ext == ".pvtu" || ext == ".vtk" || ext == ".pvd" || ext == ".ugrid";
 }
 
 RawScalars parse_raw_scalars(const std::string& spec) {
@@ -109,7 +122,7 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
     if (files.size() > 1) throw UsageError("a .pvd collection is converted on its own");
     steps = read_pvd(files.front());
   } else {
-    for (size_t i = 0; i < files.size(); ++i) steps.push_back({double(i), files[i]});
+    for (size_t i = 0; i < files.size(); ++i) steps.push_back({double(i), {files[i]}});
   }
   std::string description = format_name(files.front()) + " " + files.front().filename().string();
   if (steps.size() > 1) description += " (" + std::to_string(steps.size()) + " steps)";

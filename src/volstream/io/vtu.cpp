@@ -2,6 +2,8 @@
 
 #include "volstream/core/xml.h"
 
+#include <lz4.h>
+#include <lzma.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -20,6 +22,7 @@
 #include "volstream/io/base64.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/io/xml_scan.h"
+#include "volstream/umesh/mesh_pieces.h"
 
 namespace vs {
 namespace {
@@ -29,10 +32,24 @@ namespace fs = std::filesystem;
 constexpr uint64_t kMaxFileBytes = uint64_t(1) << 40;
 constexpr uint64_t kMaxValues = uint64_t(1) << 40;  // per array
 constexpr uint64_t kMaxComponents = 1 << 16;
-// Deflate cannot expand data by more than 1032:1, so a block's declared size beyond that is a lie
-// (checked before the output is allocated).
-constexpr uint64_t kZlibMaxRatio = 1032;
-constexpr uint64_t kZlibSlackBytes = 64;
+// An LZMA block's decoder may allocate its dictionary: VTK's highest level (9) needs 65 MiB.
+constexpr uint64_t kLzmaMemoryLimit = uint64_t(256) << 20;
+
+// VTK's block compressors: the name in the file, the short name for errors, and how far a block
+// can expand (a declared size beyond max_ratio x compressed + slack is a lie, refused before
+// the output is allocated).
+struct CompressorInfo {
+  VtuCompressor type;
+  std::string_view name, short_name;
+  uint64_t max_ratio, slack;
+};
+constexpr CompressorInfo kCompressors[] = {
+    {VtuCompressor::zlib, "vtkZLibDataCompressor", "zlib", 1032, 64},  // deflate's own limit
+    {VtuCompressor::lz4, "vtkLZ4DataCompressor", "LZ4", 256, 64},      // a byte of a match's length per 255
+    // The .xz format's limit is near 7000:1 (6800:1 measured for 100 MB of zeros at level 9).
+    {VtuCompressor::lzma, "vtkLZMADataCompressor", "LZMA", 8192, 1024},
+};
+const CompressorInfo& compressor_info(VtuCompressor type) { return kCompressors[int(type) - 1]; }
 
 std::string str(uint64_t v) { return std::to_string(v); }
 
@@ -106,7 +123,7 @@ struct VtuFile {
   XmlDocument doc;
   bool swap_bytes = false;  // the file's byte order is not the host's
   size_t header_bytes = 4;  // UInt32 or UInt64 binary headers
-  bool zlib = false;
+  VtuCompressor compressor = VtuCompressor::none;
   bool appended_base64 = false;
   size_t appended_end = 0;  // end of the appended section (base64: the next '<')
 };
@@ -152,10 +169,44 @@ std::string read_plain_blob(const VtuFile& f, Source& src, const std::string& wh
   return out;
 }
 
-// zlib-compressed binary data: [#blocks] [block size] [last block size or 0] [compressed size of
-// each block] [the compressed blocks].
+// One compressed block into out[0..want): false when its data are corrupt or do not give exactly
+// `want` bytes (`why` then says what the decoder found).
+bool decode_block(VtuCompressor type, const std::string& packed, char* out, uint64_t want, std::string& why) {
+  switch (type) {
+    case VtuCompressor::zlib: {
+      uLongf got = uLongf(want);
+      const int rc = uncompress(reinterpret_cast<Bytef*>(out), &got, reinterpret_cast<const Bytef*>(packed.data()),
+                                uLong(packed.size()));
+      why = zError(rc);
+      return rc == Z_OK && got == want;
+    }
+    case VtuCompressor::lz4: {
+      why = "not a valid LZ4 block of that size";
+      if (packed.size() > LZ4_MAX_INPUT_SIZE || want > uint64_t(INT32_MAX)) return false;
+      return LZ4_decompress_safe(packed.data(), out, int(packed.size()), int(want)) == int64_t(want);
+    }
+    case VtuCompressor::lzma: {
+      uint64_t memory = kLzmaMemoryLimit;
+      size_t in = 0, got = 0;
+      const lzma_ret rc =
+          lzma_stream_buffer_decode(&memory, 0, nullptr, reinterpret_cast<const uint8_t*>(packed.data()), &in,
+                                    packed.size(), reinterpret_cast<uint8_t*>(out), &got, want);
+      why = rc == LZMA_MEMLIMIT_ERROR ? "needs more than 256 MiB to decode"
+            : rc == LZMA_OK           ? "size differs from the header's"
+                                      : "not a valid .xz stream (lzma error " + std::to_string(int(rc)) + ")";
+      return rc == LZMA_OK && got == want && in == packed.size();
+    }
+    case VtuCompressor::none:
+      break;
+  }
+  return false;
+}
+
+// Compressed binary data: [#blocks] [block size] [last block size or 0] [compressed size of each
+// block] [the compressed blocks].
 template <typename Source>
-std::string read_zlib_blob(const VtuFile& f, Source& src, const std::string& what, uint64_t expected) {
+std::string read_compressed_blob(const VtuFile& f, Source& src, const std::string& what, uint64_t expected) {
+  const CompressorInfo& codec = compressor_info(f.compressor);
   const uint64_t blocks = read_header_word(f, src);
   const uint64_t block_size = read_header_word(f, src);
   const uint64_t last_size = read_header_word(f, src);
@@ -175,23 +226,21 @@ std::string read_zlib_blob(const VtuFile& f, Source& src, const std::string& wha
     const uint64_t room = src.max_remaining();
     if (compressed[b] > room || compressed_total > room - compressed[b])
       input_error(f.name, what + ": truncated file (compressed block " + str(b) + " is cut off)");
-    if (block_bytes > compressed[b] * kZlibMaxRatio + kZlibSlackBytes)
+    if (block_bytes > compressed[b] * codec.max_ratio + codec.slack)
       input_error(f.name, what + ": compressed block " + str(b) + " of " + str(compressed[b]) +
                               " bytes cannot hold the " + str(block_bytes) + " bytes declared");
     compressed_total += compressed[b];
   }
 
   std::string out(total, '\0');
-  std::string packed;
+  std::string packed, why;
   for (uint64_t b = 0, at = 0; b < blocks; ++b) {
     packed.resize(compressed[b]);
     src.read(packed.data(), packed.size());
-    uLongf out_bytes = b + 1 == blocks ? last_bytes : block_size;
-    const uLongf want = out_bytes;
-    const int rc = uncompress(reinterpret_cast<Bytef*>(out.data() + at), &out_bytes,
-                              reinterpret_cast<const Bytef*>(packed.data()), uLong(packed.size()));
-    if (rc != Z_OK || out_bytes != want)
-      input_error(f.name, what + ": corrupt zlib data in block " + str(b) + " (" + zError(rc) + ")");
+    const uint64_t want = b + 1 == blocks ? last_bytes : block_size;
+    if (!decode_block(f.compressor, packed, out.data() + at, want, why))
+      input_error(f.name,
+                  what + ": corrupt " + std::string(codec.short_name) + " data in block " + str(b) + " (" + why + ")");
     at += want;
   }
   return out;
@@ -199,7 +248,8 @@ std::string read_zlib_blob(const VtuFile& f, Source& src, const std::string& wha
 
 template <typename Source>
 std::string read_blob(const VtuFile& f, Source& src, const std::string& what, uint64_t expected) {
-  return f.zlib ? read_zlib_blob(f, src, what, expected) : read_plain_blob(f, src, what, expected);
+  if (f.compressor == VtuCompressor::none) return read_plain_blob(f, src, what, expected);
+  return read_compressed_blob(f, src, what, expected);
 }
 
 // Values as the reader wants them: double for coordinates and data, uint64_t for indices (which
@@ -426,32 +476,6 @@ MeshData read_piece(const VtuFile& f, const XmlElement& piece, size_t index) {
   return mesh;
 }
 
-bool same_layout(const std::vector<MeshArray>& a, const std::vector<MeshArray>& b) {
-  if (a.size() != b.size()) return false;
-  for (size_t i = 0; i < a.size(); ++i)
-    if (a[i].name != b[i].name || a[i].components != b[i].components) return false;
-  return true;
-}
-
-void append_arrays(std::vector<MeshArray>& to, const std::vector<MeshArray>& from) {
-  for (size_t i = 0; i < to.size(); ++i)
-    to[i].values.insert(to[i].values.end(), from[i].values.begin(), from[i].values.end());
-}
-
-// Later pieces follow the first: their point indices and connectivity offsets move up.
-void append_piece(const VtuFile& f, MeshData& mesh, const MeshData& piece, size_t index) {
-  if (!same_layout(mesh.point_data, piece.point_data) || !same_layout(mesh.cell_data, piece.cell_data))
-    input_error(f.name, "Piece " + std::to_string(index) + " has other point or cell arrays than Piece 0");
-  const uint64_t point_base = mesh.points.size(), connectivity_base = mesh.connectivity.size();
-  mesh.points.insert(mesh.points.end(), piece.points.begin(), piece.points.end());
-  for (uint64_t v : piece.connectivity) mesh.connectivity.push_back(v + point_base);
-  for (size_t i = 1; i < piece.cell_offsets.size(); ++i)
-    mesh.cell_offsets.push_back(piece.cell_offsets[i] + connectivity_base);
-  mesh.cell_types.insert(mesh.cell_types.end(), piece.cell_types.begin(), piece.cell_types.end());
-  append_arrays(mesh.point_data, piece.point_data);
-  append_arrays(mesh.cell_data, piece.cell_data);
-}
-
 // The VTKFile attributes that say how binary data are stored.
 void read_file_attributes(VtuFile& f) {
   const XmlElement& root = f.doc.root;
@@ -467,9 +491,15 @@ void read_file_attributes(VtuFile& f) {
   if (header && *header != "UInt32" && *header != "UInt64") input_error(f.name, "unknown header_type " + *header);
   f.header_bytes = header && *header == "UInt64" ? 8 : 4;
   const std::string* compressor = root.attribute("compressor");
-  if (compressor && !compressor->empty() && *compressor != "vtkZLibDataCompressor")
-    input_error(f.name, "unsupported compressor " + *compressor + " (volstream reads vtkZLibDataCompressor)");
-  f.zlib = compressor && !compressor->empty();
+  if (compressor && !compressor->empty()) {
+    const auto known = std::find_if(std::begin(kCompressors), std::end(kCompressors),
+                                    [&](const CompressorInfo& c) { return c.name == *compressor; });
+    if (known == std::end(kCompressors))
+      input_error(f.name,
+                  "unsupported compressor " + compressor->substr(0, 64) +
+                      " (volstream reads vtkZLibDataCompressor, vtkLZ4DataCompressor and vtkLZMADataCompressor)");
+    f.compressor = known->type;
+  }
   if (f.doc.has_appended) {
     const std::string* encoding = f.doc.appended.attribute("encoding");
     if (!encoding || (*encoding != "raw" && *encoding != "base64"))
@@ -487,27 +517,71 @@ std::string read_whole_file(const fs::path& file) {
   return text;
 }
 
-}  // namespace
-
-MeshData read_vtu(const std::filesystem::path& file) {
+// The file's pieces joined (join_pieces), not yet checked with check_mesh.
+MeshData read_vtu_unchecked(const fs::path& file) {
   VtuFile f;
   f.name = file.string();
   f.text = read_whole_file(file);
   f.doc = scan_xml(f.text, f.name);
   read_file_attributes(f);
   const XmlElement& grid = required_child(f, f.doc.root, "UnstructuredGrid", "VTKFile");
-  MeshData mesh;
-  size_t pieces = 0;
-  for (const XmlElement& e : grid.children) {
-    if (e.name != "Piece") continue;
-    MeshData piece = read_piece(f, e, pieces);
-    if (pieces++ == 0)
-      mesh = std::move(piece);
-    else
-      append_piece(f, mesh, piece, pieces - 1);
+  std::vector<MeshData> pieces;
+  for (const XmlElement& e : grid.children)
+    if (e.name == "Piece") pieces.push_back(read_piece(f, e, pieces.size()));
+  if (pieces.empty()) input_error(f.name, "the UnstructuredGrid has no <Piece>");
+  return join_pieces(std::move(pieces), f.name);
+}
+
+// The elements of <VTKFile type="TYPE"><TYPE> named `entry` in a small VTK XML file that lists
+// others (.pvd, .pvtu); InputError `not_this` when the file is of another type.
+std::vector<XmlElement> listed_entries(const fs::path& file, const std::string& type, std::string_view entry,
+                                       const std::string& not_this) {
+  const std::string name = file.string();
+  const std::string text = read_text_file(file);
+  const XmlDocument doc = scan_xml(text, name);
+  const std::string* root_type = doc.root.attribute("type");
+  if (doc.root.name != "VTKFile" || !root_type || *root_type != type) input_error(name, not_this);
+  const XmlElement* body = doc.root.child(type);
+  if (!body) input_error(name, "<VTKFile> has no <" + type + ">");
+  std::vector<XmlElement> entries;
+  for (const XmlElement& e : body->children)
+    if (e.name == entry) entries.push_back(e);
+  if (entries.empty()) input_error(name, "the " + type + " has no <" + std::string(entry) + "> entries");
+  return entries;
+}
+
+// A path a list file names: relative ones from the list file's directory.
+fs::path listed_path(const fs::path& list_file, const std::string& path) {
+  const fs::path p(path);
+  return p.is_absolute() ? p : list_file.parent_path() / p;
+}
+
+// The piece files a .pvtu names (<Piece Source=...>).
+std::vector<fs::path> pvtu_sources(const fs::path& file) {
+  std::vector<fs::path> sources;
+  for (const XmlElement& e :
+       listed_entries(file, "PUnstructuredGrid", "Piece", "not a VTK parallel unstructured grid (.pvtu) file")) {
+    const std::string* source = e.attribute("Source");
+    if (!source || source->empty())
+      input_error(file.string(), "Piece " + std::to_string(sources.size()) + " has no Source");
+    sources.push_back(listed_path(file, *source));
   }
-  if (pieces == 0) input_error(f.name, "the UnstructuredGrid has no <Piece>");
-  check_mesh(mesh, f.name);
+  return sources;
+}
+
+}  // namespace
+
+MeshData read_vtu(const std::filesystem::path& file) {
+  MeshData mesh = read_vtu_unchecked(file);
+  check_mesh(mesh, file.string());
+  return mesh;
+}
+
+MeshData read_pvtu(const std::filesystem::path& file) {
+  std::vector<MeshData> pieces;
+  for (const fs::path& source : pvtu_sources(file)) pieces.push_back(read_vtu_unchecked(source));
+  MeshData mesh = join_pieces(std::move(pieces), file.string());
+  check_mesh(mesh, file.string());
   return mesh;
 }
 
@@ -563,14 +637,15 @@ std::string ascii_text(const OutArray& a, const std::string& indent) {
 class VtuWriter {
  public:
   VtuWriter(const VtuWriteOptions& options) : o_(options) {
-    if (o_.zlib && o_.zlib_block_size == 0) throw std::invalid_argument("write_vtu: zlib_block_size must be > 0");
+    if (o_.compressor != VtuCompressor::none && o_.block_size == 0)
+      throw std::invalid_argument("write_vtu: block_size must be > 0");
   }
 
   std::string document(const MeshData& mesh) {
     std::string xml = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"";
     xml += std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
     xml += std::string("\" header_type=\"") + (o_.header_uint64 ? "UInt64" : "UInt32") + "\"";
-    if (compressed()) xml += " compressor=\"vtkZLibDataCompressor\"";
+    if (compressed()) xml += " compressor=\"" + std::string(compressor_info(o_.compressor).name) + "\"";
     xml += ">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" + std::to_string(mesh.points.size()) +
            "\" NumberOfCells=\"" + std::to_string(mesh.cell_count()) + "\">\n";
     xml += section("PointData", data_arrays(mesh.point_data));
@@ -589,7 +664,7 @@ class VtuWriter {
  private:
   using Format = VtuWriteOptions::Format;
   bool appended() const { return o_.format == Format::appended_raw || o_.format == Format::appended_base64; }
-  bool compressed() const { return o_.zlib && o_.format != Format::ascii; }
+  bool compressed() const { return o_.compressor != VtuCompressor::none && o_.format != Format::ascii; }
 
   std::vector<OutArray> data_arrays(const std::vector<MeshArray>& arrays) const {
     std::vector<OutArray> out;
@@ -662,23 +737,45 @@ class VtuWriter {
   }
 
   void compress_blocks(const std::string& bytes, std::string& header, std::string& data) const {
-    const uint64_t block = o_.zlib_block_size;
+    const uint64_t block = o_.block_size;
     const uint64_t blocks = (bytes.size() + block - 1) / block;
     append_header_word(header, blocks);
     append_header_word(header, block);
     append_header_word(header, bytes.size() % block);  // 0: the last block is full
-    std::string packed;
     for (uint64_t b = 0; b < blocks; ++b) {
       const uint64_t size = std::min<uint64_t>(block, bytes.size() - b * block);
-      uLongf packed_size = compressBound(uLong(size));
-      packed.resize(packed_size);
-      if (compress2(reinterpret_cast<Bytef*>(packed.data()), &packed_size,
-                    reinterpret_cast<const Bytef*>(bytes.data() + b * block), uLong(size),
-                    Z_DEFAULT_COMPRESSION) != Z_OK)
-        throw std::runtime_error("write_vtu: zlib compression failed");
-      append_header_word(header, packed_size);
-      data.append(packed.data(), packed_size);
+      const size_t before = data.size();
+      encode_block(o_.compressor, std::string_view(bytes).substr(b * block, size), data);
+      append_header_word(header, data.size() - before);
     }
+  }
+
+  // One block compressed onto the end of `out`, at each library's default level (as VTK's 5).
+  static void encode_block(VtuCompressor type, std::string_view in, std::string& out) {
+    const size_t at = out.size();
+    size_t packed = 0;
+    bool ok = false;
+    if (type == VtuCompressor::zlib) {
+      uLongf n = compressBound(uLong(in.size()));
+      out.resize(at + n);
+      ok = compress2(reinterpret_cast<Bytef*>(out.data() + at), &n, reinterpret_cast<const Bytef*>(in.data()),
+                     uLong(in.size()), Z_DEFAULT_COMPRESSION) == Z_OK;
+      packed = n;
+    } else if (type == VtuCompressor::lz4) {
+      if (in.size() > LZ4_MAX_INPUT_SIZE) throw std::invalid_argument("write_vtu: block too large for LZ4");
+      out.resize(at + size_t(LZ4_compressBound(int(in.size()))));
+      const int n = LZ4_compress_default(in.data(), out.data() + at, int(in.size()), int(out.size() - at));
+      ok = n > 0 || in.empty();
+      packed = size_t(std::max(n, 0));
+    } else {
+      out.resize(at + lzma_stream_buffer_bound(in.size()));
+      size_t end = at;  // liblzma writes from out[end] on and moves end past what it wrote
+      ok = lzma_easy_buffer_encode(5, LZMA_CHECK_CRC64, nullptr, reinterpret_cast<const uint8_t*>(in.data()), in.size(),
+                                   reinterpret_cast<uint8_t*>(out.data()), &end, out.size()) == LZMA_OK;
+      packed = end - at;
+    }
+    if (!ok) throw std::runtime_error("write_vtu: compression failed");
+    out.resize(at + packed);
   }
 
   const VtuWriteOptions& o_;
@@ -697,6 +794,31 @@ void write_vtu(const std::filesystem::path& file, const MeshData& mesh, const Vt
   write_text_atomic(file, VtuWriter(options).document(mesh));
 }
 
+void write_pvtu(const std::filesystem::path& file, const std::vector<MeshData>& pieces,
+                const VtuWriteOptions& options) {
+  if (pieces.empty()) throw std::invalid_argument("write_pvtu: no pieces");
+  std::string xml =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\">\n"
+      "  <PUnstructuredGrid GhostLevel=\"0\">\n";
+  auto declare = [&](const char* section, const std::vector<MeshArray>& arrays) {
+    xml += std::string("    <") + section + ">\n";
+    for (const MeshArray& a : arrays)
+      xml += "      <PDataArray type=\"Float32\" Name=\"" + xml_escape(a.name) + "\" NumberOfComponents=\"" +
+             std::to_string(a.components) + "\"/>\n";
+    xml += std::string("    </") + section + ">\n";
+  };
+  declare("PPointData", pieces.front().point_data);
+  declare("PCellData", pieces.front().cell_data);
+  xml += std::string("    <PPoints>\n      <PDataArray type=\"") + (options.points_float64 ? "Float64" : "Float32") +
+         "\" NumberOfComponents=\"3\"/>\n    </PPoints>\n";
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    const fs::path piece = file.stem().string() + "_" + std::to_string(i) + ".vtu";
+    write_vtu(file.parent_path() / piece, pieces[i], options);
+    xml += "    <Piece Source=\"" + xml_escape(piece.generic_string()) + "\"/>\n";
+  }
+  write_text_atomic(file, xml + "  </PUnstructuredGrid>\n</VTKFile>\n");
+}
+
 // =============================================================================================
 // ParaView collections
 
@@ -710,38 +832,49 @@ double parse_time(const std::string& file, const std::string& text, size_t index
   return t;
 }
 
-PvdStep read_dataset(const std::string& name, const fs::path& dir, const XmlElement& e, size_t index) {
+// One <DataSet> entry: a part of a time step.
+struct PvdEntry {
+  double time;
+  uint64_t part;
+  fs::path file;
+};
+
+PvdEntry read_dataset(const fs::path& file, const XmlElement& e, size_t index) {
+  const std::string name = file.string();
   const std::string what = "DataSet " + std::to_string(index);
   const std::string* time = e.attribute("timestep");
   const std::string* path = e.attribute("file");
   const std::string* part = e.attribute("part");
   if (!time) input_error(name, what + " has no timestep attribute");
   if (!path || path->empty()) input_error(name, what + " has no file attribute");
-  if (part && *part != "0" && !part->empty())
-    input_error(name, what + ": part " + part->substr(0, 32) + " (volstream reads collections of part 0 only)");
-  const fs::path step_file(*path);
-  return {parse_time(name, *time, index), step_file.is_absolute() ? step_file : dir / step_file};
+  uint64_t part_number = 0;
+  if (part && !part->empty()) {
+    const auto [end, ec] = std::from_chars(part->data(), part->data() + part->size(), part_number);
+    if (ec != std::errc() || end != part->data() + part->size())
+      input_error(name, what + ": bad part \"" + part->substr(0, 32) + "\"");
+  }
+  return {parse_time(name, *time, index), part_number, listed_path(file, *path)};
 }
 
 }  // namespace
 
 std::vector<PvdStep> read_pvd(const std::filesystem::path& file) {
   const std::string name = file.string();
-  const std::string text = read_text_file(file);
-  const XmlDocument doc = scan_xml(text, name);
-  const std::string* type = doc.root.attribute("type");
-  if (doc.root.name != "VTKFile" || !type || *type != "Collection")
-    input_error(name, "not a VTK Collection (.pvd) file");
-  const XmlElement* collection = doc.root.child("Collection");
-  if (!collection) input_error(name, "<VTKFile> has no <Collection>");
+  std::vector<PvdEntry> entries;
+  for (const XmlElement& e : listed_entries(file, "Collection", "DataSet", "not a VTK Collection (.pvd) file"))
+    entries.push_back(read_dataset(file, e, entries.size()));
+  std::stable_sort(entries.begin(), entries.end(), [](const PvdEntry& a, const PvdEntry& b) {
+    return a.time != b.time ? a.time < b.time : a.part < b.part;
+  });
   std::vector<PvdStep> steps;
-  for (const XmlElement& e : collection->children)
-    if (e.name == "DataSet") steps.push_back(read_dataset(name, file.parent_path(), e, steps.size()));
-  if (steps.empty()) input_error(name, "the collection has no DataSet entries");
-  std::stable_sort(steps.begin(), steps.end(), [](const PvdStep& a, const PvdStep& b) { return a.time < b.time; });
-  for (size_t i = 1; i < steps.size(); ++i)
-    if (steps[i].time == steps[i - 1].time)
-      input_error(name, "two DataSet entries have timestep " + std::to_string(steps[i].time));
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const bool same_time = i > 0 && entries[i].time == entries[i - 1].time;
+    if (same_time && entries[i].part == entries[i - 1].part)
+      input_error(name, "two DataSet entries have timestep " + std::to_string(entries[i].time) + " and part " +
+                            std::to_string(entries[i].part));
+    if (!same_time) steps.push_back({entries[i].time, {}});
+    steps.back().parts.push_back(entries[i].file);
+  }
   return steps;
 }
 
@@ -751,12 +884,14 @@ void write_pvd(const std::filesystem::path& file, const std::vector<PvdStep>& st
       "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
       "  <Collection>\n";
   for (const PvdStep& s : steps) {
-    const fs::path absolute = fs::absolute(s.file).lexically_normal();
-    const fs::path relative = absolute.lexically_relative(dir);
     char time[64];
     const auto end = std::to_chars(time, time + sizeof(time), s.time).ptr;
-    xml += "    <DataSet timestep=\"" + std::string(time, end) + "\" group=\"\" part=\"0\" file=\"" +
-           xml_escape((relative.empty() ? absolute : relative).generic_string()) + "\"/>\n";
+    for (size_t part = 0; part < s.parts.size(); ++part) {
+      const fs::path absolute = fs::absolute(s.parts[part]).lexically_normal();
+      const fs::path relative = absolute.lexically_relative(dir);
+      xml += "    <DataSet timestep=\"" + std::string(time, end) + "\" group=\"\" part=\"" + std::to_string(part) +
+             "\" file=\"" + xml_escape((relative.empty() ? absolute : relative).generic_string()) + "\"/>\n";
+    }
   }
   write_text_atomic(file, xml + "  </Collection>\n</VTKFile>\n");
 }

@@ -1,0 +1,51 @@
+"""Writes the vtk_*.vtu and vtk_*.pvtu files of this directory with VTK's own writers, so that
+the reader is tested against files it did not write itself (tests/io/vtu_test.cpp).
+
+Run from this directory with Debian's python3-vtk9: /usr/bin/python3 make_vtk_files.py
+(the committed files come from VTK 9.1.0). The mesh: VTK's analytic "wavelet" on a 4x4x4 point
+grid, split into 135 tets by vtkDataSetTriangleFilter, with its point scalar RTData.
+"""
+import vtk
+
+
+def tets():
+    source = vtk.vtkRTAnalyticSource()
+    source.SetWholeExtent(0, 3, 0, 3, 0, 3)
+    split = vtk.vtkDataSetTriangleFilter()
+    split.SetInputConnection(source.GetOutputPort())
+    return split
+
+
+def write_compressed(mesh):
+    """The whole mesh, appended raw, in blocks of 512 bytes of each of VTK's compressors."""
+    for name, choose in (("zlib", "SetCompressorTypeToZLib"), ("lz4", "SetCompressorTypeToLZ4"),
+                         ("lzma", "SetCompressorTypeToLZMA")):
+        writer = vtk.vtkXMLUnstructuredGridWriter()
+        writer.SetInputConnection(mesh.GetOutputPort())
+        writer.SetFileName(f"vtk_{name}.vtu")
+        getattr(writer, choose)()
+        writer.SetDataModeToAppended()
+        writer.EncodeAppendedDataOff()
+        writer.SetBlockSize(512)
+        writer.Write()
+
+
+def write_pieces(mesh):
+    """Three pieces as a parallel run writes them: ascii without ghosts (vtk_pieces.pvtu) and
+    inline base64 + zlib with a layer of ghost cells (vtk_ghosts.pvtu, vtkGhostType arrays)."""
+    for ghost_level, name, mode in ((0, "pieces", "SetDataModeToAscii"), (1, "ghosts", "SetDataModeToBinary")):
+        writer = vtk.vtkXMLPUnstructuredGridWriter()
+        writer.SetInputConnection(mesh.GetOutputPort())
+        writer.SetFileName(f"vtk_{name}.pvtu")
+        writer.SetNumberOfPieces(3)
+        writer.SetStartPiece(0)
+        writer.SetEndPiece(2)
+        writer.SetGhostLevel(ghost_level)
+        getattr(writer, mode)()
+        writer.Write()
+
+
+if __name__ == "__main__":
+    mesh = tets()
+    write_compressed(mesh)
+    write_pieces(mesh)

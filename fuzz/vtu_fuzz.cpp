@@ -1,8 +1,10 @@
 // VTK XML unstructured grids and ParaView collections: valid files in several encodings (ascii,
 // inline base64 + zlib, appended raw, appended raw + LZ4, appended raw + LZMA, appended base64 +
-// zlib with UInt32 headers and two pieces' worth of arrays), a .pvd, and a .pvtu of two ascii
-// pieces with ghost cells (pieces_0.vtu and pieces_1.vtu, also read alone), one of them patched or truncated.
+// zlib with UInt32 headers and two pieces' worth of arrays), a .pvd, a .pvtu of two ascii pieces
+// with ghost cells (pieces_0.vtu and pieces_1.vtu, also read alone) and a .vtm of a .vtu, the
+// .pvtu and a surface, one of them patched or truncated.
 #include <algorithm>
+#include <fstream>
 
 #include "fuzz_util.h"
 #include "volstream/io/vtu.h"
@@ -39,6 +41,9 @@ void make_base(const std::filesystem::path& dir) {
              .indices_int64 = false});
   write_pvd(dir / "series.pvd", {{0, {dir / "ascii.vtu"}}, {1, {dir / "raw.vtu"}}});
   write_pvtu(dir / "pieces.pvtu", cut_into_pieces(mesh, 2, 1), {.format = Format::ascii});
+  std::ofstream(dir / "blocks.vtm") << "<VTKFile type=\"vtkMultiBlockDataSet\"><vtkMultiBlockDataSet><Block>"
+                                       "<DataSet file=\"ascii.vtu\"/><DataSet file=\"pieces.pvtu\"/></Block>"
+                                       "<DataSet file=\"walls.vtp\"/></vtkMultiBlockDataSet></VTKFile>\n";
 }
 }  // namespace
 
@@ -58,6 +63,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       fuzz::expect_clean([&] { read_pvd(file); });
     else if (file.extension() == ".pvtu")
       fuzz::expect_clean([&] { read_pvtu(file); });
+    else if (file.extension() == ".vtm")
+      fuzz::expect_clean([&] { read_vtm(file); });
     else
       fuzz::expect_clean([&] { read_vtu(file); });
   }

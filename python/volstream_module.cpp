@@ -529,7 +529,7 @@ PYBIND11_MODULE(volstream, m) {
         "what `volstream convert` takes into a private temporary dataset, removed when the Dataset is\n"
         "garbage-collected: an AMReX plotfile directory (a list of them: time steps), [cells, scalars...]\n"
         "of ExaBrick, raw grids (dims=(X, Y, Z), type=, big_endian=, origin=, spacing=; several files are\n"
-        "fields, or steps with series=True, named by field=), meshes (.vtu, .pvtu, .vtk, .pvd, .ugrid; a list:\n"
+        "fields, or steps with series=True, named by field=), meshes (.vtu, .pvtu, .vtm, .vtk, .pvd, .ugrid; a list:\n"
         "time steps) with scalars={'name': 'file.f32'} for UGRID. format: auto | plotfile | exabrick | raw\n"
         "| mesh; fields: keep only these; encoding: how a converted mesh is stored, 'compact' (paper 002's\n"
         "encoding, as `volstream convert`) or 'reference'; split_into_tets: store a mesh's pyramids, wedges\n"

@@ -90,6 +90,12 @@ for x in 0 1 2 3; do for y in 0 1 2 3; do for z in 0 1 2 3; do echo "$x $y $z"; 
 echo -n "parts.pvd: "
 compare_probes got.txt want.txt || fail "the .pvd's parts differ from VTK's whole mesh at its points"
 grep -q nan got.txt && fail "a grid point of the wavelet probed outside"
+# VTK's multiblock of the same tets in two zones and a boundary surface.
+"$VS" convert "$DATA/vtk_blocks.vtm" -o blocks -q
+"$VS" info blocks --json | grep -q '"tetra": 135,' || fail "the .vtm's zones did not join into 135 tets"
+"$VS" probe blocks --field RTData --points grid_points.txt >got.txt
+echo -n "vtk_blocks.vtm: "
+compare_probes got.txt want.txt || fail "the .vtm's zones differ from VTK's whole mesh at its points"
 
 # Bad input: a truncated file, a .pvd whose steps have different meshes, an unknown scalars spec.
 head -c 3000 m.vtu >trunc.vtu

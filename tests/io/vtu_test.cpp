@@ -622,5 +622,47 @@ TEST(Pvtu, BadFiles) {
   EXPECT_NE(pvtu_error(dir / "bad.pvtu").find("other point or cell arrays"), std::string::npos);
 }
 
+// VTK's multiblock writer's output: two zones of the tets and a boundary surface (skipped).
+TEST(Vtm, ReadsVtksMultiblock) {
+  const MeshData whole = read_vtu(kDataDir / "vtk_zlib.vtu");
+  MeshData m = read_vtm(kDataDir / "vtk_blocks.vtm");
+  ASSERT_EQ(m.cell_data.size(), 1u);  // the zones' vtkOriginalCellIds: each cell of the whole once
+  EXPECT_EQ(m.cell_data[0].name, "vtkOriginalCellIds");
+  std::vector<double> ids = m.cell_data[0].values;
+  std::sort(ids.begin(), ids.end());
+  for (size_t c = 0; c < ids.size(); ++c) EXPECT_EQ(ids[c], double(c));
+  m.cell_data.clear();
+  expect_wavelet(m);  // 64 points: the zones' seam welded
+  EXPECT_EQ(cells_by_corners(m), cells_by_corners(whole));
+  EXPECT_EQ(values_by_position(m), values_by_position(whole));
+}
+
+TEST(Vtm, BadFiles) {
+  const fs::path dir = test::scratch_dir("vtm_bad");
+  write_vtu(dir / "a.vtu", mixed_mesh());
+  write_pvtu(dir / "p.pvtu", cut_into_pieces(mixed_mesh(), 2));
+  const std::string head = "<VTKFile type=\"vtkMultiBlockDataSet\"><vtkMultiBlockDataSet>";
+  const std::string tail = "</vtkMultiBlockDataSet></VTKFile>";
+  const std::pair<std::string, std::string> cases[] = {
+      {"no blocks", head + tail},
+      {"surfaces only", head + "<DataSet index=\"0\" file=\"walls.vtp\"/>" + tail},
+      {"a structured grid", head + "<DataSet index=\"0\" file=\"a.vtu\"/><DataSet index=\"1\" file=\"g.vts\"/>" + tail},
+      {"missing file", head + "<Block><DataSet index=\"0\" file=\"absent.vtu\"/></Block>" + tail},
+      {"not a vtm", "<VTKFile type=\"Collection\"></VTKFile>"},
+  };
+  for (const auto& [name, text] : cases) {
+    write_file(dir / "bad.vtm", text);
+    EXPECT_THROW(read_vtm(dir / "bad.vtm"), InputError) << name;
+  }
+  // A .pvtu block in a nested block, beside a skipped surface and an empty block: the mesh.
+  write_file(dir / "ok.vtm", head +
+                                 "<Block index=\"0\"><Piece index=\"0\"><DataSet index=\"0\" file=\"p.pvtu\"/>"
+                                 "</Piece></Block><DataSet index=\"1\" file=\"walls.vtp\"/><DataSet index=\"2\"/>" +
+                                 tail);
+  const MeshData m = read_vtm(dir / "ok.vtm");
+  EXPECT_EQ(m.points.size(), 13u);
+  EXPECT_EQ(m.cell_count(), 5u);
+}
+
 }  // namespace
 }  // namespace vs

@@ -24,7 +24,8 @@ void expect_same_cells(const MeshData& got, const MeshData& want) {
     ASSERT_EQ(got.points[g], want.points[w]) << k;
     for (size_t a = 0; a < want.point_data.size(); ++a) {
       const uint64_t n = uint64_t(want.point_data[a].components);
-      for (uint64_t i = 0; i < n; ++i) ASSERT_EQ(got.point_data[a].values[g * n + i], want.point_data[a].values[w * n + i]) << k;
+      for (uint64_t i = 0; i < n; ++i)
+        ASSERT_EQ(got.point_data[a].values[g * n + i], want.point_data[a].values[w * n + i]) << k;
     }
   }
   ASSERT_EQ(got.cell_data.size(), want.cell_data.size());

@@ -1,5 +1,6 @@
 #include "volstream/io/binary_file.h"
 
+#include <cctype>
 #include <cstdio>
 #include <memory>
 
@@ -84,6 +85,12 @@ std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes
   std::string text(size, '\0');
   read_exact(path, 0, text.data(), size);
   return text;
+}
+
+std::string lower_extension(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
 }
 
 void write_file(const std::filesystem::path& path, const void* data, uint64_t bytes, uint64_t pad_to) {

@@ -24,6 +24,8 @@ struct ByteRun {
 void read_runs(const std::filesystem::path& path, const std::vector<ByteRun>& runs, void* dst);
 // A whole text file (manifest, colour map, points, trace, plotfile header), at most max_bytes.
 std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes = 64u << 20);
+// The file name's extension in lower case (".vtu" for "Wing.VTU"), as the readers dispatch on it.
+std::string lower_extension(const std::filesystem::path& file);
 // Writes `bytes` bytes, zero-padded to a multiple of `pad_to` (1 = no padding), atomically
 // (io/atomic_file.h: a temporary renamed into place, every write and the close checked).
 void write_file(const std::filesystem::path& path, const void* data, uint64_t bytes, uint64_t pad_to = 1);

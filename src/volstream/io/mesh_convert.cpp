@@ -8,6 +8,7 @@
 #include "volstream/core/progress.h"
 #include "volstream/core/stopwatch.h"
 #include "volstream/io/atomic_file.h"
+#include "volstream/io/binary_file.h"
 #include "volstream/io/ugrid.h"
 #include "volstream/io/vtk_legacy.h"
 #include "volstream/io/vtu.h"
@@ -46,19 +47,14 @@ std::vector<MeshFieldRef> selected(const std::vector<MeshFieldRef>& all, const s
   return out;
 }
 
-std::string lower_extension(const fs::path& file) {
-  std::string ext = file.extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 MeshData read_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   if (ext == ".vtu") return read_vtu(file);
   if (ext == ".pvtu") return read_pvtu(file);
+  if (ext == ".vtm") return read_vtm(file);
   if (ext == ".vtk") return read_vtk_legacy(file);
   if (ext == ".ugrid") return read_ugrid(file);
-  input_error(file.string(), "not a mesh file (.vtu, .pvtu, .vtk, .ugrid, or a .pvd collection of them)");
+  input_error(file.string(), "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, or a .pvd collection of them)");
 }
 
 // A step's parts (a .pvd's entries of one time) as one mesh.
@@ -95,6 +91,7 @@ std::string format_name(const fs::path& file) {
   const std::string ext = lower_extension(file);
   if (ext == ".vtu") return "VTK XML unstructured grid";
   if (ext == ".pvtu") return "VTK XML parallel unstructured grid";
+  if (ext == ".vtm") return "VTK XML multiblock";
   if (ext == ".vtk") return "legacy VTK unstructured grid";
   if (ext == ".pvd") return "ParaView collection";
   return "UGRID";
@@ -104,7 +101,7 @@ std::string format_name(const fs::path& file) {
 
 bool is_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
-  return ext == ".vtu" || ext == ".pvtu" || ext == ".vtk" || ext == ".pvd" || ext == ".ugrid";
+  return ext == ".vtu" || ext == ".pvtu" || ext == ".vtm" || ext == ".vtk" || ext == ".pvd" || ext == ".ugrid";
 }
 
 RawScalars parse_raw_scalars(const std::string& spec) {

@@ -25,7 +25,8 @@ class MeshSeries {
 
 std::unique_ptr<MeshSeries> make_mesh_demo_series(const MeshDemoOptions& options);
 
-// True for the file names the mesh readers take: .vtu, .pvtu, .vtk, .pvd, .ugrid (any UGRID encoding).
+// True for the file names the mesh readers take: .vtu, .pvtu, .vtm, .vtk, .pvd, .ugrid (any UGRID
+// encoding).
 bool is_mesh_file(const std::filesystem::path& file);
 
 // Raw float32 per-point scalars for a UGRID grid (`--scalars NAME=FILE`).
@@ -36,7 +37,7 @@ struct RawScalars {
 // RawScalars from "NAME=FILE" (UsageError otherwise).
 RawScalars parse_raw_scalars(const std::string& spec);
 
-// The steps of mesh files: one .vtu/.pvtu/.vtk/.ugrid file (one step), several (one step each, in
+// The steps of mesh files: one .vtu/.pvtu/.vtm/.vtk/.ugrid file (one step), several (one step each, in
 // the order given), or one .pvd collection (its steps, by time; a step's parts joined into one
 // mesh, as the pieces of a .pvtu). `scalars` are attached to every
 // step (UGRID carries no data of its own). Headers are read when a step is read.

@@ -532,21 +532,27 @@ MeshData read_vtu_unchecked(const fs::path& file) {
   return join_pieces(std::move(pieces), f.name);
 }
 
-// The elements of <VTKFile type="TYPE"><TYPE> named `entry` in a small VTK XML file that lists
-// others (.pvd, .pvtu); InputError `not_this` when the file is of another type.
-std::vector<XmlElement> listed_entries(const fs::path& file, const std::string& type, std::string_view entry,
-                                       const std::string& not_this) {
+// The <TYPE> element of <VTKFile type="TYPE"> in a small VTK XML file that lists others (.pvd,
+// .pvtu, .vtm); InputError `not_this` when the file is of another type.
+XmlElement listing(const fs::path& file, const std::string& type, const std::string& not_this) {
   const std::string name = file.string();
   const std::string text = read_text_file(file);
-  const XmlDocument doc = scan_xml(text, name);
+  XmlDocument doc = scan_xml(text, name);
   const std::string* root_type = doc.root.attribute("type");
   if (doc.root.name != "VTKFile" || !root_type || *root_type != type) input_error(name, not_this);
-  const XmlElement* body = doc.root.child(type);
-  if (!body) input_error(name, "<VTKFile> has no <" + type + ">");
+  const auto body = std::find_if(doc.root.children.begin(), doc.root.children.end(),
+                                 [&](const XmlElement& e) { return e.name == type; });
+  if (body == doc.root.children.end()) input_error(name, "<VTKFile> has no <" + type + ">");
+  return std::move(*body);
+}
+
+// The children of a listing named `entry`; InputError when there is none.
+std::vector<XmlElement> listed_entries(const fs::path& file, const std::string& type, std::string_view entry,
+                                       const std::string& not_this) {
   std::vector<XmlElement> entries;
-  for (const XmlElement& e : body->children)
-    if (e.name == entry) entries.push_back(e);
-  if (entries.empty()) input_error(name, "the " + type + " has no <" + std::string(entry) + "> entries");
+  for (XmlElement& e : listing(file, type, not_this).children)
+    if (e.name == entry) entries.push_back(std::move(e));
+  if (entries.empty()) input_error(file.string(), "the " + type + " has no <" + std::string(entry) + "> entries");
   return entries;
 }
 
@@ -569,20 +575,55 @@ std::vector<fs::path> pvtu_sources(const fs::path& file) {
   return sources;
 }
 
-}  // namespace
+// The <DataSet file=...> entries at any depth under `e` (in <Block>s and <Piece>s), in order.
+void collect_datasets(const fs::path& vtm, const XmlElement& e, std::vector<fs::path>& files) {
+  for (const XmlElement& child : e.children) {
+    const std::string* file = child.attribute("file");
+    if (child.name == "DataSet" && file && !file->empty()) files.push_back(listed_path(vtm, *file));
+    collect_datasets(vtm, child, files);
+  }
+}
 
-MeshData read_vtu(const std::filesystem::path& file) {
-  MeshData mesh = read_vtu_unchecked(file);
+// The volume blocks of a .vtm: its .vtu and .pvtu files. Surfaces (.vtp, .pvtp: a CFD writer's
+// boundary patches beside its volume mesh) are skipped; other data sets are refused.
+std::vector<fs::path> vtm_volume_files(const fs::path& file) {
+  const std::string name = file.string();
+  std::vector<fs::path> files, volumes;
+  collect_datasets(file, listing(file, "vtkMultiBlockDataSet", "not a VTK multiblock (.vtm) file"), files);
+  for (const fs::path& f : files) {
+    const std::string ext = lower_extension(f);
+    if (ext == ".vtu" || ext == ".pvtu")
+      volumes.push_back(f);
+    else if (ext != ".vtp" && ext != ".pvtp")
+      input_error(name, "block " + f.filename().string().substr(0, 64) +
+                            ": only unstructured grids (.vtu, .pvtu) and surfaces (.vtp, skipped) are read");
+  }
+  if (volumes.empty()) input_error(name, "no unstructured grid (.vtu or .pvtu) among its blocks");
+  return volumes;
+}
+
+MeshData read_pvtu_unchecked(const fs::path& file) {
+  std::vector<MeshData> pieces;
+  for (const fs::path& source : pvtu_sources(file)) pieces.push_back(read_vtu_unchecked(source));
+  return join_pieces(std::move(pieces), file.string());
+}
+
+MeshData checked(MeshData mesh, const fs::path& file) {
   check_mesh(mesh, file.string());
   return mesh;
 }
 
-MeshData read_pvtu(const std::filesystem::path& file) {
-  std::vector<MeshData> pieces;
-  for (const fs::path& source : pvtu_sources(file)) pieces.push_back(read_vtu_unchecked(source));
-  MeshData mesh = join_pieces(std::move(pieces), file.string());
-  check_mesh(mesh, file.string());
-  return mesh;
+}  // namespace
+
+MeshData read_vtu(const std::filesystem::path& file) { return checked(read_vtu_unchecked(file), file); }
+
+MeshData read_pvtu(const std::filesystem::path& file) { return checked(read_pvtu_unchecked(file), file); }
+
+MeshData read_vtm(const std::filesystem::path& file) {
+  std::vector<MeshData> blocks;
+  for (const fs::path& f : vtm_volume_files(file))
+    blocks.push_back(lower_extension(f) == ".pvtu" ? read_pvtu_unchecked(f) : read_vtu_unchecked(f));
+  return checked(join_pieces(std::move(blocks), file.string()), file);
 }
 
 // =============================================================================================

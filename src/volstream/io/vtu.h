@@ -1,5 +1,5 @@
-// VTK XML unstructured grids (.vtu), parallel ones (.pvtu) and ParaView collections (.pvd), read
-// and written.
+// VTK XML unstructured grids (.vtu), parallel ones (.pvtu), multiblocks of them (.vtm, read only)
+// and ParaView collections (.pvd), read and written.
 //
 // Reading supports every encoding VTK writes: DataArray format "ascii", "binary" (inline base64)
 // and "appended" (<AppendedData encoding="raw"> or "base64"; offsets count from the byte after
@@ -15,11 +15,11 @@
 // point and cell arrays.
 //
 // A .pvtu (VTK's parallel unstructured grid: a header naming one .vtu per piece) is read as the
-// pieces of its files, joined the same way.
+// pieces of its files, joined the same way; so are the volume blocks of a .vtm.
 //
 // Every malformed input is an InputError naming the file: declared sizes are checked against the
 // file (and the compressor's maximum ratio) before anything is allocated. read_vtu and read_pvtu
-// end with check_mesh.
+// end with check_mesh, as does read_vtm.
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -31,6 +31,10 @@ namespace vs {
 
 MeshData read_vtu(const std::filesystem::path& file);
 MeshData read_pvtu(const std::filesystem::path& file);
+// A .vtm (VTK multiblock, as OpenFOAM's foamToVTK and SU2's multizone output write it): its .vtu
+// and .pvtu blocks, at any depth, joined into one mesh; surface blocks (.vtp, .pvtp: boundary
+// patches) are skipped; a block of another type, or none that is a volume, is an InputError.
+MeshData read_vtm(const std::filesystem::path& file);
 
 // VTK's block compressors (the VTKFile's compressor attribute).
 enum class VtuCompressor { none, zlib, lz4, lzma };

@@ -40,9 +40,8 @@ void append_piece(MeshData& mesh, const MeshData& piece, size_t index, const std
 
 // Removes the array named vtkGhostType from `arrays` and returns its values (empty if none).
 std::vector<double> take_ghost_array(std::vector<MeshArray>& arrays) {
-  const auto it = std::find_if(arrays.begin(), arrays.end(), [](const MeshArray& a) {
-    return a.name == kGhostArray && a.components == 1;
-  });
+  const auto it = std::find_if(arrays.begin(), arrays.end(),
+                               [](const MeshArray& a) { return a.name == kGhostArray && a.components == 1; });
   if (it == arrays.end()) return {};
   std::vector<double> values = std::move(it->values);
   arrays.erase(it);
@@ -212,8 +211,8 @@ std::vector<MeshData> cut_into_pieces(const MeshData& mesh, int count, uint64_t 
   std::vector<MeshData> pieces;
   const uint64_t cells = mesh.cell_count();
   for (int i = 0; i < count; ++i)
-    pieces.push_back(cut_piece(mesh, cells * uint64_t(i) / uint64_t(count), cells * uint64_t(i + 1) / uint64_t(count),
-                               ghosts));
+    pieces.push_back(
+        cut_piece(mesh, cells * uint64_t(i) / uint64_t(count), cells * uint64_t(i + 1) / uint64_t(count), ghosts));
   return pieces;
 }
 

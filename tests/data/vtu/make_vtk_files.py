@@ -1,4 +1,4 @@
-"""Writes the vtk_*.vtu and vtk_*.pvtu files of this directory with VTK's own writers, so that
+"""Writes the vtk_* files of this directory (.vtu, .pvtu, .vtm and vtk_blocks/) with VTK's own writers, so that
 the reader is tested against files it did not write itself (tests/io/vtu_test.cpp).
 
 Run from this directory with Debian's python3-vtk9: /usr/bin/python3 make_vtk_files.py
@@ -45,7 +45,42 @@ def write_pieces(mesh):
         writer.Write()
 
 
+def write_blocks():
+    """A multiblock as CFD writers leave one (vtk_blocks.vtm, ascii): the tets as two zones (cells
+    0-67 and 68-134, each with VTK's vtkOriginalCellIds) and the surface as a boundary block.
+    A pipeline of its own: the parallel writers' last request (one piece with ghosts) stays in
+    the other's output."""
+    mesh = tets()
+    mesh.Update()
+    whole = mesh.GetOutput()
+    blocks = vtk.vtkMultiBlockDataSet()
+    for index, (first, end) in enumerate(((0, 68), (68, 135))):
+        cells = vtk.vtkIdList()
+        for cell in range(first, end):
+            cells.InsertNextId(cell)
+        zone = vtk.vtkExtractCells()
+        zone.SetInputData(whole)
+        zone.SetCellList(cells)
+        zone.Update()
+        blocks.SetBlock(index, zone.GetOutput())
+        blocks.GetMetaData(index).Set(vtk.vtkCompositeDataSet.NAME(), f"zone_{index}")
+    surface = vtk.vtkDataSetSurfaceFilter()
+    surface.SetInputData(whole)
+    surface.Update()
+    boundary = vtk.vtkMultiBlockDataSet()
+    boundary.SetBlock(0, surface.GetOutput())
+    boundary.GetMetaData(0).Set(vtk.vtkCompositeDataSet.NAME(), "walls")
+    blocks.SetBlock(2, boundary)
+    blocks.GetMetaData(2).Set(vtk.vtkCompositeDataSet.NAME(), "boundary")
+    writer = vtk.vtkXMLMultiBlockDataWriter()
+    writer.SetInputData(blocks)
+    writer.SetFileName("vtk_blocks.vtm")
+    writer.SetDataModeToAscii()
+    writer.Write()
+
+
 if __name__ == "__main__":
     mesh = tets()
     write_compressed(mesh)
     write_pieces(mesh)
+    write_blocks()

@@ -50,5 +50,23 @@ TEST(Parallel, InvokeInOrderThrowsTheFirstTasksErrorFirst) {
   EXPECT_EQ(both.load(), 2);
 }
 
+// Every item runs once; the error is the smallest failing item's, as the serial loop's would be.
+TEST(Parallel, EachInOrderThrowsTheFirstItemsError) {
+  for (int round = 0; round < 20; ++round) {
+    std::vector<std::atomic<int>> runs(64);
+    try {
+      parallel_each_in_order(64, [&](int64_t i) {
+        ++runs[size_t(i)];
+        if (i % 10 == 7) throw std::runtime_error("item " + std::to_string(i));
+      });
+      FAIL() << "nothing thrown";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "item 7");
+    }
+    for (const std::atomic<int>& r : runs) EXPECT_EQ(r.load(), 1);
+  }
+  parallel_each_in_order(0, [](int64_t) { FAIL(); });
+}
+
 }  // namespace
 }  // namespace vs

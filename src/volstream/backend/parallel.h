@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <exception>
+#include <vector>
 
 #include "volstream/backend/launch_times.h"
 #include "volstream/core/stopwatch.h"
@@ -80,6 +81,26 @@ void parallel_invoke_in_order(First&& first, Second&& second) {
     }
   };
   tbb::parallel_invoke([&] { catching(first, errors[0]); }, [&] { catching(second, errors[1]); });
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+// Runs f(i) for every i in [0, n) in parallel, one item a task (for coarse items: a file each),
+// and then throws what the serial loop would have thrown: the exception of the smallest i that
+// threw, whichever thread failed first.
+template <typename F>
+void parallel_each_in_order(int64_t n, F&& f) {
+  if (n <= 0) return;
+  std::vector<std::exception_ptr> errors(static_cast<size_t>(n));
+  parallel_for_ranges(n, [&](int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) {
+      try {
+        f(i);
+      } catch (...) {
+        errors[size_t(i)] = std::current_exception();
+      }
+    }
+  });
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
 }

@@ -5,6 +5,8 @@
 #include <numeric>
 #include <string_view>
 
+#include <tbb/parallel_sort.h>
+
 #include "volstream/core/error.h"
 
 namespace vs {
@@ -112,7 +114,7 @@ void weld_points(MeshData& m) {
   std::vector<uint64_t> order(m.points.size());
   std::iota(order.begin(), order.end(), uint64_t(0));
   const PointKeys keys(m);
-  std::sort(order.begin(), order.end(), [&](uint64_t a, uint64_t b) {
+  tbb::parallel_sort(order.begin(), order.end(), [&](uint64_t a, uint64_t b) {
     const int c = keys.compare(a, b);
     return c != 0 ? c < 0 : a < b;  // the first point of equals leads its run
   });

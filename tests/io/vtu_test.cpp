@@ -15,6 +15,7 @@
 
 #include "test_util.h"
 #include "volstream/core/error.h"
+#include "volstream/io/vtk_legacy.h"
 #include "volstream/umesh/mesh_pieces.h"
 
 namespace vs {
@@ -662,6 +663,23 @@ TEST(Vtm, BadFiles) {
   const MeshData m = read_vtm(dir / "ok.vtm");
   EXPECT_EQ(m.points.size(), 13u);
   EXPECT_EQ(m.cell_count(), 5u);
+}
+
+// VTK's voxels (x-fastest corners) come out as hexahedra in VTK's hex order, from XML and legacy
+// files alike: corner 1 one step along x from corner 0, corner 2 along x and y, corner 3 along y,
+// corners 4-7 the same one step up in z (VTK's wavelet has unit spacing).
+TEST(Vtu, VoxelsAreReadAsHexahedra) {
+  for (const MeshData& m : {read_vtu(kDataDir / "vtk_voxels.vtu"),
+                            read_vtk_legacy(kDataDir.parent_path() / "vtk" / "vtk_voxels.vtk")}) {
+    ASSERT_EQ(m.cell_count(), 27u);
+    EXPECT_EQ(m.cell_types, std::vector<uint8_t>(27, uint8_t(CellType::hex)));
+    const vec3d step[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    for (uint64_t c = 0; c < m.cell_count(); ++c)
+      for (int k = 0; k < 8; ++k) {
+        const vec3d& origin = m.points[m.connectivity[8 * c]];
+        ASSERT_EQ(m.points[m.connectivity[8 * c + uint64_t(k)]] - origin, step[k]) << "cell " << c << " corner " << k;
+      }
+  }
 }
 
 }  // namespace

@@ -424,6 +424,7 @@ void VtkReader::finish() {
   const uint64_t cells = mesh_.cell_offsets.size() - 1;
   if (cells != mesh_.cell_types.size())
     in_.fail("CELLS has " + std::to_string(cells) + " cells, CELL_TYPES " + std::to_string(mesh_.cell_types.size()));
+  voxels_to_hexahedra(mesh_);
   check_mesh(mesh_, in_.file());
 }
 

@@ -635,6 +635,7 @@ MeshData read_block(const fs::path& file) {
 }
 
 MeshData checked(MeshData mesh, const fs::path& file) {
+  voxels_to_hexahedra(mesh);
   check_mesh(mesh, file.string());
   return mesh;
 }

@@ -1,5 +1,6 @@
 #include "volstream/umesh/mesh_data.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -82,6 +83,20 @@ void check_arrays(const std::vector<MeshArray>& arrays, uint64_t tuples, const c
 }
 
 }  // namespace
+
+void voxels_to_hexahedra(MeshData& m) {
+  constexpr uint8_t kVoxel = 11;
+  constexpr int kHexOrder[8] = {0, 1, 3, 2, 4, 5, 7, 6};  // hex corner k is voxel corner kHexOrder[k]
+  for (size_t c = 0; c < m.cell_types.size() && c + 1 < m.cell_offsets.size(); ++c) {
+    const uint64_t begin = m.cell_offsets[c];
+    if (m.cell_types[c] != kVoxel || m.cell_offsets[c + 1] - begin != 8 || m.cell_offsets[c + 1] > m.connectivity.size())
+      continue;
+    uint64_t voxel[8];
+    std::copy_n(m.connectivity.begin() + int64_t(begin), 8, voxel);
+    for (int k = 0; k < 8; ++k) m.connectivity[begin + uint64_t(k)] = voxel[kHexOrder[k]];
+    m.cell_types[c] = uint8_t(CellType::hex);
+  }
+}
 
 void check_mesh(const MeshData& m, const std::string& file) {
   input_check(!m.points.empty(), file, "the mesh has no points");

@@ -48,6 +48,12 @@ struct MeshData {
   uint64_t cell_count() const { return cell_types.size(); }
 };
 
+// VTK's voxels (type 11: axis-aligned boxes, vertices in x-fastest order, as ParaView's threshold
+// of image data writes them) as the hexahedra they are (type 12, VTK's hex order: the same
+// trilinear field). Readers of VTK formats call this before check_mesh; a voxel without 8
+// vertices is left for check_mesh to refuse.
+void voxels_to_hexahedra(MeshData& mesh);
+
 // InputError naming `file` unless the mesh can be converted: at least one cell, only tets, hexes,
 // wedges and pyramids (else "unsupported cell type 5 (triangle) in 12 cells"), offsets
 // consistent with the types, indices < points, finite coordinates, array sizes matching.

@@ -1,4 +1,5 @@
-"""Writes the vtk_* files of this directory (.vtu, .pvtu, .vtm and vtk_blocks/) with VTK's own writers, so that
+"""Writes the vtk_* files of this directory (.vtu, .pvtu, .vtm and vtk_blocks/; and
+../vtk/vtk_voxels.vtk) with VTK's own writers, so that
 the reader is tested against files it did not write itself (tests/io/vtu_test.cpp).
 
 Run from this directory with Debian's python3-vtk9: /usr/bin/python3 make_vtk_files.py
@@ -79,8 +80,28 @@ def write_blocks():
     writer.Write()
 
 
+def write_voxels():
+    """The wavelet's 27 cells as VTK's voxels (type 11), as ParaView writes image data it turned
+    unstructured (a threshold, vtkAppendFilter): vtk_voxels.vtu (ascii) and, in legacy form,
+    ../vtk/vtk_voxels.vtk (ascii, file version 5.1)."""
+    source = vtk.vtkRTAnalyticSource()
+    source.SetWholeExtent(0, 3, 0, 3, 0, 3)
+    grid = vtk.vtkAppendFilter()
+    grid.SetInputConnection(source.GetOutputPort())
+    xml = vtk.vtkXMLUnstructuredGridWriter()
+    xml.SetInputConnection(grid.GetOutputPort())
+    xml.SetFileName("vtk_voxels.vtu")
+    xml.SetDataModeToAscii()
+    xml.Write()
+    legacy = vtk.vtkUnstructuredGridWriter()
+    legacy.SetInputConnection(grid.GetOutputPort())
+    legacy.SetFileName("../vtk/vtk_voxels.vtk")
+    legacy.Write()
+
+
 if __name__ == "__main__":
     mesh = tets()
     write_compressed(mesh)
     write_pieces(mesh)
     write_blocks()
+    write_voxels()

@@ -669,8 +669,8 @@ TEST(Vtm, BadFiles) {
 // files alike: corner 1 one step along x from corner 0, corner 2 along x and y, corner 3 along y,
 // corners 4-7 the same one step up in z (VTK's wavelet has unit spacing).
 TEST(Vtu, VoxelsAreReadAsHexahedra) {
-  for (const MeshData& m : {read_vtu(kDataDir / "vtk_voxels.vtu"),
-                            read_vtk_legacy(kDataDir.parent_path() / "vtk" / "vtk_voxels.vtk")}) {
+  for (const MeshData& m :
+       {read_vtu(kDataDir / "vtk_voxels.vtu"), read_vtk_legacy(kDataDir.parent_path() / "vtk" / "vtk_voxels.vtk")}) {
     ASSERT_EQ(m.cell_count(), 27u);
     EXPECT_EQ(m.cell_types, std::vector<uint8_t>(27, uint8_t(CellType::hex)));
     const vec3d step[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};

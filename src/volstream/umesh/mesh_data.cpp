@@ -89,7 +89,8 @@ void voxels_to_hexahedra(MeshData& m) {
   constexpr int kHexOrder[8] = {0, 1, 3, 2, 4, 5, 7, 6};  // hex corner k is voxel corner kHexOrder[k]
   for (size_t c = 0; c < m.cell_types.size() && c + 1 < m.cell_offsets.size(); ++c) {
     const uint64_t begin = m.cell_offsets[c];
-    if (m.cell_types[c] != kVoxel || m.cell_offsets[c + 1] - begin != 8 || m.cell_offsets[c + 1] > m.connectivity.size())
+    if (m.cell_types[c] != kVoxel || m.cell_offsets[c + 1] - begin != 8 ||
+        m.cell_offsets[c + 1] > m.connectivity.size())
       continue;
     uint64_t voxel[8];
     std::copy_n(m.connectivity.begin() + int64_t(begin), 8, voxel);

@@ -21,7 +21,7 @@ constexpr uint8_t kGhostDuplicateCell = 1, kGhostHiddenCell = 32;
 //   Points at one place with different values (a discontinuity the writer meant) stay apart;
 // - points no cell uses any more (a ghost cell's) are dropped.
 // Empty pieces (no points, no cells: a rank that had none) are skipped. One piece without ghost
-// cells comes back as it is. Every piece must carry the same point and
+// cells comes back as it is, but for its vtkGhostType arrays. Every piece must carry the same point and
 // cell arrays (names and components, in order): InputError naming `origin` otherwise.
 MeshData join_pieces(std::vector<MeshData> pieces, const std::string& origin);
 

@@ -57,6 +57,23 @@ def test_load_vtu_is_a_mesh_dataset(mesh_files):
     assert not os.path.exists(path)
 
 
+def test_load_joins_a_parallel_writers_pieces(mesh_files, tmp_path):
+    """`demo --write-mesh NAME.pvtu` (four pieces with ghost cells) loads as the mesh it was cut
+    from; so do VTK's own .pvtu and .vtm files of tests/data/vtu."""
+    vtu, _ = mesh_files
+    cli("demo", "holes", "--elements", 3000, "--steps", 1, "-o", tmp_path / "demo", "-q",
+        "--write-mesh", tmp_path / "holes.pvtu")
+    whole, pieces = vs.load(vtu), vs.load(tmp_path / "holes.pvtu")
+    assert pieces.element_count == whole.element_count
+    assert pieces.vertex_count < whole.vertex_count  # the joined mesh drops the points the holes left unused
+    pts = random_points(whole)
+    np.testing.assert_array_equal(pieces.probe("density", pts), whole.probe("density", pts))
+    data = os.path.join(os.path.dirname(__file__), "..", "data", "vtu")
+    for name in ("vtk_ghosts.pvtu", "vtk_blocks.vtm"):
+        ds = vs.load(os.path.join(data, name))
+        assert (ds.element_count, ds.vertex_count) == (135, 64) and "RTData" in ds.fields
+
+
 def test_mesh_probe_equals_cli_and_brute_force(mesh_files, tmp_path):
     vtu, converted = mesh_files
     ds = vs.load(str(vtu))

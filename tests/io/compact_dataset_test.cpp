@@ -18,6 +18,7 @@
 #include "volstream/frame/frame_renderer.h"
 #include "volstream/frame/look.h"
 #include "volstream/io/mesh_convert.h"
+#include "volstream/io/vtu.h"
 #include "volstream/render/integrators/umesh_renderer.h"
 
 namespace vs {
@@ -119,6 +120,53 @@ TEST(CompactDataset, ProbesEqualTheReferenceAtRandomPoints) {
     EXPECT_NEAR(brute[i], want[i], 1e-5 * std::max(1.0, std::fabs(double(want[i])))) << i;
   }
   EXPECT_GT(inside, 300);
+}
+
+// A grid of 12^3 hexahedra (no tets: its leaves' vertex tables hold about two entries an element,
+// so the compact bytes are about 13.5 an element, where the manifest's bound once allowed 9 and
+// such a dataset converted but did not load) probes what its reference encoding probes.
+TEST(CompactDataset, AllHexMeshLoadsAndProbesAsTheReference) {
+  constexpr int n = 12;
+  MeshData m;
+  auto id = [](int i, int j, int k) { return uint64_t(i + (n + 1) * (j + (n + 1) * k)); };
+  MeshArray field{"f", 1, {}};
+  for (int k = 0; k <= n; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        m.points.push_back(vec3d(i, j, k) / double(n));
+        field.values.push_back(std::sin(0.7 * i) + std::cos(0.5 * j) * k);
+      }
+  m.point_data = {field};
+  m.cell_offsets = {0};
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        for (uint64_t v : {id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1),
+                           id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)})
+          m.connectivity.push_back(v);
+        m.cell_offsets.push_back(m.connectivity.size());
+        m.cell_types.push_back(uint8_t(CellType::hex));
+      }
+  const fs::path dir = test::scratch_dir("all_hex");
+  write_vtu(dir / "hexes.vtu", m);
+  for (MeshEncoding encoding : {MeshEncoding::compact, MeshEncoding::reference}) {
+    ConvertOptions options = ConvertOptions::silent();
+    options.mesh_encoding = encoding;
+    convert_mesh_to_dataset(*open_mesh_files({dir / "hexes.vtu"}),
+                            dir / (encoding == MeshEncoding::compact ? "c" : "r"), options);
+  }
+  const Dataset compact_hexes(dir / "c"), reference_hexes(dir / "r");
+  ASSERT_TRUE(compact_hexes.is_compact_mesh());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<vec3d> points(2000);
+  for (vec3d& p : points) p = {u(rng), u(rng), u(rng)};
+  FrameRenderer a(reference_hexes, Device::cpu), b(compact_hexes, Device::cpu);
+  const std::vector<float> want = a.probe(0, 0, points), got = b.probe(0, 0, points);
+  for (size_t i = 0; i < points.size(); ++i) {
+    ASSERT_FALSE(std::isnan(want[i])) << i;
+    EXPECT_NEAR(got[i], want[i], kPairRounding * std::max(1.f, std::fabs(want[i]))) << i;
+  }
 }
 
 TEST(CompactDataset, MacrocellsAndTheirRangesEqualTheReferences) {

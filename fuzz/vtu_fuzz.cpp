@@ -1,8 +1,8 @@
 // VTK XML unstructured grids and ParaView collections: valid files in several encodings (ascii,
 // inline base64 + zlib, appended raw, appended raw + LZ4, appended raw + LZMA, appended base64 +
 // zlib with UInt32 headers and two pieces' worth of arrays), a .pvd, a .pvtu of two ascii pieces
-// with ghost cells (pieces_0.vtu and pieces_1.vtu, also read alone) and a .vtm of a .vtu, the
-// .pvtu and a surface, one of them patched or truncated.
+// with ghost cells (pieces_0.vtu and pieces_1.vtu, also read alone), a .vtm of a .vtu, the .pvtu
+// and a surface, and a JSON .series, one of them patched or truncated.
 #include <algorithm>
 #include <fstream>
 
@@ -44,6 +44,8 @@ void make_base(const std::filesystem::path& dir) {
   std::ofstream(dir / "blocks.vtm") << "<VTKFile type=\"vtkMultiBlockDataSet\"><vtkMultiBlockDataSet><Block>"
                                        "<DataSet file=\"ascii.vtu\"/><DataSet file=\"pieces.pvtu\"/></Block>"
                                        "<DataSet file=\"walls.vtp\"/></vtkMultiBlockDataSet></VTKFile>\n";
+  std::ofstream(dir / "steps.series") << "{\"file-series-version\": \"1.0\", \"files\": [{\"name\": \"raw.vtu\", "
+                                         "\"time\": 1}, {\"name\": \"ascii.vtu\", \"time\": 0.5}]}\n";
 }
 }  // namespace
 
@@ -65,6 +67,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       fuzz::expect_clean([&] { read_pvtu(file); });
     else if (file.extension() == ".vtm")
       fuzz::expect_clean([&] { read_vtm(file); });
+    else if (file.extension() == ".series")
+      fuzz::expect_clean([&] { read_file_series(file); });
     else
       fuzz::expect_clean([&] { read_vtu(file); });
   }

@@ -75,6 +75,16 @@ for s in 0 1 2; do echo "<DataSet timestep=\"$s.5\" part=\"0\" file=\"s$s.vtu\"/
 printf '</Collection>\n</VTKFile>\n' >>series.pvd
 "$VS" convert series.pvd -o pvd -q
 "$VS" info pvd --json | grep -q '"steps": 3' || fail ".pvd did not give 3 steps"
+# The same steps as a ParaView file series (JSON), as OpenFOAM's foamToVTK writes them.
+echo '{ "file-series-version" : "1.0", "files" : [ { "name" : "s2.vtu", "time" : 2.5 },
+  { "name" : "s0.vtu", "time" : 0.5 }, { "name" : "s1.vtu", "time" : 1.5 } ] }' >steps.vtu.series
+"$VS" convert steps.vtu.series -o series_json -q
+"$VS" info series_json --json | grep -q '"steps": 3' || fail ".series did not give 3 steps"
+"$VS" probe series_json --field density --points pts_tets.txt --step 2 >got.txt
+"$VS" probe pvd --field density --points pts_tets.txt --step 2 >want_s2.txt
+cmp -s got.txt want_s2.txt || fail "the .series' last step differs from the .pvd's"
+echo '{ "file-series-version" : "1.0", "files" : [ ] }' >empty.vtu.series
+expect_bad_input "a .series without files" convert empty.vtu.series -o bad_series
 
 # VTK's own parallel output (tests/data/vtu/make_vtk_files.py: three pieces with ghost cells) as
 # the parts of one .pvd step: the 135 tets of the whole, the same values at its 64 points.

@@ -489,6 +489,43 @@ TEST(Pvd, PartsOfAStep) {
   EXPECT_EQ(steps[1].parts, (std::vector<fs::path>{dir / "b0.vtu", dir / "b1.vtu"}));
 }
 
+TEST(FileSeries, StepsByTime) {
+  const fs::path dir = test::scratch_dir("file_series");
+  write_file(dir / "case.vtm.series",
+             "{\n  \"file-series-version\" : \"1.0\",\n  \"files\" : [\n    { \"name\" : \"case_20/case_20.vtm\", "
+             "\"time\" : 0.2 },\n    { \"name\" : \"case_0.vtm\", \"time\" : 0 },\n    { \"name\" : \"/abs/c.vtm\", "
+             "\"time\" : 1e-1 }\n  ]\n}\n");
+  const std::vector<PvdStep> steps = read_file_series(dir / "case.vtm.series");
+  ASSERT_EQ(steps.size(), 3u);
+  EXPECT_EQ(steps[0].time, 0.0);
+  EXPECT_EQ(steps[0].parts, std::vector<fs::path>{dir / "case_0.vtm"});
+  EXPECT_EQ(steps[1].parts, std::vector<fs::path>{"/abs/c.vtm"});
+  EXPECT_EQ(steps[2].time, 0.2);
+  EXPECT_EQ(steps[2].parts, std::vector<fs::path>{dir / "case_20" / "case_20.vtm"});
+}
+
+TEST(FileSeries, BadSeries) {
+  const fs::path dir = test::scratch_dir("file_series_bad");
+  const std::pair<const char*, std::string> cases[] = {
+      {"not JSON", "files: a.vtu"},
+      {"not an object", "[1, 2]"},
+      {"no files", "{\"file-series-version\": \"1.0\"}"},
+      {"empty files", "{\"files\": []}"},
+      {"other version", "{\"file-series-version\": \"2.0\", \"files\": [{\"name\": \"a.vtu\", \"time\": 0}]}"},
+      {"no name", "{\"files\": [{\"time\": 0}]}"},
+      {"no time", "{\"files\": [{\"name\": \"a.vtu\"}]}"},
+      {"string time", "{\"files\": [{\"name\": \"a.vtu\", \"time\": \"0\"}]}"},
+      {"same time", "{\"files\": [{\"name\": \"a.vtu\", \"time\": 1}, {\"name\": \"b.vtu\", \"time\": 1.0}]}"},
+      {"entry not an object", "{\"files\": [\"a.vtu\"]}"},
+      {"bad UTF-8", "{\"files\": [{\"name\": \"a\xff.vtu\", \"time\": 0}]}"},
+      {"a numeric version", "{\"file-series-version\": 7, \"files\": [{\"name\": \"a.vtu\", \"time\": 0}]}"},
+  };
+  for (const auto& [name, text] : cases) {
+    write_file(dir / "bad.vtu.series", text);
+    EXPECT_THROW(read_file_series(dir / "bad.vtu.series"), InputError) << name;
+  }
+}
+
 // Files VTK 9.1 wrote itself (tests/data/vtu/make_vtk_files.py): its wavelet source on 4x4x4
 // points as 135 tets, with the point scalar RTData.
 void expect_wavelet(const MeshData& m) {

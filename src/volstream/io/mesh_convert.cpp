@@ -94,6 +94,7 @@ std::string format_name(const fs::path& file) {
   if (ext == ".vtm") return "VTK XML multiblock";
   if (ext == ".vtk") return "legacy VTK unstructured grid";
   if (ext == ".pvd") return "ParaView collection";
+  if (ext == ".series") return "ParaView file series";
   return "UGRID";
 }
 
@@ -101,7 +102,8 @@ std::string format_name(const fs::path& file) {
 
 bool is_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
-  return ext == ".vtu" || ext == ".pvtu" || ext == ".vtm" || ext == ".vtk" || ext == ".pvd" || ext == ".ugrid";
+  return ext == ".vtu" || ext == ".pvtu" || ext == ".vtm" || ext == ".vtk" || ext == ".pvd" || ext == ".series" ||
+         ext == ".ugrid";
 }
 
 RawScalars parse_raw_scalars(const std::string& spec) {
@@ -115,9 +117,10 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
                                             const std::vector<RawScalars>& scalars) {
   if (files.empty()) throw UsageError("no mesh files given");
   std::vector<PvdStep> steps;
-  if (lower_extension(files.front()) == ".pvd") {
-    if (files.size() > 1) throw UsageError("a .pvd collection is converted on its own");
-    steps = read_pvd(files.front());
+  const std::string ext = lower_extension(files.front());
+  if (ext == ".pvd" || ext == ".series") {
+    if (files.size() > 1) throw UsageError("a .pvd collection or .series file is converted on its own");
+    steps = ext == ".pvd" ? read_pvd(files.front()) : read_file_series(files.front());
   } else {
     for (size_t i = 0; i < files.size(); ++i) steps.push_back({double(i), {files[i]}});
   }

@@ -6,6 +6,8 @@
 #include <lzma.h>
 #include <zlib.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <bit>
 #include <charconv>
@@ -923,11 +925,10 @@ PvdEntry read_dataset(const fs::path& file, const XmlElement& e, size_t index) {
 
 }  // namespace
 
-std::vector<PvdStep> read_pvd(const std::filesystem::path& file) {
-  const std::string name = file.string();
-  std::vector<PvdEntry> entries;
-  for (const XmlElement& e : listed_entries(file, "Collection", "DataSet", "not a VTK Collection (.pvd) file"))
-    entries.push_back(read_dataset(file, e, entries.size()));
+namespace {
+
+// Entries as steps: sorted by time, the entries of one time its parts in part order.
+std::vector<PvdStep> steps_of(std::vector<PvdEntry> entries, const std::string& name) {
   std::stable_sort(entries.begin(), entries.end(), [](const PvdEntry& a, const PvdEntry& b) {
     return a.time != b.time ? a.time < b.time : a.part < b.part;
   });
@@ -935,12 +936,47 @@ std::vector<PvdStep> read_pvd(const std::filesystem::path& file) {
   for (size_t i = 0; i < entries.size(); ++i) {
     const bool same_time = i > 0 && entries[i].time == entries[i - 1].time;
     if (same_time && entries[i].part == entries[i - 1].part)
-      input_error(name, "two DataSet entries have timestep " + std::to_string(entries[i].time) + " and part " +
+      input_error(name, "two entries have time " + std::to_string(entries[i].time) + " and part " +
                             std::to_string(entries[i].part));
     if (!same_time) steps.push_back({entries[i].time, {}});
     steps.back().parts.push_back(entries[i].file);
   }
   return steps;
+}
+
+// One entry of a file series' "files": {"name": FILE, "time": T}.
+PvdEntry series_entry(const fs::path& file, const nlohmann::json& e, size_t index) {
+  const std::string what = "files[" + std::to_string(index) + "]";
+  if (!e.is_object() || !e.contains("name") || !e["name"].is_string() || e["name"].get<std::string>().empty())
+    input_error(file.string(), what + " has no name");
+  if (!e.contains("time") || !e["time"].is_number() || !std::isfinite(e["time"].get<double>()))
+    input_error(file.string(), what + " has no finite time");
+  return {e["time"].get<double>(), 0, listed_path(file, e["name"].get<std::string>())};
+}
+
+}  // namespace
+
+std::vector<PvdStep> read_pvd(const std::filesystem::path& file) {
+  std::vector<PvdEntry> entries;
+  for (const XmlElement& e : listed_entries(file, "Collection", "DataSet", "not a VTK Collection (.pvd) file"))
+    entries.push_back(read_dataset(file, e, entries.size()));
+  return steps_of(std::move(entries), file.string());
+}
+
+std::vector<PvdStep> read_file_series(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  const nlohmann::json doc = nlohmann::json::parse(read_text_file(file), nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) input_error(name, "not a JSON file series (.series)");
+  if (doc.contains("file-series-version") && doc["file-series-version"] != "1.0") {
+    // (dump() cannot meet bad UTF-8 here: parse refused it.)
+    const std::string version = doc["file-series-version"].dump();
+    input_error(name, "file-series-version " + version.substr(0, 32) + " (volstream reads 1.0)");
+  }
+  if (!doc.contains("files") || !doc["files"].is_array() || doc["files"].empty())
+    input_error(name, "no \"files\" entries");
+  std::vector<PvdEntry> entries;
+  for (const nlohmann::json& e : doc["files"]) entries.push_back(series_entry(file, e, entries.size()));
+  return steps_of(std::move(entries), name);
 }
 
 void write_pvd(const std::filesystem::path& file, const std::vector<PvdStep>& steps) {

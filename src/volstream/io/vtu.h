@@ -1,5 +1,5 @@
-// VTK XML unstructured grids (.vtu), parallel ones (.pvtu), multiblocks of them (.vtm, read only)
-// and ParaView collections (.pvd), read and written.
+// VTK XML unstructured grids (.vtu), parallel ones (.pvtu), multiblocks of them (.vtm, read only),
+// ParaView collections (.pvd) and file series (.series, read only), read and written.
 //
 // Reading supports every encoding VTK writes: DataArray format "ascii", "binary" (inline base64)
 // and "appended" (<AppendedData encoding="raw"> or "base64"; offsets count from the byte after
@@ -71,6 +71,12 @@ struct PvdStep {
 // step's parts by part number. InputError for a missing or bad attribute, two entries with the
 // same time and part, or no entries; the group attribute is ignored.
 std::vector<PvdStep> read_pvd(const std::filesystem::path& file);
+// ParaView's file series (NAME.vtu.series, NAME.vtm.series; JSON, as OpenFOAM's foamToVTK writes a
+// case's times): {"file-series-version": "1.0", "files": [{"name": FILE, "time": T}, ...]}, as
+// steps of one part each, sorted by time; names relative to the series' directory. InputError for
+// bad JSON, another version, an entry without a name or a finite time, two entries with the same
+// time, or none.
+std::vector<PvdStep> read_file_series(const std::filesystem::path& file);
 // Writes the steps in the given order (parts numbered from 0), file paths relative to the .pvd's directory when
 // possible.
 void write_pvd(const std::filesystem::path& file, const std::vector<PvdStep>& steps);

@@ -1,9 +1,9 @@
 #include "volstream/io/mesh_convert.h"
 
 #include <algorithm>
-#include <cctype>
 
 #include "volstream/amr/ranges.h"
+#include "volstream/backend/parallel.h"
 #include "volstream/core/error.h"
 #include "volstream/core/progress.h"
 #include "volstream/core/stopwatch.h"
@@ -54,14 +54,16 @@ MeshData read_mesh_file(const fs::path& file) {
   if (ext == ".vtm") return read_vtm(file);
   if (ext == ".vtk") return read_vtk_legacy(file);
   if (ext == ".ugrid") return read_ugrid(file);
-  input_error(file.string(), "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, or a .pvd collection of them)");
+  input_error(file.string(), "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, or a .pvd or .series of them)");
 }
 
-// A step's parts (a .pvd's entries of one time) as one mesh.
+// A step's parts (a .pvd's entries of one time: a parallel run's pieces) as one mesh, read in
+// parallel; the error is the first bad part's.
 MeshData read_parts(const std::vector<fs::path>& parts, const std::string& origin) {
   if (parts.size() == 1) return read_mesh_file(parts.front());
-  std::vector<MeshData> meshes;
-  for (const fs::path& part : parts) meshes.push_back(read_mesh_file(part));
+  std::vector<MeshData> meshes(parts.size());
+  parallel_each_in_order(int64_t(parts.size()),
+                         [&](int64_t i) { meshes[size_t(i)] = read_mesh_file(parts[size_t(i)]); });
   MeshData m = join_pieces(std::move(meshes), origin);
   check_mesh(m, origin);
   return m;

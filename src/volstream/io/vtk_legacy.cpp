@@ -7,6 +7,7 @@
 #include "volstream/core/error.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/io/parse_cursor.h"
+#include "volstream/umesh/polyhedra.h"
 
 namespace vs {
 namespace {
@@ -424,6 +425,7 @@ void VtkReader::finish() {
   const uint64_t cells = mesh_.cell_offsets.size() - 1;
   if (cells != mesh_.cell_types.size())
     in_.fail("CELLS has " + std::to_string(cells) + " cells, CELL_TYPES " + std::to_string(mesh_.cell_types.size()));
+  split_polyhedra(mesh_, faces_in_connectivity(mesh_, in_.file()), in_.file());
   voxels_to_hexahedra(mesh_);
   check_mesh(mesh_, in_.file());
 }

@@ -26,6 +26,7 @@
 #include "volstream/io/binary_file.h"
 #include "volstream/io/xml_scan.h"
 #include "volstream/umesh/mesh_pieces.h"
+#include "volstream/umesh/polyhedra.h"
 
 namespace vs {
 namespace {
@@ -413,12 +414,17 @@ const XmlElement& required_child(const VtuFile& f, const XmlElement& parent, std
   return *e;
 }
 
-const XmlElement& named_array(const VtuFile& f, const XmlElement& parent, std::string_view name,
-                              const std::string& what) {
+const XmlElement* find_named_array(const XmlElement& parent, std::string_view name) {
   for (const XmlElement& e : parent.children) {
     const std::string* n = e.attribute("Name");
-    if (e.name == "DataArray" && n && *n == name) return e;
+    if (e.name == "DataArray" && n && *n == name) return &e;
   }
+  return nullptr;
+}
+
+const XmlElement& named_array(const VtuFile& f, const XmlElement& parent, std::string_view name,
+                              const std::string& what) {
+  if (const XmlElement* e = find_named_array(parent, name)) return *e;
   input_error(f.name, what + ": <" + parent.name + "> has no DataArray named " + std::string(name));
 }
 
@@ -478,6 +484,48 @@ std::vector<MeshArray> read_attribute_arrays(const VtuFile& f, const XmlElement*
   return arrays;
 }
 
+// The faces of a piece's polyhedra (umesh/polyhedra.h), in either of VTK's layouts: VTK 9.4's
+// four arrays (polyhedron_offsets: each cell's end in polyhedron_to_faces, whose face ids index
+// face_offsets: each face's end in face_connectivity), or the face streams of the files before
+// (faceoffsets: each cell's end in faces, -1 for a cell of another type). None without a polyhedron.
+PolyhedronFaces read_polyhedron_faces(const VtuFile& f, const XmlElement& cells, const std::vector<uint8_t>& types,
+                                      const std::string& what) {
+  PolyhedronFaces faces;
+  if (std::find(types.begin(), types.end(), kVtkPolyhedron) == types.end()) return faces;
+  if (find_named_array(cells, "polyhedron_offsets")) {
+    const std::vector<uint64_t> ends = read_cell_array(f, cells, "polyhedron_offsets", types.size(), what);
+    faces.cell_face_offsets.insert(faces.cell_face_offsets.end(), ends.begin(), ends.end());
+    faces.cell_faces = read_cell_array(f, cells, "polyhedron_to_faces", ends.empty() ? 0 : ends.back(), what);
+    const uint64_t face_count =
+        faces.cell_faces.empty() ? 0 : *std::max_element(faces.cell_faces.begin(), faces.cell_faces.end()) + 1;
+    const std::vector<uint64_t> face_ends = read_cell_array(f, cells, "face_offsets", face_count, what);
+    faces.face_offsets.insert(faces.face_offsets.end(), face_ends.begin(), face_ends.end());
+    faces.face_vertices =
+        read_cell_array(f, cells, "face_connectivity", face_ends.empty() ? 0 : face_ends.back(), what);
+    return faces;
+  }
+  const XmlElement& offsets_array = named_array(f, cells, "faceoffsets", what);
+  const std::vector<double> ends = read_values<double>(
+      f, offsets_array, numeric_type(f, offsets_array, what + " faceoffsets"), types.size(), what + " faceoffsets");
+  uint64_t stream_end = 0;
+  for (double e : ends)
+    if (e >= 0) stream_end = std::max(stream_end, uint64_t(e));
+  const std::vector<uint64_t> stream = read_cell_array(f, cells, "faces", stream_end, what);
+  uint64_t begin = 0;
+  for (size_t c = 0; c < types.size(); ++c) {
+    if (types[c] != kVtkPolyhedron) {
+      faces.add_other_cell();
+      continue;
+    }
+    const double end = ends[c];
+    if (!(end >= double(begin) && end <= double(stream_end) && end == std::floor(end)))
+      input_error(f.name, what + " faceoffsets: entry " + str(c) + " of a polyhedron is not the end of its faces");
+    faces.add_face_stream(std::span(stream).subspan(begin, uint64_t(end) - begin), c, f.name);
+    begin = uint64_t(end);
+  }
+  return faces;
+}
+
 MeshData read_piece(const VtuFile& f, const XmlElement& piece, size_t index) {
   const std::string what = "Piece " + std::to_string(index);
   const uint64_t points = uint_attribute(f, piece, "NumberOfPoints", what);
@@ -491,6 +539,8 @@ MeshData read_piece(const VtuFile& f, const XmlElement& piece, size_t index) {
                               " is out of range (" + str(points) + " points)");
   mesh.point_data = read_attribute_arrays(f, piece.child("PointData"), points, what + " point");
   mesh.cell_data = read_attribute_arrays(f, piece.child("CellData"), cells, what + " cell");
+  split_polyhedra(mesh, read_polyhedron_faces(f, required_child(f, piece, "Cells", what), mesh.cell_types, what),
+                  f.name);
   return mesh;
 }
 

@@ -56,7 +56,7 @@ void check_cells(const MeshData& m, const std::string& file) {
     const auto& [type, count] = *unsupported.begin();
     input_error(file, "unsupported cell type " + std::to_string(type) + " (" + cell_type_name(type) + ") in " +
                           std::to_string(count) + " cells (volstream renders tetra 10, hexahedron 12, wedge 13, " +
-                          "pyramid 14)");
+                          "pyramid 14; voxels 11 and polyhedra 42 of VTK files as hexahedra and tets and pyramids)");
   }
   input_check(m.cell_offsets[0] == 0 && m.cell_offsets[n] == m.connectivity.size(), file,
               "cell offsets do not span the connectivity array");

@@ -99,9 +99,99 @@ def write_voxels():
     legacy.Write()
 
 
+def polyhedra_mesh():
+    """Polyhedra (type 42) as OpenFOAM's foamToVTK writes them, with hexes beside them: a cube
+    [0,2]^3 whose face x = 2 is split into four quads to meet the eight hexes of [2,4]x[0,2]^2
+    (a 2:1 refinement step), a square pyramid on its face x = 0, and apart from both a hexagonal
+    prism (two six-vertex faces). Point arrays f = 1 + 2x + 3y + 4z (linear) and g = xy + z^2, a
+    cell array cell_id."""
+    grid = vtk.vtkUnstructuredGrid()
+    points = vtk.vtkPoints()
+    index = {}
+
+    def point(p):
+        if p not in index:
+            index[p] = points.InsertNextPoint(p)
+        return index[p]
+
+    def add(cell_type, ids):
+        id_list = vtk.vtkIdList()
+        for i in ids:
+            id_list.InsertNextId(i)
+        grid.InsertNextCell(cell_type, id_list)
+
+    def add_polyhedron(faces):
+        stream = [len(faces)]
+        for face in faces:
+            stream += [len(face)] + [point(p) for p in face]
+        add(vtk.VTK_POLYHEDRON, stream)
+
+    # The cube's faces hold the points where the x = 2 face is split: the four faces that meet
+    # it are pentagons, as in OpenFOAM's meshes.
+    coarse = [[(0, 0, 0), (0, 2, 0), (2, 2, 0), (2, 1, 0), (2, 0, 0)],
+              [(0, 0, 2), (2, 0, 2), (2, 1, 2), (2, 2, 2), (0, 2, 2)],
+              [(0, 0, 0), (2, 0, 0), (2, 0, 1), (2, 0, 2), (0, 0, 2)],
+              [(0, 2, 0), (0, 2, 2), (2, 2, 2), (2, 2, 1), (2, 2, 0)],
+              [(0, 0, 0), (0, 0, 2), (0, 2, 2), (0, 2, 0)]]
+    for j in range(2):
+        for k in range(2):
+            coarse.append([(2, j, k), (2, j + 1, k), (2, j + 1, k + 1), (2, j, k + 1)])
+    add_polyhedron(coarse)
+    for i in range(2, 4):
+        for j in range(2):
+            for k in range(2):
+                add(vtk.VTK_HEXAHEDRON, [point((i + a, j + b, k + c)) for c in range(2)
+                                         for (a, b) in ((0, 0), (1, 0), (1, 1), (0, 1))])
+    apex = (-1, 1, 1)
+    side = [(0, 0, 0), (0, 0, 2), (0, 2, 2), (0, 2, 0)]
+    add_polyhedron([list(reversed(side))] + [[side[n], side[(n + 1) % 4], apex] for n in range(4)])
+    ring = [(5.5 + 0.5 * c, 1 + 0.5 * s) for c, s in ((1, 0), (0.5, 0.75 ** 0.5), (-0.5, 0.75 ** 0.5),
+                                                      (-1, 0), (-0.5, -(0.75 ** 0.5)), (0.5, -(0.75 ** 0.5)))]
+    bottom = [(x, y, 0.0) for x, y in ring]
+    upper = [(x, y, 1.0) for x, y in ring]
+    sides = [[bottom[n], bottom[(n + 1) % 6], upper[(n + 1) % 6], upper[n]] for n in range(6)]
+    add_polyhedron([list(reversed(bottom)), upper] + sides)
+    grid.SetPoints(points)
+    for name, formula in (("f", lambda x, y, z: 1 + 2 * x + 3 * y + 4 * z), ("g", lambda x, y, z: x * y + z * z)):
+        values = vtk.vtkDoubleArray()
+        values.SetName(name)
+        for i in range(points.GetNumberOfPoints()):
+            values.InsertNextValue(formula(*points.GetPoint(i)))
+        grid.GetPointData().AddArray(values)
+    cell_id = vtk.vtkIntArray()
+    cell_id.SetName("cell_id")
+    for c in range(grid.GetNumberOfCells()):
+        cell_id.InsertNextValue(c)
+    grid.GetCellData().AddArray(cell_id)
+    return grid
+
+
+def write_polyhedra():
+    """The polyhedra mesh as vtk_polyhedra.vtu (appended raw, zlib; VTK 9.1 writes the face
+    streams, "faces" and "faceoffsets") and ../vtk/vtk_polyhedra.vtk (legacy, file version 5.1,
+    binary) and ../vtk/vtk_polyhedra_42.vtk (version 4.2, ascii)."""
+    grid = polyhedra_mesh()
+    xml = vtk.vtkXMLUnstructuredGridWriter()
+    xml.SetInputData(grid)
+    xml.SetFileName("vtk_polyhedra.vtu")
+    xml.SetDataModeToAppended()
+    xml.EncodeAppendedDataOff()
+    xml.Write()
+    for name, version, binary in (("vtk_polyhedra", None, True), ("vtk_polyhedra_42", 42, False)):
+        legacy = vtk.vtkUnstructuredGridWriter()
+        legacy.SetInputData(grid)
+        legacy.SetFileName(f"../vtk/{name}.vtk")
+        if version:
+            legacy.SetFileVersion(version)
+        if binary:
+            legacy.SetFileTypeToBinary()
+        legacy.Write()
+
+
 if __name__ == "__main__":
     mesh = tets()
     write_compressed(mesh)
     write_pieces(mesh)
     write_blocks()
     write_voxels()
+    write_polyhedra()

@@ -1,0 +1,270 @@
+#include "volstream/umesh/polyhedra.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "volstream/core/error.h"
+
+namespace vs {
+namespace {
+
+std::string str(uint64_t v) { return std::to_string(v); }
+
+// One element of a split polyhedron: a tet (4 vertices) or a pyramid (5), the centroid last.
+struct Piece {
+  int count = 0;
+  std::array<uint64_t, 5> v{};
+};
+
+double box_extent(const MeshData& m, std::span<const uint64_t> v) {
+  Box3<double> b{vec3d(INFINITY), vec3d(-INFINITY)};
+  for (uint64_t i : v) b.extend(m.points[i]);
+  return reduce_max(b.upper - b.lower);
+}
+
+// Positive when the piece is in VTK's orientation (a tet's first three corners, and a pyramid's
+// base, seen from the last corner turn clockwise: their right-hand normal points to it); in
+// units of length cubed, as a tet's six volumes.
+double orientation(const MeshData& m, const Piece& p) {
+  const vec3d* x = m.points.data();
+  const vec3d& apex = x[p.v[p.count - 1]];
+  if (p.count == 4) return dot(cross(x[p.v[1]] - x[p.v[0]], x[p.v[2]] - x[p.v[0]]), apex - x[p.v[0]]);
+  const vec3d normal = cross(x[p.v[2]] - x[p.v[0]], x[p.v[3]] - x[p.v[1]]);
+  const vec3d base = (x[p.v[0]] + x[p.v[1]] + x[p.v[2]] + x[p.v[3]]) * 0.25;
+  return dot(normal, apex - base);
+}
+
+void reverse_base(Piece& p) {
+  if (p.count == 4)
+    std::swap(p.v[1], p.v[2]);
+  else
+    std::swap(p.v[1], p.v[3]);
+}
+
+void check_faces(const PolyhedronFaces& f, uint64_t cells, uint64_t points, const std::string& file) {
+  auto check_csr = [&](const std::vector<uint64_t>& offsets, uint64_t rows, uint64_t entries, const char* what) {
+    input_check(offsets.size() == rows + 1 && offsets.front() == 0 && offsets.back() == entries, file,
+                std::string("polyhedra: the ") + what + " offsets do not span their array");
+    for (uint64_t i = 1; i < offsets.size(); ++i)
+      input_check(offsets[i] >= offsets[i - 1], file, std::string("polyhedra: the ") + what + " offsets decrease");
+  };
+  check_csr(f.cell_face_offsets, cells, f.cell_faces.size(), "cell face");
+  const uint64_t faces = f.face_offsets.empty() ? 0 : f.face_offsets.size() - 1;
+  check_csr(f.face_offsets, faces, f.face_vertices.size(), "face");
+  for (uint64_t id : f.cell_faces)
+    if (id >= faces) input_error(file, "polyhedra: face id " + str(id) + " is out of range (" + str(faces) + " faces)");
+  for (uint64_t v : f.face_vertices)
+    if (v >= points)
+      input_error(file, "polyhedra: face vertex " + str(v) + " is out of range (" + str(points) + " points)");
+}
+
+// The mean of `vertices` as a new point of `m`, its data the mean of theirs (so that a field
+// linear in space stays exact); returns its index.
+uint64_t add_mean_point(MeshData& m, std::span<const uint64_t> vertices) {
+  vec3d sum(0.0);
+  for (uint64_t v : vertices) sum = sum + m.points[v];
+  m.points.push_back(sum * (1.0 / double(vertices.size())));
+  for (MeshArray& a : m.point_data) {
+    const auto components = size_t(a.components);
+    for (size_t k = 0; k < components; ++k) {
+      double total = 0.0;
+      for (uint64_t v : vertices) total += a.values[v * components + k];
+      a.values.push_back(total / double(vertices.size()));
+    }
+  }
+  return m.points.size() - 1;
+}
+
+// Splits one polyhedron at a time, adding its centroid and the centres of its faces of more
+// than four vertices to the mesh's points; buffers are reused from one polyhedron to the next.
+class PolyhedronSplitter {
+ public:
+  PolyhedronSplitter(MeshData& mesh, const PolyhedronFaces& faces, const std::string& file)
+      : mesh_(mesh), faces_(faces), file_(file) {}
+
+  // Cell c's pieces, each in VTK's orientation.
+  const std::vector<Piece>& split(uint64_t c) {
+    cell_ = c;
+    const uint64_t first = faces_.cell_face_offsets[c], end = faces_.cell_face_offsets[c + 1];
+    if (end - first < 4) fail("has " + str(end - first) + " faces (a polyhedron needs 4 at least)");
+    collect_vertices_and_edges(first, end);
+    check_closed();
+    const uint64_t centroid = add_mean_point(mesh_, vertices_);
+    pieces_.clear();
+    for (uint64_t i = first; i < end; ++i) add_pieces(face(faces_.cell_faces[i]), centroid);
+    orient();
+    return pieces_;
+  }
+
+ private:
+  std::span<const uint64_t> face(uint64_t f) const {
+    return std::span(faces_.face_vertices)
+        .subspan(faces_.face_offsets[f], faces_.face_offsets[f + 1] - faces_.face_offsets[f]);
+  }
+  [[noreturn]] void fail(const std::string& why) const {
+    input_error(file_, "polyhedron cell " + str(cell_) + " " + why);
+  }
+
+  void collect_vertices_and_edges(uint64_t first, uint64_t end) {
+    vertices_.clear();
+    edges_.clear();
+    for (uint64_t i = first; i < end; ++i) {
+      const std::span<const uint64_t> v = face(faces_.cell_faces[i]);
+      if (v.size() < 3) fail("has a face of " + str(v.size()) + " vertices");
+      for (size_t k = 0; k < v.size(); ++k) {
+        const uint64_t a = v[k], b = v[(k + 1) % v.size()];
+        edges_.push_back({std::min(a, b), std::max(a, b), a < b});
+        vertices_.push_back(a);
+      }
+    }
+    std::sort(vertices_.begin(), vertices_.end());
+    vertices_.erase(std::unique(vertices_.begin(), vertices_.end()), vertices_.end());
+  }
+
+  // Every edge in exactly two faces; oriented alike when it runs one way in one and the other
+  // way in the other.
+  void check_closed() {
+    std::sort(edges_.begin(), edges_.end());
+    oriented_alike_ = true;
+    for (size_t i = 0; i < edges_.size();) {
+      size_t j = i;
+      while (j < edges_.size() && edges_[j].a == edges_[i].a && edges_[j].b == edges_[i].b) ++j;
+      if (j - i != 2)
+        fail("is not closed: its edge " + str(edges_[i].a) + "-" + str(edges_[i].b) + " is in " + str(j - i) +
+             " of its faces, not 2");
+      oriented_alike_ = oriented_alike_ && edges_[i].forward != edges_[i + 1].forward;
+      i = j;
+    }
+  }
+
+  // A triangle gives a tet, a quad a pyramid (its bilinear face is the neighbour's, whether that
+  // is a hex, a wedge or another polyhedron); a face of more vertices a tet on each edge from
+  // its centre, which the two polyhedra sharing the face share (a fan from one of its vertices
+  // would make flat tets where three vertices lie on a line, as at a refinement step).
+  void add_pieces(std::span<const uint64_t> v, uint64_t centroid) {
+    const size_t n = v.size();
+    if (n == 3) return pieces_.push_back({4, {v[0], v[1], v[2], centroid}});
+    if (n == 4) return pieces_.push_back({5, {v[0], v[1], v[2], v[3], centroid}});
+    const uint64_t centre = face_centre(v);
+    for (size_t k = 0; k < n; ++k) pieces_.push_back({4, {centre, v[k], v[(k + 1) % n], centroid}});
+  }
+
+  uint64_t face_centre(std::span<const uint64_t> v) {
+    key_.assign(v.begin(), v.end());
+    std::sort(key_.begin(), key_.end());
+    const auto [at, added] = face_centres_.try_emplace(key_, 0);
+    if (added) at->second = add_mean_point(mesh_, key_);
+    return at->second;
+  }
+
+  void orient() {
+    int positive = 0, negative = 0;
+    for (Piece& p : pieces_) {
+      const double o = orientation(mesh_, p);
+      const double extent = box_extent(mesh_, std::span(p.v.data(), size_t(p.count)));
+      if (!(std::fabs(o) > 1e-9 * extent * extent * extent))
+        fail(
+            "gives a flat piece: a face of repeated or collinear vertices, or one in a plane through the vertex "
+            "centroid (volstream splits a polyhedron from that centroid, so it must be star-shaped about it)");
+      (o > 0 ? positive : negative)++;
+      if (o < 0) reverse_base(p);
+    }
+    if (oriented_alike_ && positive && negative)
+      fail("is not star-shaped about its vertex centroid (" + str(uint64_t(std::min(positive, negative))) + " of " +
+           str(pieces_.size()) + " pieces of its faces are seen from it the wrong way round)");
+  }
+
+  struct Edge {
+    uint64_t a, b;
+    bool forward;
+    bool operator<(const Edge& o) const { return std::tie(a, b, forward) < std::tie(o.a, o.b, o.forward); }
+  };
+  MeshData& mesh_;
+  const PolyhedronFaces& faces_;
+  const std::string& file_;
+  uint64_t cell_ = 0;
+  bool oriented_alike_ = true;
+  std::vector<uint64_t> vertices_, key_;
+  std::vector<Edge> edges_;
+  std::vector<Piece> pieces_;
+  std::map<std::vector<uint64_t>, uint64_t> face_centres_;  // by the face's sorted vertices
+};
+
+// The cell data of the new cells: new cell i has old cell source[i]'s.
+void take_cell_data(std::vector<MeshArray>& arrays, const std::vector<uint64_t>& source) {
+  for (MeshArray& a : arrays) {
+    const auto components = size_t(a.components);
+    std::vector<double> values;
+    values.reserve(source.size() * components);
+    for (uint64_t c : source)
+      values.insert(values.end(), a.values.begin() + int64_t(c * components),
+                    a.values.begin() + int64_t((c + 1) * components));
+    a.values = std::move(values);
+  }
+}
+
+}  // namespace
+
+void PolyhedronFaces::add_face_stream(std::span<const uint64_t> stream, uint64_t cell, const std::string& file) {
+  auto fail = [&](const std::string& why) {
+    input_error(file, "polyhedron cell " + str(cell) + ": its face stream " + why);
+  };
+  if (stream.empty()) fail("is empty");
+  const uint64_t count = stream[0];
+  size_t pos = 1;
+  for (uint64_t f = 0; f < count; ++f) {
+    if (pos >= stream.size()) fail("ends before face " + str(f) + " of " + str(count));
+    const uint64_t n = stream[pos++];
+    if (n > stream.size() - pos) fail("ends inside face " + str(f));
+    face_vertices.insert(face_vertices.end(), stream.begin() + int64_t(pos), stream.begin() + int64_t(pos + n));
+    face_offsets.push_back(face_vertices.size());
+    cell_faces.push_back(face_offsets.size() - 2);
+    pos += n;
+  }
+  if (pos != stream.size()) fail("holds " + str(stream.size() - pos) + " values after its " + str(count) + " faces");
+  cell_face_offsets.push_back(cell_faces.size());
+}
+
+PolyhedronFaces faces_in_connectivity(const MeshData& m, const std::string& file) {
+  PolyhedronFaces faces;
+  for (uint64_t c = 0; c < m.cell_count() && c + 1 < m.cell_offsets.size(); ++c) {
+    const uint64_t begin = m.cell_offsets[c], end = m.cell_offsets[c + 1];
+    if (m.cell_types[c] == kVtkPolyhedron && begin <= end && end <= m.connectivity.size())
+      faces.add_face_stream(std::span(m.connectivity).subspan(begin, end - begin), c, file);
+    else
+      faces.add_other_cell();
+  }
+  return faces;
+}
+
+void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::string& file) {
+  if (std::find(m.cell_types.begin(), m.cell_types.end(), kVtkPolyhedron) == m.cell_types.end()) return;
+  check_faces(faces, m.cell_count(), m.points.size(), file);
+  std::vector<uint8_t> types;
+  std::vector<uint64_t> offsets{0}, connectivity, source;
+  auto add = [&](uint8_t type, std::span<const uint64_t> v, uint64_t from) {
+    types.push_back(type);
+    connectivity.insert(connectivity.end(), v.begin(), v.end());
+    offsets.push_back(connectivity.size());
+    source.push_back(from);
+  };
+  PolyhedronSplitter splitter(m, faces, file);
+  for (uint64_t c = 0; c < m.cell_count(); ++c) {
+    if (m.cell_types[c] != kVtkPolyhedron) {
+      add(m.cell_types[c],
+          std::span(m.connectivity).subspan(m.cell_offsets[c], m.cell_offsets[c + 1] - m.cell_offsets[c]), c);
+      continue;
+    }
+    for (const Piece& p : splitter.split(c))
+      add(uint8_t(p.count == 4 ? CellType::tet : CellType::pyramid), std::span(p.v.data(), size_t(p.count)), c);
+  }
+  m.cell_types = std::move(types);
+  m.cell_offsets = std::move(offsets);
+  m.connectivity = std::move(connectivity);
+  take_cell_data(m.cell_data, source);
+}
+
+}  // namespace vs

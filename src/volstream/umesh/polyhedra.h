@@ -1,0 +1,52 @@
+// VTK polyhedra (cell type 42: a cell given by its faces) as the tets and pyramids the renderer
+// samples. OpenFOAM's foamToVTK writes every cell of a snappyHexMesh or cfMesh mesh that is not a
+// hex, prism, pyramid or tet as one (the cells at a refinement step, whose faces are split to meet
+// their smaller neighbours), and ParaView writes them from Fluent and CGNS polyhedral meshes.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "volstream/umesh/mesh_data.h"
+
+namespace vs {
+
+constexpr uint8_t kVtkPolyhedron = 42;
+
+// The faces of a mesh's polyhedra, in two CSR levels (the layout of VTK 9.4's XML files): cell
+// c's faces are the face ids cell_faces[cell_face_offsets[c] .. cell_face_offsets[c + 1]) (none
+// for a cell of another type), and face f's vertices, in order around it, are the point indices
+// face_vertices[face_offsets[f] .. face_offsets[f + 1]).
+struct PolyhedronFaces {
+  std::vector<uint64_t> cell_face_offsets{0}, cell_faces;
+  std::vector<uint64_t> face_offsets{0}, face_vertices;
+
+  // The next cell, with no faces (a cell of another type).
+  void add_other_cell() { cell_face_offsets.push_back(cell_face_offsets.back()); }
+  // The next cell from VTK's face stream (the faces of older XML files and of legacy files): its
+  // face count, then each face's vertex count and vertices. InputError naming `file` and
+  // `cell` when the stream ends early or holds more than its faces.
+  void add_face_stream(std::span<const uint64_t> stream, uint64_t cell, const std::string& file);
+};
+
+// The faces of the polyhedra of a legacy .vtk file, whose connectivity holds a polyhedron's face
+// stream where another cell's holds its vertices.
+PolyhedronFaces faces_in_connectivity(const MeshData& mesh, const std::string& file);
+
+// Replaces each polyhedron of `mesh` (given by `faces`) by elements from its vertex centroid,
+// which is added as a point: a tet on each triangle, a pyramid on each quad (whose bilinear face
+// is the neighbour's, be it a hex, a wedge or another polyhedron), and on a face of more
+// vertices a tet on each edge from the face's centre, also added as a point and shared with the
+// polyhedron on the face's other side (a fan from one vertex would make flat tets where three
+// vertices lie on a line, as they do at a refinement step). Each element is in VTK's orientation
+// for its type; the elements of a cell come in its place and carry its cell data; an added
+// point's data is the mean of its vertices' (so a field linear in space stays exact). Other
+// cells are left as they are; with no polyhedron, nothing changes. InputError naming `file` for
+// faces or indices out of range, a face of fewer than 3 vertices, a polyhedron of fewer than 4
+// faces, one that is not closed (an edge not in exactly two of its faces), or one that is not
+// star-shaped about its vertex centroid (a flat element, or, where the faces are oriented
+// alike, elements seen from the centroid the wrong way round).
+void split_polyhedra(MeshData& mesh, const PolyhedronFaces& faces, const std::string& file);
+
+}  // namespace vs

@@ -66,16 +66,16 @@ TEST(Polyhedra, VtksFilesSplitIntoTetsAndPyramids) {
   for (const MeshData& m : vtk_files()) {
     std::map<uint8_t, int> types;
     for (uint8_t t : m.cell_types) ++types[t];
-    // cube: 5 quads, 4 pentagons of 5 tets each; pyramid: 1 quad, 4 triangles; prism: 6 quads,
-    // 2 hexagons of 6 tets each
+    // cube: 5 quads, 4 pentagons of 5 tets each; the pyramid as one; prism: 6 quads, 2 hexagons
+    // of 6 tets each
     EXPECT_EQ(types[uint8_t(CellType::pyramid)], 5 + 1 + 6);
-    EXPECT_EQ(types[uint8_t(CellType::tet)], 20 + 4 + 12);
+    EXPECT_EQ(types[uint8_t(CellType::tet)], 20 + 12);
     EXPECT_EQ(types[uint8_t(CellType::hex)], 8);
-    EXPECT_EQ(m.points.size(), 44u + 3u + 6u);  // a centroid per polyhedron, a centre per face of 5 or 6
+    EXPECT_EQ(m.points.size(), 44u + 2u + 6u);  // a centroid per split polyhedron, a centre per face of 5 or 6
     std::map<double, int> from_cell;
     for (double id : array_named(m.cell_data, "cell_id").values) ++from_cell[id];
     EXPECT_EQ(from_cell[0], 25);
-    EXPECT_EQ(from_cell[9], 5);
+    EXPECT_EQ(from_cell[9], 1);
     EXPECT_EQ(from_cell[10], 18);
     for (int c = 1; c <= 8; ++c) EXPECT_EQ(from_cell[c], 1);
     double total = 0;
@@ -176,29 +176,90 @@ TEST(Polyhedra, Vtk94LayoutReadsAsTheFaceStreams) {
   const MeshData streams = read_text(cube_vtu(false), "streams"), tables = read_text(cube_vtu(true), "tables");
   EXPECT_EQ(tables.cell_types, streams.cell_types);
   EXPECT_EQ(tables.connectivity, streams.connectivity);
-  EXPECT_EQ(tables.cell_types, std::vector<uint8_t>(6, uint8_t(CellType::pyramid)));
-  ASSERT_EQ(tables.points.size(), 9u);
-  EXPECT_EQ(tables.points[8], vec3d(0.5, 0.5, 0.5));
-  EXPECT_DOUBLE_EQ(tables.point_data[0].values[8], 5.5);
+  EXPECT_EQ(tables.cell_types, std::vector<uint8_t>{uint8_t(CellType::hex)});  // a cube is a hex
+  EXPECT_EQ(tables.connectivity, (std::vector<uint64_t>{0, 1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_EQ(tables.points.size(), 8u);
 }
 
-// A unit cube as one polyhedron given by `faces` (point indices 0-7 as in cube_vtu).
-MeshData cube_polyhedron(std::vector<std::vector<uint64_t>> faces, PolyhedronFaces& out) {
+// One polyhedron on `points`, given by `faces`.
+MeshData polyhedron(std::vector<vec3d> points, const std::vector<std::vector<uint64_t>>& faces, PolyhedronFaces& out) {
   MeshData m;
-  m.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  m.points = std::move(points);
   m.cell_types = {kVtkPolyhedron};
-  m.cell_offsets = {0, 8};
-  m.connectivity = {0, 1, 2, 3, 4, 5, 6, 7};
+  m.cell_offsets = {0, 0};
   std::vector<uint64_t> stream{faces.size()};
   for (const auto& f : faces) {
     stream.push_back(f.size());
     stream.insert(stream.end(), f.begin(), f.end());
   }
-  out.add_face_stream(stream, 0, "cube");
+  out.add_face_stream(stream, 0, "polyhedron");
   return m;
+}
+
+MeshData one_cell(std::vector<vec3d> points, CellType type, std::vector<uint64_t> vertices) {
+  MeshData m;
+  m.points = std::move(points);
+  m.cell_types = {uint8_t(type)};
+  m.cell_offsets = {0, vertices.size()};
+  m.connectivity = std::move(vertices);
+  return m;
+}
+
+// A polyhedron with the faces of a tet, pyramid, wedge or hex (faces in any order, either
+// orientation, any first vertex) is that element: it samples as the element does, everywhere.
+TEST(Polyhedra, StandardShapesAreThoseElements) {
+  const std::vector<vec3d> hex_points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0},       {0, 1, 0},
+                                         {0, 0, 1}, {1, 0, 1}, {1.2, 1.1, 1.3}, {0, 1, 1}};  // a warped top
+  const std::vector<vec3d> wedge_points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1.2}, {0, 1, 1}};
+  const std::vector<vec3d> pyramid_points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.4, 1}};
+  const std::vector<vec3d> tet_points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  struct Case {
+    MeshData element;
+    std::vector<std::vector<uint64_t>> faces;
+  };
+  const std::vector<Case> cases = {
+      {one_cell(hex_points, CellType::hex, {0, 1, 2, 3, 4, 5, 6, 7}),
+       {{2, 1, 0, 3}, {5, 6, 7, 4}, {0, 1, 5, 4}, {6, 5, 1, 2}, {3, 7, 6, 2}, {0, 4, 7, 3}}},
+      {one_cell(wedge_points, CellType::wedge, {0, 2, 1, 3, 5, 4}),
+       {{3, 4, 5}, {0, 1, 4, 3}, {0, 1, 2}, {1, 2, 5, 4}, {2, 0, 3, 5}}},
+      {one_cell(pyramid_points, CellType::pyramid, {0, 1, 2, 3, 4}),
+       {{0, 1, 4}, {3, 2, 1, 0}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}}},
+      {one_cell(tet_points, CellType::tet, {0, 1, 2, 3}), {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}}},
+  };
+  for (const Case& c : cases) {
+    PolyhedronFaces faces;
+    MeshData split = polyhedron(c.element.points, c.faces, faces);
+    split_polyhedra(split, faces, "shape");
+    ASSERT_EQ(split.cell_types, c.element.cell_types);
+    ASSERT_EQ(split.points.size(), c.element.points.size());  // no point added
+    std::vector<float> g;
+    for (const vec3d& p : split.points) g.push_back(float(p.x * p.y + p.z * p.z + 2 * p.x));
+    const WorldTransform xf = mesh_transform(split);
+    const UMesh a = make_umesh(split, xf, "split"), b = make_umesh(c.element, xf, "element");
+    const std::vector<vec3f> points = test::points_around(a.vertices, 2000, 9);
+    const std::vector<float> pa = UMeshRenderer(a, xf).probe(g.data(), points),
+                             pb = UMeshRenderer(b, xf).probe(g.data(), points);
+    int inside = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+      ASSERT_EQ(std::isnan(pa[i]), std::isnan(pb[i])) << "type " << int(c.element.cell_types[0]) << " point " << i;
+      if (std::isnan(pa[i])) continue;
+      ++inside;
+      EXPECT_NEAR(pa[i], pb[i], 1e-5) << "type " << int(c.element.cell_types[0]) << " point " << i;
+    }
+    EXPECT_GT(inside, 200);
+  }
+}
+
+// A unit cube as one polyhedron given by `faces` (point indices 0-7 as in cube_vtu).
+MeshData cube_polyhedron(const std::vector<std::vector<uint64_t>>& faces, PolyhedronFaces& out) {
+  return polyhedron({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}, faces,
+                    out);
 }
 const std::vector<std::vector<uint64_t>> kCubeFaces = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
                                                        {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+// The same cube with its top split into two triangles: no standard element, so it is split.
+const std::vector<std::vector<uint64_t>> kSplitTopCubeFaces = {{0, 3, 2, 1}, {4, 5, 6},    {4, 6, 7},   {0, 1, 5, 4},
+                                                               {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
 
 std::string split_error(std::vector<std::vector<uint64_t>> faces) {
   PolyhedronFaces pf;
@@ -212,12 +273,13 @@ std::string split_error(std::vector<std::vector<uint64_t>> faces) {
 }
 
 TEST(Polyhedra, FacesOrientedEitherWayGiveTheSameVolume) {
-  std::vector<std::vector<uint64_t>> faces = kCubeFaces;
-  std::reverse(faces[2].begin(), faces[2].end());  // one face inward: not oriented alike
-  for (const auto& set : {kCubeFaces, faces}) {
+  std::vector<std::vector<uint64_t>> faces = kSplitTopCubeFaces;
+  std::reverse(faces[3].begin(), faces[3].end());  // one face inward: not oriented alike
+  for (const auto& set : {kSplitTopCubeFaces, faces}) {
     PolyhedronFaces pf;
     MeshData m = cube_polyhedron(set, pf);
     split_polyhedra(m, pf, "cube");
+    EXPECT_EQ(m.cell_count(), 5u + 2u);  // a pyramid on each quad, a tet on each triangle
     double total = 0;
     for (double v : element_volumes(m)) {
       EXPECT_GT(v, 0);

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <tuple>
 
 #include "volstream/core/error.h"
@@ -13,11 +14,25 @@ namespace {
 
 std::string str(uint64_t v) { return std::to_string(v); }
 
-// One element of a split polyhedron: a tet (4 vertices) or a pyramid (5), the centroid last.
+// One element of a split polyhedron: a tet (4 vertices) or a pyramid (5) with the centroid last;
+// or the polyhedron as the tet, pyramid, wedge (6) or hex (8) it is.
 struct Piece {
   int count = 0;
-  std::array<uint64_t, 5> v{};
+  std::array<uint64_t, 8> v{};
 };
+
+CellType type_of(const Piece& p) {
+  return p.count == 4   ? CellType::tet
+         : p.count == 5 ? CellType::pyramid
+         : p.count == 6 ? CellType::wedge
+                        : CellType::hex;
+}
+
+vec3d mean_point(const MeshData& m, std::span<const uint64_t> v) {
+  vec3d sum(0.0);
+  for (uint64_t i : v) sum = sum + m.points[i];
+  return sum * (1.0 / double(v.size()));
+}
 
 double box_extent(const MeshData& m, std::span<const uint64_t> v) {
   Box3<double> b{vec3d(INFINITY), vec3d(-INFINITY)};
@@ -64,9 +79,7 @@ void check_faces(const PolyhedronFaces& f, uint64_t cells, uint64_t points, cons
 // The mean of `vertices` as a new point of `m`, its data the mean of theirs (so that a field
 // linear in space stays exact); returns its index.
 uint64_t add_mean_point(MeshData& m, std::span<const uint64_t> vertices) {
-  vec3d sum(0.0);
-  for (uint64_t v : vertices) sum = sum + m.points[v];
-  m.points.push_back(sum * (1.0 / double(vertices.size())));
+  m.points.push_back(mean_point(m, vertices));
   for (MeshArray& a : m.point_data) {
     const auto components = size_t(a.components);
     for (size_t k = 0; k < components; ++k) {
@@ -92,8 +105,9 @@ class PolyhedronSplitter {
     if (end - first < 4) fail("has " + str(end - first) + " faces (a polyhedron needs 4 at least)");
     collect_vertices_and_edges(first, end);
     check_closed();
-    const uint64_t centroid = add_mean_point(mesh_, vertices_);
     pieces_.clear();
+    if (as_element(first, end)) return pieces_;
+    const uint64_t centroid = add_mean_point(mesh_, vertices_);
     for (uint64_t i = first; i < end; ++i) add_pieces(face(faces_.cell_faces[i]), centroid);
     orient();
     return pieces_;
@@ -138,6 +152,84 @@ class PolyhedronSplitter {
       oriented_alike_ = oriented_alike_ && edges_[i].forward != edges_[i + 1].forward;
       i = j;
     }
+  }
+
+  // A polyhedron with the faces of a tet, a pyramid, a wedge or a hex, as Fluent's and CGNS's
+  // polyhedral meshes (NFACE_n) give every cell, is that element, with VTK's shape functions and
+  // no added point: the base is its quad (pyramid), its first triangle (tet, wedge) or its first
+  // quad (hex), the rest the apex or the vertices across the side edges from the base's.
+  bool as_element(uint64_t first, uint64_t end) {
+    int triangles = 0, quads = 0;
+    for (uint64_t i = first; i < end; ++i) {
+      const size_t n = face(faces_.cell_faces[i]).size();
+      if (n > 4) return false;
+      (n == 4 ? quads : triangles)++;
+    }
+    const size_t faces = end - first, vertices = vertices_.size();
+    const bool tet = faces == 4 && triangles == 4 && vertices == 4;
+    const bool pyramid = faces == 5 && quads == 1 && vertices == 5;
+    const bool wedge = faces == 5 && triangles == 2 && vertices == 6;
+    const bool hex = faces == 6 && quads == 6 && vertices == 8;
+    if (!(tet || pyramid || wedge || hex)) return false;
+    const std::span<const uint64_t> base = first_face_of(pyramid || hex ? 4 : 3, first, end);
+    Piece p{int(vertices), {}};
+    std::copy(base.begin(), base.end(), p.v.begin());
+    for (size_t k = 0; k < base.size() && (wedge || hex); ++k) {
+      const std::optional<uint64_t> across = neighbour_off(base[k], base);
+      if (!across) return false;
+      p.v[base.size() + k] = *across;
+    }
+    if (tet || pyramid)
+      p.v[base.size()] = *std::find_if(vertices_.begin(), vertices_.end(), [&](uint64_t v) {
+        return std::find(base.begin(), base.end(), v) == base.end();
+      });
+    if (!covers_vertices(p)) return false;
+    pieces_.push_back(in_vtk_orientation(p));
+    return true;
+  }
+
+  std::span<const uint64_t> first_face_of(size_t vertices, uint64_t first, uint64_t end) const {
+    for (uint64_t i = first; i < end; ++i)
+      if (face(faces_.cell_faces[i]).size() == vertices) return face(faces_.cell_faces[i]);
+    return {};
+  }
+
+  // The one vertex that shares an edge with v and is not in `base`; none if there are more.
+  std::optional<uint64_t> neighbour_off(uint64_t v, std::span<const uint64_t> base) const {
+    std::optional<uint64_t> found;
+    for (size_t i = 0; i < edges_.size(); i += 2) {  // each edge twice, once check_closed passed
+      const Edge& e = edges_[i];
+      if (e.a != v && e.b != v) continue;
+      const uint64_t other = e.a == v ? e.b : e.a;
+      if (std::find(base.begin(), base.end(), other) != base.end()) continue;
+      if (found) return std::nullopt;
+      found = other;
+    }
+    return found;
+  }
+
+  bool covers_vertices(const Piece& p) const {
+    return std::is_permutation(p.v.begin(), p.v.begin() + p.count, vertices_.begin(), vertices_.end());
+  }
+
+  // VTK's orientation: a tet's first three corners and a pyramid's or hex's base have their
+  // right-hand normal pointing to the rest, a wedge's first triangle away from the second.
+  Piece in_vtk_orientation(Piece p) const {
+    if (p.count <= 5) {
+      if (orientation(mesh_, p) < 0) reverse_base(p);
+      return p;
+    }
+    const size_t n = size_t(p.count / 2);
+    const vec3d* x = mesh_.points.data();
+    const vec3d normal = n == 3 ? cross(x[p.v[1]] - x[p.v[0]], x[p.v[2]] - x[p.v[0]])
+                                : cross(x[p.v[2]] - x[p.v[0]], x[p.v[3]] - x[p.v[1]]);
+    const double toward_top =
+        dot(normal, mean_point(mesh_, std::span(p.v.data() + n, n)) - mean_point(mesh_, std::span(p.v.data(), n)));
+    if ((n == 3 && toward_top > 0) || (n == 4 && toward_top < 0)) {
+      std::reverse(p.v.begin() + 1, p.v.begin() + int64_t(n));
+      std::reverse(p.v.begin() + int64_t(n) + 1, p.v.begin() + int64_t(2 * n));
+    }
+    return p;
   }
 
   // A triangle gives a tet, a quad a pyramid (its bilinear face is the neighbour's, whether that
@@ -258,8 +350,7 @@ void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::strin
           std::span(m.connectivity).subspan(m.cell_offsets[c], m.cell_offsets[c + 1] - m.cell_offsets[c]), c);
       continue;
     }
-    for (const Piece& p : splitter.split(c))
-      add(uint8_t(p.count == 4 ? CellType::tet : CellType::pyramid), std::span(p.v.data(), size_t(p.count)), c);
+    for (const Piece& p : splitter.split(c)) add(uint8_t(type_of(p)), std::span(p.v.data(), size_t(p.count)), c);
   }
   m.cell_types = std::move(types);
   m.cell_offsets = std::move(offsets);

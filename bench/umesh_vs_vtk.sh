@@ -20,6 +20,8 @@
 # tools print goes to OUT/logs/ and the summary to LOGS/umesh_vs_vtk_<date>.log.
 #
 # usage: bench/umesh_vs_vtk.sh OUT_DIR [TETS=1e6] [MIXED=5e5]
+#        FILES="A.vtu ..." (meshes of your own over the unit cube with a point field "density",
+#        such as bench/make_refined_polyhedra.py's, each run as the demos are; 0 0 skips the demos)
 #        VS=build/volstream REPEATS=3 SIZE=512x512 LOGS=bench/logs (where the log and images go)
 #        LOOKS="haze blobs"
 #        VTK_INTEGRATOR=auto (see vtk_umesh_render.py --integrator) VTK_RENDERS=2
@@ -28,7 +30,7 @@
 #        does; the rows say "split")
 # Installs python3-vtk9, xvfb and xauth with apt-get when they are missing (apt-get update first).
 set -euo pipefail
-[ $# -ge 1 ] || { sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 HERE="$(cd "$(dirname "$0")" && pwd)"
 REPO="$(cd "$HERE/.." && pwd)"
 OUT="$1"
@@ -113,9 +115,11 @@ TABLE="$OUT/table.md"
   echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 } >"$TABLE"
 
+# run_mesh NAME N [VTU]: the demo NAME of N elements, or the given VTU (its rows named NAME).
 run_mesh() {
   local name="$1" n="$2"
   local tag="${name}_${n}" vtu="$OUT/${name}_${n}.vtu" demo="$OUT/${name}_${n}.demo" ds="$OUT/${name}_${n}.vs"
+  [ -z "${3:-}" ] || { tag="$name" vtu="$3" ds="$OUT/$name.vs"; }
   [ "$SPLIT" = 1 ] && tag="${tag}_split" ds="$OUT/${name}_${n}_split.vs"
   local L="$OUT/logs/$tag"
   mkdir -p "$L"
@@ -218,6 +222,7 @@ run_look() {
 
 [ "$TETS" = 0 ] || run_mesh tets "$TETS"
 [ "$MIXED" = 0 ] || run_mesh mixed "$MIXED"
+for file in ${FILES:-}; do run_mesh "$(basename "$file" .vtu)" file "$(realpath "$file")"; done
 echo
 echo "load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "(seconds: median [min..max] of $REPEATS runs; 'whole' = the whole process; RMSE in 8-bit sRGB units over RGB;"

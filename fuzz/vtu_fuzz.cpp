@@ -2,9 +2,11 @@
 // inline base64 + zlib, appended raw, appended raw + LZ4, appended raw + LZMA, appended base64 +
 // zlib with UInt32 headers and two pieces' worth of arrays), a .pvd, a .pvtu of two ascii pieces
 // with ghost cells (pieces_0.vtu and pieces_1.vtu, also read alone), a .vtm of a .vtu, the .pvtu
-// and a surface, and a JSON .series, one of them patched or truncated.
+// and a surface, a JSON .series, and polyhedra in both of VTK's layouts, one of them patched or
+// truncated.
 #include <algorithm>
 #include <fstream>
+#include <string>
 
 #include "fuzz_util.h"
 #include "volstream/io/vtu.h"
@@ -21,6 +23,32 @@ vs::MeshData small_mesh() {
   m.point_data = {{"p", 1, {1, 2, 3, 4, 5, 6, 7}}};
   m.cell_data = {{"v", 3, {1, 2, 3, 4, 5, 6}}};
   return m;
+}
+
+// A "house" polyhedron (a cube with a pyramid roof: nine faces, split from its centroid), a tet
+// given as a polyhedron and a tet, in the face streams of VTK 9.3 and before or the face tables
+// of VTK 9.4 (ascii: VTK's own files of polyhedra are in tests/data/vtu).
+std::string polyhedra_vtu(bool tables) {
+  const std::string cells =
+      tables
+          ? "<DataArray type=\"Int64\" Name=\"face_connectivity\" format=\"ascii\">0 3 2 1 0 1 5 4 1 2 6 5 2 3 7 "
+            "6 3 0 4 7 4 5 8 5 6 8 6 7 8 7 4 8 0 3 1 0 1 4 1 3 4 0 4 3</DataArray>\n"
+            "<DataArray type=\"Int64\" Name=\"face_offsets\" format=\"ascii\">4 8 12 16 20 23 26 29 32 35 38 "
+            "41 44</DataArray>\n<DataArray type=\"Int64\" Name=\"polyhedron_to_faces\" format=\"ascii\">0 1 2 3 "
+            "4 5 6 7 8 9 10 11 12</DataArray>\n<DataArray type=\"Int64\" Name=\"polyhedron_offsets\" "
+            "format=\"ascii\">9 13 13</DataArray>\n"
+          : "<DataArray type=\"Int64\" Name=\"faces\" format=\"ascii\">9 4 0 3 2 1 4 0 1 5 4 4 1 2 6 5 4 2 3 7 6 4 3 "
+            "0 4 7 3 4 5 8 3 5 6 8 3 6 7 8 3 7 4 8 4 3 0 3 1 3 0 1 4 3 1 3 4 3 0 4 3</DataArray>\n"
+            "<DataArray type=\"Int64\" Name=\"faceoffsets\" format=\"ascii\">42 59 -1</DataArray>\n";
+  return "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid><Piece NumberOfPoints=\"9\" NumberOfCells=\"3\">\n"
+         "<PointData><DataArray type=\"Float64\" Name=\"p\" format=\"ascii\">1 2 3 4 5 6 7 8 9</DataArray>"
+         "</PointData>\n<CellData><DataArray type=\"Int32\" Name=\"c\" format=\"ascii\">0 1 2</DataArray>"
+         "</CellData>\n<Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 1 "
+         "1 0 0 1 0 0 0 1 1 0 1 1 1 1 0 1 1 0.5 0.5 1.6</DataArray></Points>\n<Cells>"
+         "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">0 1 2 3 4 5 6 7 8 0 1 3 4 0 1 3 4"
+         "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">9 13 17</DataArray>\n"
+         "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">42 42 10</DataArray>\n" +
+         cells + "</Cells></Piece></UnstructuredGrid></VTKFile>\n";
 }
 
 void make_base(const std::filesystem::path& dir) {
@@ -44,6 +72,8 @@ void make_base(const std::filesystem::path& dir) {
   std::ofstream(dir / "blocks.vtm") << "<VTKFile type=\"vtkMultiBlockDataSet\"><vtkMultiBlockDataSet><Block>"
                                        "<DataSet file=\"ascii.vtu\"/><DataSet file=\"pieces.pvtu\"/></Block>"
                                        "<DataSet file=\"walls.vtp\"/></vtkMultiBlockDataSet></VTKFile>\n";
+  std::ofstream(dir / "polyhedra_streams.vtu") << polyhedra_vtu(false);
+  std::ofstream(dir / "polyhedra_tables.vtu") << polyhedra_vtu(true);
   std::ofstream(dir / "steps.series") << "{\"file-series-version\": \"1.0\", \"files\": [{\"name\": \"raw.vtu\", "
                                          "\"time\": 1}, {\"name\": \"ascii.vtu\", \"time\": 0.5}]}\n";
 }

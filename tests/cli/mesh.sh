@@ -113,6 +113,23 @@ compare_probes got.txt want.txt || fail "the .vtm's zones differ from VTK's whol
 "$VS" probe voxels --field RTData --points grid_points.txt >got.txt
 echo -n "vtk_voxels.vtu: "
 compare_probes got.txt want.txt || fail "the voxels differ from VTK's tets at the points"
+# VTK's polyhedra (make_vtk_files.py: a cube split where it meets eight hexes, a pyramid and a
+# hexagonal prism as polyhedra), from .vtu and legacy 5.1 and 4.2: the linear field f = 1 + 2x +
+# 3y + 4z at points of the cube and the hexes (and none outside); the three files probe alike.
+LEGACY="$DATA/../vtk"
+for x in 0.13 0.9 1.7 2.2 2.95 3.8; do for y in 0.05 1.1 1.93; do for z in 0.3 1.5; do
+  echo "$x $y $z"; done; done; done >poly_points.txt
+awk '{ printf "%.9g\n", 1 + 2 * $1 + 3 * $2 + 4 * $3 }' poly_points.txt >poly_want.txt
+for f in "$DATA/vtk_polyhedra.vtu" "$LEGACY/vtk_polyhedra.vtk" "$LEGACY/vtk_polyhedra_42.vtk"; do
+  name=$(basename "$f" | tr . _)
+  "$VS" convert "$f" -o "$name" -q
+  "$VS" info "$name" --json | grep -q '"pyramid": 12,' || fail "$f: not 12 pyramids after the split"
+  "$VS" probe "$name" --field f --points poly_points.txt >"$name.txt"
+  echo -n "$(basename "$f"): "
+  compare_probes "$name.txt" poly_want.txt || fail "$f: the polyhedra do not reproduce the linear field"
+done
+echo -n "legacy 4.2 against .vtu: "
+compare_probes vtk_polyhedra_42_vtk.txt vtk_polyhedra_vtu.txt || fail "the legacy polyhedra probe otherwise"
 
 # Bad input: a truncated file, a .pvd whose steps have different meshes, an unknown scalars spec.
 head -c 3000 m.vtu >trunc.vtu

@@ -1,6 +1,7 @@
 #include "volstream/io/mesh_convert.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "volstream/amr/ranges.h"
 #include "volstream/backend/parallel.h"
@@ -9,6 +10,7 @@
 #include "volstream/core/stopwatch.h"
 #include "volstream/io/atomic_file.h"
 #include "volstream/io/binary_file.h"
+#include "volstream/io/ensight.h"
 #include "volstream/io/ugrid.h"
 #include "volstream/io/vtk_legacy.h"
 #include "volstream/io/vtu.h"
@@ -54,7 +56,8 @@ MeshData read_mesh_file(const fs::path& file) {
   if (ext == ".vtm") return read_vtm(file);
   if (ext == ".vtk") return read_vtk_legacy(file);
   if (ext == ".ugrid") return read_ugrid(file);
-  input_error(file.string(), "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, or a .pvd or .series of them)");
+  input_error(file.string(),
+              "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, or a .pvd or .series of them; or an EnSight .case)");
 }
 
 // A step's parts (a .pvd's entries of one time: a parallel run's pieces) as one mesh, read in
@@ -89,6 +92,35 @@ class FileSeries : public MeshSeries {
   std::string description_;
 };
 
+// An EnSight Gold case: its geometry is read once unless it changes from step to step.
+class EnsightSeries : public MeshSeries {
+ public:
+  EnsightSeries(const fs::path& file, std::vector<RawScalars> scalars)
+      : file_(file), case_(read_ensight_case(file)), scalars_(std::move(scalars)) {}
+  int step_count() const override { return int(case_.times.size()); }
+  double step_time(int step) const override { return case_.times.at(size_t(step)); }
+  MeshData read_step(int step) override {
+    if (case_.geometry_changes() || !geometry_) geometry_ = read_ensight_geometry(origin(step));
+    MeshData m = read_ensight_step(case_, *geometry_, size_t(step));
+    for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
+    return m;
+  }
+  std::string origin(int step) const override {
+    return ensight_step_file(case_, case_.geometry, size_t(step)).string();
+  }
+  std::string description() const override {
+    const size_t steps = case_.times.size();
+    return "EnSight Gold case " + file_.filename().string() +
+           (steps > 1 ? " (" + std::to_string(steps) + " steps)" : "");
+  }
+
+ private:
+  fs::path file_;
+  EnsightCase case_;
+  std::vector<RawScalars> scalars_;
+  std::optional<EnsightGeometry> geometry_;
+};
+
 std::string format_name(const fs::path& file) {
   const std::string ext = lower_extension(file);
   if (ext == ".vtu") return "VTK XML unstructured grid";
@@ -105,7 +137,7 @@ std::string format_name(const fs::path& file) {
 bool is_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   return ext == ".vtu" || ext == ".pvtu" || ext == ".vtm" || ext == ".vtk" || ext == ".pvd" || ext == ".series" ||
-         ext == ".ugrid";
+         ext == ".ugrid" || ext == ".case";
 }
 
 RawScalars parse_raw_scalars(const std::string& spec) {
@@ -120,6 +152,10 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
   if (files.empty()) throw UsageError("no mesh files given");
   std::vector<PvdStep> steps;
   const std::string ext = lower_extension(files.front());
+  if (ext == ".case") {
+    if (files.size() > 1) throw UsageError("an EnSight .case file is converted on its own");
+    return std::make_unique<EnsightSeries>(files.front(), scalars);
+  }
   if (ext == ".pvd" || ext == ".series") {
     if (files.size() > 1) throw UsageError("a .pvd collection or .series file is converted on its own");
     steps = ext == ".pvd" ? read_pvd(files.front()) : read_file_series(files.front());

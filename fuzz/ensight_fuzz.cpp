@@ -1,0 +1,37 @@
+// EnSight Gold: the test cases of tests/data/ensight (ASCII, big-endian C Binary: two parts of
+// volume elements with polyhedra, a boundary part, node and element ids, two steps, scalar and
+// vector variables per node and per element; VTK's little-endian C Binary) with one of their
+// files patched or truncated, read step by step as `convert` reads them.
+#include <algorithm>
+#include <iterator>
+
+#include "fuzz_util.h"
+#include "volstream/io/ensight.h"
+
+namespace {
+const std::filesystem::path kCases[] = {"ascii/mesh.case", "big_endian/mesh.case", "vtk/mixed.0.case"};
+
+void read_all_steps(const std::filesystem::path& file) {
+  const vs::EnsightCase c = vs::read_ensight_case(file);
+  for (size_t step = 0; step < c.times.size(); ++step)
+    vs::read_ensight_step(c, vs::read_ensight_geometry(vs::ensight_step_file(c, c.geometry, step)), step);
+}
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace vs;
+  namespace fs = std::filesystem;
+  static const auto dir = fuzz::scratch("ensight");
+  const fs::path base = fs::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "ensight";
+  if (size < 1) return 0;
+  const fs::path& which = kCases[(data[0] & 0x7f) % std::size(kCases)];
+  const fs::path work = dir / "work";
+  fuzz::copy_tree(base / which.parent_path(), work);
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(work))
+    if (e.path().extension() != ".vtu") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  if (!fuzz::apply_patch(files, data + 1, size - 1)) return 0;
+  fuzz::expect_clean([&] { read_all_steps(work / which.filename()); });
+  return 0;
+}

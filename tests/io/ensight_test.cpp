@@ -1,0 +1,189 @@
+// EnSight Gold: VTK's own writer's case against the .vtu it was written from (probed alike), a
+// case written from the format's description as ASCII and as big-endian C Binary (the same mesh,
+// steps, times and variables, the parts' shared nodes welded, nfaced split, the boundary part
+// left out, a linear field exact), and bad input refused with one line.
+#include "volstream/io/ensight.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "test_util.h"
+#include "volstream/core/error.h"
+#include "volstream/io/vtu.h"
+#include "volstream/render/integrators/umesh_renderer.h"
+#include "volstream/umesh/from_mesh_data.h"
+
+namespace vs {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kDir = fs::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "ensight";
+
+MeshData read_case(const fs::path& file, size_t step) {
+  const EnsightCase c = read_ensight_case(file);
+  return read_ensight_step(c, read_ensight_geometry(ensight_step_file(c, c.geometry, step)), step);
+}
+
+std::vector<float> field(const MeshData& m, const std::string& name) {
+  for (const MeshFieldRef& f : mesh_fields(m))
+    if (f.name == name) return mesh_field_values(m, f);
+  throw std::runtime_error("no field " + name);
+}
+
+const MeshArray& array_named(const std::vector<MeshArray>& arrays, const std::string& name) {
+  for (const MeshArray& a : arrays)
+    if (a.name == name) return a;
+  throw std::runtime_error("no array " + name);
+}
+
+TEST(Ensight, VtksOwnCaseProbesAsTheVtuItWasWrittenFrom) {
+  const MeshData vtu = read_vtu(kDir / "vtk" / "mixed.vtu"), ens = read_case(kDir / "vtk" / "mixed.0.case", 0);
+  EXPECT_EQ(ens.cell_count(), vtu.cell_count());
+  EXPECT_EQ(ens.points.size(), vtu.points.size());
+  const WorldTransform xf = mesh_transform(vtu);
+  const UMesh a = make_umesh(vtu, xf, "vtu"), b = make_umesh(ens, xf, "ensight");
+  const std::vector<vec3f> points = test::points_around(a.vertices, 4000, 5);
+  const std::vector<float> fa = field(vtu, "density"), fb = field(ens, "density_n");
+  const std::vector<float> pa = UMeshRenderer(a, xf).probe(fa.data(), points), pb = UMeshRenderer(b, xf).probe(fb.data(), points);
+  int inside = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    ASSERT_EQ(std::isnan(pa[i]), std::isnan(pb[i])) << "point " << i;
+    if (std::isnan(pa[i])) continue;
+    ++inside;
+    EXPECT_NEAR(pa[i], pb[i], 1e-5 * std::max(1.0f, std::fabs(pa[i]))) << "point " << i;
+  }
+  EXPECT_GT(inside, 1000);
+}
+
+double linear(const vec3d& p) { return 1 + 2 * p.x + 3 * p.y + 4 * p.z; }
+
+TEST(Ensight, AsciiAndBigEndianBinaryCasesAreTheSameMesh) {
+  const EnsightCase c = read_ensight_case(kDir / "ascii" / "mesh.case");
+  EXPECT_EQ(c.times, (std::vector<double>{0.0, 0.5}));
+  EXPECT_EQ(ensight_step_file(c, "f.*", 1), kDir / "ascii" / "f.1");
+  for (size_t step = 0; step < 2; ++step) {
+    const MeshData a = read_case(kDir / "ascii" / "mesh.case", step), b = read_case(kDir / "big_endian" / "mesh.case", step);
+    EXPECT_EQ(a.cell_types, b.cell_types);
+    EXPECT_EQ(a.connectivity, b.connectivity);
+    ASSERT_EQ(a.points.size(), b.points.size());
+    for (size_t i = 0; i < a.points.size(); ++i) EXPECT_LT(length(a.points[i] - b.points[i]), 1e-5) << i;
+    // Part 1: 4 hexes, the cube (25), the pyramid (1), the prism (18), a wedge, a tet; part 2:
+    // 4 hexes on nodes of its own, welded to part 1's at x = 3; part 3 (quads) left out.
+    EXPECT_EQ(a.cell_count(), 4u + 25u + 1u + 18u + 1u + 1u + 4u);
+    EXPECT_EQ(a.points.size(), 45u + 18u - 9u + 2u + 6u);
+    const MeshArray& f = array_named(a.point_data, "f");
+    const MeshArray& v = array_named(a.point_data, "v");
+    ASSERT_EQ(v.components, 3);
+    for (size_t i = 0; i < a.points.size(); ++i) {
+      EXPECT_NEAR(f.values[i], linear(a.points[i]) + 10.0 * double(step), 1e-4) << i;
+      EXPECT_NEAR(v.values[3 * i + 1], a.points[i].y, 1e-5) << i;
+    }
+    std::map<double, int> per_cell;
+    for (double x : array_named(a.cell_data, "cell").values) ++per_cell[x];
+    EXPECT_EQ(per_cell[5], 25);  // the cube, element 5 of part 1
+    EXPECT_EQ(per_cell[8], 1);   // the wedge
+    EXPECT_EQ(per_cell[1], 2);   // a hex of each part
+  }
+}
+
+TEST(Ensight, LinearFieldIsExactThroughPartsAndPolyhedra) {
+  const MeshData m = read_case(kDir / "big_endian" / "mesh.case", 0);
+  const WorldTransform xf = mesh_transform(m);
+  const UMesh mesh = make_umesh(m, xf, "ensight");
+  const std::vector<float> f = field(m, "f");
+  std::vector<vec3f> points;
+  std::vector<vec3d> world;
+  for (int i = 0; i < 7; ++i)
+    for (int j = 0; j < 5; ++j)
+      for (int k = 0; k < 5; ++k) {
+        world.push_back(vec3d(0.05 + 3.9 * i / 6.0, 0.05 + 1.9 * j / 4.0, 0.05 + 1.9 * k / 4.0));
+        points.push_back(vec3f(xf.to_grid(world.back())));
+      }
+  world.push_back(vec3d(7.2, 0.2, 0.5));  // the wedge
+  world.push_back(vec3d(9.1, 0.1, 0.1));  // the tet
+  world.push_back(vec3d(5.5, 1.0, 0.5));  // the prism
+  for (size_t i = points.size(); i < world.size(); ++i) points.push_back(vec3f(xf.to_grid(world[i])));
+  const std::vector<float> probed = UMeshRenderer(mesh, xf).probe(f.data(), points);
+  for (size_t i = 0; i < points.size(); ++i) {
+    ASSERT_FALSE(std::isnan(probed[i])) << "point " << i;
+    EXPECT_NEAR(probed[i], linear(world[i]), 1e-3) << "point " << i;
+  }
+}
+
+// The ASCII case copied to a scratch directory, with one of its files changed.
+class BadEnsight : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("volstream_ensight_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::copy(kDir / "ascii", dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string text(const std::string& name) {
+    std::ifstream in(dir_ / name);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  void replace(const std::string& name, const std::string& from, const std::string& to) {
+    std::string t = text(name);
+    const size_t at = t.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    t.replace(at, from.size(), to);
+    std::ofstream(dir_ / name) << t;
+  }
+  std::string error() {
+    try {
+      read_case(dir_ / "mesh.case", 0);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+  fs::path dir_;
+};
+
+TEST_F(BadEnsight, NotGold) {
+  replace("mesh.case", "ensight gold", "ensight");
+  EXPECT_NE(error().find("not an EnSight Gold case"), std::string::npos);
+}
+TEST_F(BadEnsight, SeveralTimeSets) {
+  replace("mesh.case", "time set: 1", "time set: 1\ntime set: 2");
+  EXPECT_NE(error().find("several time sets"), std::string::npos);
+}
+TEST_F(BadEnsight, QuadraticElements) {
+  replace("mesh.geo", "penta6", "hexa20");
+  EXPECT_NE(error().find("quadratic"), std::string::npos);
+}
+TEST_F(BadEnsight, StructuredPart) {
+  replace("mesh.geo", "coordinates", "block");
+  EXPECT_NE(error().find("structured"), std::string::npos);
+}
+TEST_F(BadEnsight, NodeOutOfRange) {
+  replace("mesh.geo", "tetra4\n         1\n      1001\n", "tetra4\n         1\n      1001\n      9999");
+  EXPECT_NE(error().find("out of range"), std::string::npos);
+}
+TEST_F(BadEnsight, TruncatedGeometry) {
+  const std::string t = text("mesh.geo");
+  std::ofstream(dir_ / "mesh.geo") << t.substr(0, t.size() / 2);
+  EXPECT_FALSE(error().empty());
+}
+TEST_F(BadEnsight, VariableWithoutAPart) {
+  const std::string t = text("f.0");
+  std::ofstream(dir_ / "f.0") << t.substr(0, t.find("part\n         2"));
+  EXPECT_NE(error().find("no values for part 2"), std::string::npos);
+}
+TEST_F(BadEnsight, PartialValues) {
+  replace("f.0", "coordinates", "coordinates partial");
+  EXPECT_NE(error().find("partial or undefined"), std::string::npos);
+}
+TEST_F(BadEnsight, FortranBinary) {
+  std::ofstream(dir_ / "mesh.geo") << std::string("Fortran Binary") + std::string(200, ' ');
+  EXPECT_NE(error().find("Fortran"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace vs

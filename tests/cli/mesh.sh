@@ -130,6 +130,20 @@ for f in "$DATA/vtk_polyhedra.vtu" "$LEGACY/vtk_polyhedra.vtk" "$LEGACY/vtk_poly
 done
 echo -n "legacy 4.2 against .vtu: "
 compare_probes vtk_polyhedra_42_vtk.txt vtk_polyhedra_vtu.txt || fail "the legacy polyhedra probe otherwise"
+# EnSight Gold (tests/data/ensight/make_ensight_files.py): the ASCII and the big-endian binary
+# case give two steps at times 0 and 0.5, the linear field (+ 10 at the second step) at the same
+# points, and probe alike.
+for form in ascii big_endian; do
+  "$VS" convert "$DATA/../ensight/$form/mesh.case" -o "ens_$form" -q
+  "$VS" info "ens_$form" | grep -q "steps     2 (t = 0 .. 0.5)" || fail "$form EnSight case: not 2 steps at 0 and 0.5"
+  head -12 poly_points.txt >ens_points.txt
+  "$VS" probe "ens_$form" --field f --step 1 --points ens_points.txt >"ens_$form.txt"
+done
+awk '{ printf "%.9g\n", 11 + 2 * $1 + 3 * $2 + 4 * $3 }' ens_points.txt >ens_want.txt
+echo -n "EnSight ASCII: "
+compare_probes ens_ascii.txt ens_want.txt || fail "the EnSight case does not reproduce the linear field"
+echo -n "EnSight big-endian binary against ASCII: "
+compare_probes ens_big_endian.txt ens_ascii.txt || fail "the binary EnSight case probes otherwise"
 
 # Bad input: a truncated file, a .pvd whose steps have different meshes, an unknown scalars spec.
 head -c 3000 m.vtu >trunc.vtu

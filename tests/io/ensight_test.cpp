@@ -47,7 +47,8 @@ TEST(Ensight, VtksOwnCaseProbesAsTheVtuItWasWrittenFrom) {
   const UMesh a = make_umesh(vtu, xf, "vtu"), b = make_umesh(ens, xf, "ensight");
   const std::vector<vec3f> points = test::points_around(a.vertices, 4000, 5);
   const std::vector<float> fa = field(vtu, "density"), fb = field(ens, "density_n");
-  const std::vector<float> pa = UMeshRenderer(a, xf).probe(fa.data(), points), pb = UMeshRenderer(b, xf).probe(fb.data(), points);
+  const std::vector<float> pa = UMeshRenderer(a, xf).probe(fa.data(), points),
+                           pb = UMeshRenderer(b, xf).probe(fb.data(), points);
   int inside = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     ASSERT_EQ(std::isnan(pa[i]), std::isnan(pb[i])) << "point " << i;
@@ -65,7 +66,8 @@ TEST(Ensight, AsciiAndBigEndianBinaryCasesAreTheSameMesh) {
   EXPECT_EQ(c.times, (std::vector<double>{0.0, 0.5}));
   EXPECT_EQ(ensight_step_file(c, "f.*", 1), kDir / "ascii" / "f.1");
   for (size_t step = 0; step < 2; ++step) {
-    const MeshData a = read_case(kDir / "ascii" / "mesh.case", step), b = read_case(kDir / "big_endian" / "mesh.case", step);
+    const MeshData a = read_case(kDir / "ascii" / "mesh.case", step),
+                   b = read_case(kDir / "big_endian" / "mesh.case", step);
     EXPECT_EQ(a.cell_types, b.cell_types);
     EXPECT_EQ(a.connectivity, b.connectivity);
     ASSERT_EQ(a.points.size(), b.points.size());

@@ -83,7 +83,8 @@ struct CaseFileRef {
 
 CaseFileRef file_ref(const std::vector<std::string>& words, bool has_description, const std::string& origin) {
   const size_t named = has_description ? 2 : 1;
-  if (words.size() < named || words.size() > named + 2) input_error(origin, "cannot read the entry '" + (words.empty() ? std::string() : words[0]) + " ...'");
+  if (words.size() < named || words.size() > named + 2)
+    input_error(origin, "cannot read the entry '" + (words.empty() ? std::string() : words[0]) + " ...'");
   CaseFileRef ref;
   ref.file = words.back();
   if (has_description) ref.description = words[words.size() - 2];
@@ -117,12 +118,18 @@ void read_time_section(const std::vector<CaseEntry>& entries, EnsightCase& c, co
   int sets = 0;
   for (const CaseEntry& e : entries) {
     if (e.section != "TIME") continue;
-    if (e.key == "time set") ++sets;
-    else if (e.key == "number of steps") steps = one_integer(e, origin);
-    else if (e.key == "filename start number") start = one_integer(e, origin);
-    else if (e.key == "filename increment") increment = one_integer(e, origin);
-    else if (e.key == "time values") times = numbers(e, origin);
-    else if (e.key == "filename numbers") file_numbers = numbers(e, origin);
+    if (e.key == "time set")
+      ++sets;
+    else if (e.key == "number of steps")
+      steps = one_integer(e, origin);
+    else if (e.key == "filename start number")
+      start = one_integer(e, origin);
+    else if (e.key == "filename increment")
+      increment = one_integer(e, origin);
+    else if (e.key == "time values")
+      times = numbers(e, origin);
+    else if (e.key == "filename numbers")
+      file_numbers = numbers(e, origin);
   }
   if (sets == 0) return;
   input_check(sets == 1, origin, "several time sets (volstream reads cases of one)");
@@ -133,7 +140,8 @@ void read_time_section(const std::vector<CaseEntry>& entries, EnsightCase& c, co
   c.file_numbers.clear();
   for (int64_t i = 0; i < steps; ++i) {
     if (!file_numbers.empty() && file_numbers.size() != uint64_t(steps))
-      input_error(origin, "filename numbers: " + str(file_numbers.size()) + " values for " + str(uint64_t(steps)) + " steps");
+      input_error(origin,
+                  "filename numbers: " + str(file_numbers.size()) + " values for " + str(uint64_t(steps)) + " steps");
     c.file_numbers.push_back(file_numbers.empty() ? start + i * increment : int64_t(file_numbers[size_t(i)]));
   }
 }
@@ -148,7 +156,8 @@ EnsightCase::Variable variable_of(const CaseEntry& e, const std::string& origin)
   EnsightCase::Variable v;
   const std::string& k = e.key;
   if (k != "scalar per node" && k != "vector per node" && k != "scalar per element" && k != "vector per element")
-    input_error(origin, "unsupported variable kind '" + k + "' (volstream reads scalars and vectors per node or per element)");
+    input_error(origin,
+                "unsupported variable kind '" + k + "' (volstream reads scalars and vectors per node or per element)");
   v.per_element = k.ends_with("element");
   v.components = k.starts_with("vector") ? 3 : 1;
   const CaseFileRef ref = file_ref(e.value, true, origin);
@@ -233,7 +242,8 @@ class EnsightFile {
 
 enum class IdMode { off, given, assign, ignore };
 IdMode id_mode(const std::string& line, const char* prefix, const EnsightFile& f) {
-  if (!line.starts_with(prefix)) f.fail("expected '" + std::string(prefix) + " ...', found '" + line.substr(0, 40) + "'");
+  if (!line.starts_with(prefix))
+    f.fail("expected '" + std::string(prefix) + " ...', found '" + line.substr(0, 40) + "'");
   const std::string mode = lower_trimmed(std::string_view(line).substr(std::string_view(prefix).size()));
   if (mode == "off") return IdMode::off;
   if (mode == "given") return IdMode::given;
@@ -245,21 +255,22 @@ bool ids_listed(IdMode m) { return m == IdMode::given || m == IdMode::ignore; }
 
 struct ElementType {
   const char* name;
-  int nodes;           // 0: nsided and nfaced (their own counts)
-  uint8_t vtk = 0;     // 0: not a volume element, skipped
+  int nodes;        // 0: nsided and nfaced (their own counts)
+  uint8_t vtk = 0;  // 0: not a volume element, skipped
   std::array<int, 6> wedge_order{};
 };
 // EnSight's penta6 has its first triangle's normal towards the second; VTK's wedge the other way.
 constexpr ElementType kElementTypes[] = {
-    {"point", 1},   {"bar2", 2},     {"bar3", 3},         {"tria3", 3},       {"tria6", 6},
-    {"quad4", 4},   {"quad8", 8},    {"tetra4", 4, 10},   {"pyramid5", 5, 14}, {"penta6", 6, 13, {0, 2, 1, 3, 5, 4}},
-    {"hexa8", 8, 12}, {"nsided", 0}, {"nfaced", 0, 42},   {"tetra10", 10},    {"pyramid13", 13},
-    {"penta15", 15}, {"hexa20", 20},
+    {"point", 1},     {"bar2", 2},    {"bar3", 3},       {"tria3", 3},        {"tria6", 6},
+    {"quad4", 4},     {"quad8", 8},   {"tetra4", 4, 10}, {"pyramid5", 5, 14}, {"penta6", 6, 13, {0, 2, 1, 3, 5, 4}},
+    {"hexa8", 8, 12}, {"nsided", 0},  {"nfaced", 0, 42}, {"tetra10", 10},     {"pyramid13", 13},
+    {"penta15", 15},  {"hexa20", 20},
 };
 constexpr const char* kQuadratic[] = {"tetra10", "pyramid13", "penta15", "hexa20"};
 
 const ElementType* element_type(const std::string& keyword) {
-  const std::string_view name = keyword.starts_with("g_") ? std::string_view(keyword).substr(2) : std::string_view(keyword);
+  const std::string_view name =
+      keyword.starts_with("g_") ? std::string_view(keyword).substr(2) : std::string_view(keyword);
   for (const ElementType& t : kElementTypes)
     if (name == t.name) return &t;
   return nullptr;
@@ -346,7 +357,8 @@ void read_element_block(EnsightFile& f, const std::string& keyword, IdMode eleme
   if (!t) f.fail("unknown element type '" + keyword.substr(0, 40) + "'");
   for (const char* q : kQuadratic)
     if (std::string_view(t->name) == q)
-      f.fail(std::string("quadratic elements (") + q + ") are not read; write linear elements (tetra4, pyramid5, penta6, hexa8)");
+      f.fail(std::string("quadratic elements (") + q +
+             ") are not read; write linear elements (tetra4, pyramid5, penta6, hexa8)");
   const bool keep = t->vtk != 0 && !keyword.starts_with("g_");
   const uint64_t count = f.count("element count", uint64_t(std::max(t->nodes, 1) + (ids_listed(elements) ? 1 : 0)));
   if (ids_listed(elements)) f.skip_integers(count, "element ids");
@@ -384,7 +396,8 @@ EnsightCase read_ensight_case(const fs::path& file) {
   c.dir = file.parent_path();
   bool gold = false, have_model = false;
   for (const CaseEntry& e : entries) {
-    if (e.section == "FORMAT" && e.key == "type") gold = e.value.size() == 2 && lower_trimmed(e.value[0]) == "ensight" && lower_trimmed(e.value[1]) == "gold";
+    if (e.section == "FORMAT" && e.key == "type")
+      gold = e.value.size() == 2 && lower_trimmed(e.value[0]) == "ensight" && lower_trimmed(e.value[1]) == "gold";
     if (e.section == "FILE") input_error(origin, "single-file cases (a FILE section) are not read");
     if (e.section == "GEOMETRY" && e.key == "model") {
       if (std::find(e.value.begin(), e.value.end(), "change_coords_only") != e.value.end())
@@ -404,8 +417,9 @@ fs::path ensight_step_file(const EnsightCase& c, const std::string& name, size_t
   std::string out = name;
   const size_t first = out.find('*');
   if (first != std::string::npos) {
-    const size_t width = out.find_first_not_of('*', first) == std::string::npos ? out.size() - first
-                                                                                 : out.find_first_not_of('*', first) - first;
+    const size_t width = out.find_first_not_of('*', first) == std::string::npos
+                             ? out.size() - first
+                             : out.find_first_not_of('*', first) - first;
     std::string number = std::to_string(c.file_numbers.at(step));
     if (number.size() < width) number.insert(0, width - number.size(), '0');
     out.replace(first, width, number);
@@ -420,7 +434,8 @@ EnsightGeometry read_ensight_geometry(const fs::path& path) {
     std::string bytes(std::min<uint64_t>(size, 80 * 8), '\0');  // the header, the extents, the first part line
     read_exact(path, 0, bytes.data(), bytes.size());
     const std::string first = lower_trimmed(std::string_view(bytes).substr(0, std::min<size_t>(80, bytes.size())));
-    if (first.starts_with("fortran binary")) input_error(path.string(), "Fortran binary EnSight files are not read (write C Binary)");
+    if (first.starts_with("fortran binary"))
+      input_error(path.string(), "Fortran binary EnSight files are not read (write C Binary)");
     g.binary = first.starts_with("c binary");
     if (g.binary) g.big_endian = big_endian_part_number(path.string(), bytes, first_part_number_offset(bytes));
   }
@@ -500,8 +515,7 @@ void read_variable(const EnsightCase::Variable& v, const fs::path& path, const E
     }
   }
   for (size_t i = 0; i < g.parts.size(); ++i)
-    if (!seen[i] && g.parts[i].mesh.cell_count() > 0)
-      f.fail("no values for part " + std::to_string(g.parts[i].number));
+    if (!seen[i] && g.parts[i].mesh.cell_count() > 0) f.fail("no values for part " + std::to_string(g.parts[i].number));
 }
 
 }  // namespace

@@ -28,8 +28,8 @@ struct EnsightCase {
   std::filesystem::path dir;
   std::string geometry;
   std::vector<Variable> variables;
-  std::vector<double> times{0.0};           // one per step
-  std::vector<int64_t> file_numbers{0};     // what replaces a file name's '*'s at each step
+  std::vector<double> times{0.0};        // one per step
+  std::vector<int64_t> file_numbers{0};  // what replaces a file name's '*'s at each step
   bool geometry_changes() const { return geometry.find('*') != std::string::npos; }
 };
 

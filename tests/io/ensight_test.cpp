@@ -116,7 +116,7 @@ TEST(Ensight, LinearFieldIsExactThroughPartsAndPolyhedra) {
 }
 
 // The ASCII case copied to a scratch directory, with one of its files changed.
-class BadEnsight : public ::testing::Test {
+class EditedEnsight : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() / ("volstream_ensight_" + std::to_string(::getpid()));
@@ -148,41 +148,66 @@ class BadEnsight : public ::testing::Test {
   fs::path dir_;
 };
 
-TEST_F(BadEnsight, NotGold) {
+// The boundary part's quads given as nsided polygons: read past alike.
+TEST_F(EditedEnsight, NsidedBoundaryIsReadPast) {
+  const MeshData before = read_case(dir_ / "mesh.case", 0);
+  const std::string ids = "      1001\n      1002\n      1003\n      1004\n";
+  replace("mesh.geo", "quad4\n         4\n" + ids,
+          "nsided\n         4\n" + ids + "         4\n         4\n         4\n         4\n");
+  replace("cell.0", "quad4", "nsided");
+  const MeshData after = read_case(dir_ / "mesh.case", 0);
+  EXPECT_EQ(after.cell_types, before.cell_types);
+  EXPECT_EQ(after.connectivity, before.connectivity);
+}
+
+// Part 2's hexes as ghost elements (g_hexa8): dropped with their values, and the part with them.
+TEST_F(EditedEnsight, GhostElementsAreDropped) {
+  std::string t = text("mesh.geo");
+  t.replace(t.rfind("hexa8"), 5, "g_hexa8");
+  std::ofstream(dir_ / "mesh.geo") << t;
+  std::string c = text("cell.0");
+  c.replace(c.rfind("hexa8"), 5, "g_hexa8");
+  std::ofstream(dir_ / "cell.0") << c;
+  const MeshData m = read_case(dir_ / "mesh.case", 0);
+  EXPECT_EQ(m.cell_count(), 54u - 4u);
+  EXPECT_EQ(m.points.size(), 45u + 2u + 6u);  // part 2's nodes left out with it
+}
+
+TEST_F(EditedEnsight, NotGold) {
   replace("mesh.case", "ensight gold", "ensight");
   EXPECT_NE(error().find("not an EnSight Gold case"), std::string::npos);
 }
-TEST_F(BadEnsight, SeveralTimeSets) {
+TEST_F(EditedEnsight, SeveralTimeSets) {
   replace("mesh.case", "time set: 1", "time set: 1\ntime set: 2");
   EXPECT_NE(error().find("several time sets"), std::string::npos);
 }
-TEST_F(BadEnsight, QuadraticElements) {
+TEST_F(EditedEnsight, QuadraticElements) {
   replace("mesh.geo", "penta6", "hexa20");
   EXPECT_NE(error().find("quadratic"), std::string::npos);
 }
-TEST_F(BadEnsight, StructuredPart) {
+TEST_F(EditedEnsight, StructuredPart) {
   replace("mesh.geo", "coordinates", "block");
   EXPECT_NE(error().find("structured"), std::string::npos);
 }
-TEST_F(BadEnsight, NodeOutOfRange) {
+TEST_F(EditedEnsight, NodeOutOfRange) {
   replace("mesh.geo", "tetra4\n         1\n      1001\n", "tetra4\n         1\n      1001\n      9999");
   EXPECT_NE(error().find("out of range"), std::string::npos);
 }
-TEST_F(BadEnsight, TruncatedGeometry) {
+TEST_F(EditedEnsight, TruncatedGeometry) {
   const std::string t = text("mesh.geo");
   std::ofstream(dir_ / "mesh.geo") << t.substr(0, t.size() / 2);
   EXPECT_FALSE(error().empty());
 }
-TEST_F(BadEnsight, VariableWithoutAPart) {
+TEST_F(EditedEnsight, VariableWithoutAPart) {
   const std::string t = text("f.0");
   std::ofstream(dir_ / "f.0") << t.substr(0, t.find("part\n         2"));
   EXPECT_NE(error().find("no values for part 2"), std::string::npos);
 }
-TEST_F(BadEnsight, PartialValues) {
+TEST_F(EditedEnsight, PartialValues) {
   replace("f.0", "coordinates", "coordinates partial");
   EXPECT_NE(error().find("partial or undefined"), std::string::npos);
 }
-TEST_F(BadEnsight, FortranBinary) {
+TEST_F(EditedEnsight, FortranBinary) {
   std::ofstream(dir_ / "mesh.geo") << std::string("Fortran Binary") + std::string(200, ' ');
   EXPECT_NE(error().find("Fortran"), std::string::npos);
 }

@@ -221,6 +221,23 @@ class EnsightFile {
     mid_line_ = !binary_;
     return binary_ ? double(in_.binary<float>(big_, what)) : in_.real(what);
   }
+  // n values into out[0], out[stride], ...; a binary file's as one block.
+  void reals(uint64_t n, const char* what, double* out, size_t stride) {
+    if (!binary_) {
+      for (uint64_t i = 0; i < n; ++i) out[i * stride] = real(what);
+      return;
+    }
+    const char* bytes = in_.take(4 * n, what);
+    for (uint64_t i = 0; i < n; ++i) out[i * stride] = double(load_value<float>(bytes + 4 * i, big_));
+  }
+  void integers(uint64_t n, const char* what, int64_t* out) {
+    if (!binary_) {
+      for (uint64_t i = 0; i < n; ++i) out[i] = integer(what);
+      return;
+    }
+    const char* bytes = in_.take(4 * n, what);
+    for (uint64_t i = 0; i < n; ++i) out[i] = load_value<int32_t>(bytes + 4 * i, big_);
+  }
   // InputError unless `n` values fit in what is left of the file.
   void require_values(uint64_t n, const char* what) const { in_.require_fits(n, binary_ ? 4 : 2, what); }
   void skip_integers(uint64_t n, const char* what) {
@@ -280,18 +297,20 @@ void read_coordinates(EnsightFile& f, IdMode nodes, EnsightGeometry::Part& part)
   const uint64_t n = f.count("node count", 3);
   if (ids_listed(nodes)) f.skip_integers(n, "node ids");
   part.mesh.points.resize(n);
-  for (int axis = 0; axis < 3; ++axis)
-    for (uint64_t i = 0; i < n; ++i) (&part.mesh.points[i].x)[axis] = f.real("coordinate");
+  static_assert(sizeof(vec3d) == 3 * sizeof(double));
+  for (int axis = 0; axis < 3 && n > 0; ++axis) f.reals(n, "coordinates", &part.mesh.points.data()->x + axis, 3);
 }
 
-// The 1-based node numbers of `count` elements of `per_element` nodes, checked against the part.
+// `count` 1-based node numbers, checked against the part's nodes, made 0-based.
 std::vector<uint64_t> read_nodes(EnsightFile& f, uint64_t count, uint64_t part_nodes) {
+  std::vector<int64_t> ids(count);
+  f.integers(count, "element nodes", ids.data());
   std::vector<uint64_t> nodes(count);
-  for (uint64_t& v : nodes) {
-    const int64_t id = f.integer("element node");
-    if (id < 1 || uint64_t(id) > part_nodes)
-      f.fail("element node " + std::to_string(id) + " is out of range (the part has " + str(part_nodes) + " nodes)");
-    v = uint64_t(id - 1);
+  for (uint64_t i = 0; i < count; ++i) {
+    if (ids[i] < 1 || uint64_t(ids[i]) > part_nodes)
+      f.fail("element node " + std::to_string(ids[i]) + " is out of range (the part has " + str(part_nodes) +
+             " nodes)");
+    nodes[i] = uint64_t(ids[i] - 1);
   }
   return nodes;
 }
@@ -481,8 +500,7 @@ const EnsightGeometry::Part& part_numbered(const EnsightGeometry& g, int64_t num
 // `count` tuples of `components` values, stored component by component (all x, then all y, ...).
 std::vector<double> read_tuples(EnsightFile& f, uint64_t count, int components, const char* what) {
   std::vector<double> values(count * uint64_t(components));
-  for (int c = 0; c < components; ++c)
-    for (uint64_t i = 0; i < count; ++i) values[i * uint64_t(components) + uint64_t(c)] = f.real(what);
+  for (int c = 0; c < components; ++c) f.reals(count, what, values.data() + c, size_t(components));
   return values;
 }
 

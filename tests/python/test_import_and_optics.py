@@ -74,6 +74,18 @@ def test_load_joins_a_parallel_writers_pieces(mesh_files, tmp_path):
         assert (ds.element_count, ds.vertex_count) == (135, 64) and "RTData" in ds.fields
 
 
+def test_load_ensight_case():
+    """The EnSight Gold test cases of tests/data/ensight: ASCII and big-endian C Binary load as
+    the same two-step mesh (polyhedra split, the boundary part left out)."""
+    data = os.path.join(os.path.dirname(__file__), "..", "data", "ensight")
+    ascii_case, binary_case = (vs.load(os.path.join(data, d, "mesh.case")) for d in ("ascii", "big_endian"))
+    assert ascii_case.kind == "mesh" and ascii_case.element_count == 54 and len(ascii_case.steps) == 2
+    assert {"f", "v", "cell"} <= set(ascii_case.fields)
+    pts = np.array([[0.5, 0.5, 0.5], [2.5, 1.5, 1.0], [3.5, 0.5, 1.5]])
+    np.testing.assert_allclose(ascii_case.probe("f", pts), 1 + pts @ [2, 3, 4], rtol=1e-5)
+    np.testing.assert_allclose(binary_case.probe("f", pts), ascii_case.probe("f", pts), rtol=1e-6)
+
+
 def test_mesh_probe_equals_cli_and_brute_force(mesh_files, tmp_path):
     vtu, converted = mesh_files
     ds = vs.load(str(vtu))

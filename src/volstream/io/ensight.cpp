@@ -62,7 +62,8 @@ std::vector<CaseEntry> case_entries(const std::string& text) {
     const size_t colon = line.find(':');
     if (colon == std::string::npos) {
       const std::vector<std::string> words = words_of(line);
-      if (words.size() == 1 && std::all_of(words[0].begin(), words[0].end(), [](char c) { return std::isupper(c); })) {
+      const auto section_name = [](char c) { return std::isupper(static_cast<unsigned char>(c)) || c == '_'; };
+      if (words.size() == 1 && std::all_of(words[0].begin(), words[0].end(), section_name)) {
         section = words[0];
       } else if (!entries.empty()) {
         entries.back().value.insert(entries.back().value.end(), words.begin(), words.end());

@@ -132,24 +132,21 @@ def write_case(directory, binary, order=">"):
                 for cell in cells:
                     g.ints(cell, per_line=len(cell))
     g.out.close()
+    def node_variable(name, step, components):
+        """components: functions of a node and the step, each written for all nodes in turn."""
+        w = Writer(f"{directory}/{name}.{step}", binary, order)
+        w.line(name)
+        for number, (nodes, _) in enumerate(parts, 1):
+            w.line("part")
+            w.ints([number])
+            w.line("coordinates")
+            for component in components:
+                w.floats(component(p, step) for p in nodes)
+        w.out.close()
+
     for step in (0, 1):
-        w = Writer(f"{directory}/f.{step}", binary, order)
-        w.line("f")
-        for number, (nodes, _) in enumerate(parts, 1):
-            w.line("part")
-            w.ints([number])
-            w.line("coordinates")
-            w.floats(f(p, step) for p in nodes)
-        w.out.close()
-        w = Writer(f"{directory}/v.{step}", binary, order)
-        w.line("v")
-        for number, (nodes, _) in enumerate(parts, 1):
-            w.line("part")
-            w.ints([number])
-            w.line("coordinates")
-            for axis in range(3):
-                w.floats(p[axis] for p in nodes)
-        w.out.close()
+        node_variable("f", step, [f])
+        node_variable("v", step, [lambda p, _, axis=axis: p[axis] for axis in range(3)])
         w = Writer(f"{directory}/cell.{step}", binary, order)
         w.line("cell")
         for number, (_, blocks) in enumerate(parts, 1):

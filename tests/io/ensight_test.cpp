@@ -181,6 +181,14 @@ TEST_F(EditedEnsight, SeveralTimeSets) {
   replace("mesh.case", "time set: 1", "time set: 1\ntime set: 2");
   EXPECT_NE(error().find("several time sets"), std::string::npos);
 }
+TEST_F(EditedEnsight, TimesThatDoNotIncrease) {
+  replace("mesh.case", "0.0\n0.5", "0.5\n0.5");
+  EXPECT_NE(error().find("must increase"), std::string::npos);
+}
+TEST_F(EditedEnsight, FileNumbersOutOfRange) {  // start + i * increment would overflow
+  replace("mesh.case", "filename start number: 0", "filename start number: -9223372036854775808");
+  EXPECT_NE(error().find("out of range"), std::string::npos);
+}
 TEST_F(EditedEnsight, QuadraticElements) {
   replace("mesh.geo", "penta6", "hexa20");
   EXPECT_NE(error().find("quadratic"), std::string::npos);

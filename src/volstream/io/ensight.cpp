@@ -137,13 +137,27 @@ void read_time_section(const std::vector<CaseEntry>& entries, EnsightCase& c, co
   input_check(steps >= 1 && steps <= (int64_t(1) << 24), origin, "number of steps is missing or out of range");
   input_check(times.size() == uint64_t(steps), origin,
               "time values: " + str(times.size()) + " values for " + str(uint64_t(steps)) + " steps");
+  for (size_t i = 1; i < times.size(); ++i)
+    input_check(times[i] > times[i - 1], origin, "time values: they must increase");
   c.times = times;
+  if (!file_numbers.empty() && file_numbers.size() != uint64_t(steps))
+    input_error(origin,
+                "filename numbers: " + str(file_numbers.size()) + " values for " + str(uint64_t(steps)) + " steps");
+  // Bounded so that no file number overflows (2^24 steps at most).
+  constexpr int64_t kLargest = 1000000000000, kLargestIncrement = 1000000;
+  input_check(
+      start >= -kLargest && start <= kLargest && increment >= -kLargestIncrement && increment <= kLargestIncrement,
+      origin, "filename start number or increment out of range");
   c.file_numbers.clear();
   for (int64_t i = 0; i < steps; ++i) {
-    if (!file_numbers.empty() && file_numbers.size() != uint64_t(steps))
-      input_error(origin,
-                  "filename numbers: " + str(file_numbers.size()) + " values for " + str(uint64_t(steps)) + " steps");
-    c.file_numbers.push_back(file_numbers.empty() ? start + i * increment : int64_t(file_numbers[size_t(i)]));
+    if (file_numbers.empty()) {
+      c.file_numbers.push_back(start + i * increment);
+      continue;
+    }
+    const double n = file_numbers[size_t(i)];
+    input_check(n == std::floor(n) && std::fabs(n) <= double(kLargest), origin,
+                "filename numbers: not integers in range");
+    c.file_numbers.push_back(int64_t(n));
   }
 }
 

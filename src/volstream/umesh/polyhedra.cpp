@@ -335,6 +335,16 @@ PolyhedronFaces faces_in_connectivity(const MeshData& m, const std::string& file
 void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::string& file) {
   if (std::find(m.cell_types.begin(), m.cell_types.end(), kVtkPolyhedron) == m.cell_types.end()) return;
   check_faces(faces, m.cell_count(), m.points.size(), file);
+  // The readers check these; the split below indexes by them.
+  input_check(m.cell_offsets.size() == m.cell_count() + 1 && m.cell_offsets.back() == m.connectivity.size(), file,
+              "polyhedra: the cell offsets do not match the cells");
+  const auto match = [](const std::vector<MeshArray>& arrays, uint64_t tuples) {
+    return std::all_of(arrays.begin(), arrays.end(), [&](const MeshArray& a) {
+      return a.components >= 1 && a.values.size() == tuples * uint64_t(a.components);
+    });
+  };
+  input_check(match(m.point_data, m.points.size()) && match(m.cell_data, m.cell_count()), file,
+              "polyhedra: a data array does not match the points or cells");
   std::vector<uint8_t> types;
   std::vector<uint64_t> offsets{0}, connectivity, source;
   auto add = [&](uint8_t type, std::span<const uint64_t> v, uint64_t from) {

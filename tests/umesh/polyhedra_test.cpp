@@ -339,6 +339,11 @@ TEST(Polyhedra, BadPolyhedronArraysInVtuFilesAreRefused) {
   std::string bad_end = cube_vtu(false);
   bad_end.replace(bad_end.find(">31<"), 4, ">-1<");
   EXPECT_THROW(read_text(bad_end, "bad_end"), InputError);
+  std::string huge_end = cube_vtu(false);  // a Float64 offset beyond any integer type
+  huge_end.replace(huge_end.find("<DataArray type=\"Int64\" Name=\"faceoffsets\" format=\"ascii\">31<"),
+                   std::string("<DataArray type=\"Int64\" Name=\"faceoffsets\" format=\"ascii\">31<").size(),
+                   "<DataArray type=\"Float64\" Name=\"faceoffsets\" format=\"ascii\">1e300<");
+  EXPECT_THROW(read_text(huge_end, "huge_end"), InputError);
   std::string bad_face = cube_vtu(true);
   bad_face.replace(bad_face.find(">0 1 2 3 4 5<"), 13, ">0 1 2 3 4 9<");
   EXPECT_THROW(read_text(bad_face, "bad_face"), InputError);

@@ -508,8 +508,12 @@ PolyhedronFaces read_polyhedron_faces(const VtuFile& f, const XmlElement& cells,
   const std::vector<double> ends = read_values<double>(
       f, offsets_array, numeric_type(f, offsets_array, what + " faceoffsets"), types.size(), what + " faceoffsets");
   uint64_t stream_end = 0;
-  for (double e : ends)
-    if (e >= 0) stream_end = std::max(stream_end, uint64_t(e));
+  for (size_t c = 0; c < ends.size(); ++c) {
+    if (types[c] != kVtkPolyhedron) continue;  // VTK writes -1 for them
+    if (!(ends[c] >= 0 && ends[c] <= 0x1p53 && ends[c] == std::floor(ends[c])))
+      input_error(f.name, what + " faceoffsets: entry " + str(c) + " of a polyhedron is not an offset");
+    stream_end = std::max(stream_end, uint64_t(ends[c]));
+  }
   const std::vector<uint64_t> stream = read_cell_array(f, cells, "faces", stream_end, what);
   uint64_t begin = 0;
   for (size_t c = 0; c < types.size(); ++c) {

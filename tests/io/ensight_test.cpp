@@ -119,11 +119,9 @@ TEST(Ensight, LinearFieldIsExactThroughPartsAndPolyhedra) {
 class EditedEnsight : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("volstream_ensight_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
+    dir_ = test::scratch_dir("case");
     fs::copy(kDir / "ascii", dir_);
   }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string text(const std::string& name) {
     std::ifstream in(dir_ / name);
     std::stringstream s;

@@ -165,11 +165,9 @@ std::string cube_vtu(bool new_layout) {
 }
 
 MeshData read_text(const std::string& text, const std::string& name) {
-  const fs::path path = fs::temp_directory_path() / ("volstream_polyhedra_" + name + ".vtu");
+  const fs::path path = test::scratch_dir(name) / "mesh.vtu";
   std::ofstream(path) << text;
-  MeshData m = read_vtu(path);
-  fs::remove(path);
-  return m;
+  return read_vtu(path);
 }
 
 TEST(Polyhedra, Vtk94LayoutReadsAsTheFaceStreams) {

@@ -87,11 +87,13 @@ std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes
   return text;
 }
 
-std::string lower_extension(const std::filesystem::path& file) {
-  std::string ext = file.extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
+std::string lower_case(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return out;
 }
+
+std::string lower_extension(const std::filesystem::path& file) { return lower_case(file.extension().string()); }
 
 void write_file(const std::filesystem::path& path, const void* data, uint64_t bytes, uint64_t pad_to) {
   write_file_atomic(path, data, bytes, pad_to);

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "volstream/core/host_array.h"
@@ -24,6 +25,8 @@ struct ByteRun {
 void read_runs(const std::filesystem::path& path, const std::vector<ByteRun>& runs, void* dst);
 // A whole text file (manifest, colour map, points, trace, plotfile header), at most max_bytes.
 std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes = 64u << 20);
+// ASCII letters in lower case, as the text readers compare keywords.
+std::string lower_case(std::string_view s);
 // The file name's extension in lower case (".vtu" for "Wing.VTU"), as the readers dispatch on it.
 std::string lower_extension(const std::filesystem::path& file);
 // Writes `bytes` bytes, zero-padded to a multiple of `pad_to` (1 = no padding), atomically

@@ -23,9 +23,7 @@ std::string lower_trimmed(std::string_view s) {
   if (const size_t nul = s.find('\0'); nul != std::string_view::npos) s = s.substr(0, nul);
   while (!s.empty() && (std::isspace(static_cast<unsigned char>(s.back())) || s.back() == '\0')) s.remove_suffix(1);
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  std::string out(s);
-  for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return out;
+  return lower_case(s);
 }
 
 // ---------------------------------------------------------------------------------------------

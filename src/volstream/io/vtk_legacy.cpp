@@ -50,12 +50,6 @@ size_t type_size(VtkType t) {
 }
 bool is_integer_type(VtkType t) { return t != VtkType::f32 && t != VtkType::f64; }
 
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
 // Binary values are big endian. Unsigned 64-bit values past INT64_MAX come back as negative
 // int64, which every caller refuses as an index or count.
 int64_t decode_integer(const char* p, VtkType t) {
@@ -147,7 +141,7 @@ class VtkReader {
 
 MeshData VtkReader::read() {
   read_header();
-  while (const auto word = in_.try_word()) read_section(lower(*word));
+  while (const auto word = in_.try_word()) read_section(lower_case(*word));
   finish();
   return std::move(mesh_);
 }
@@ -160,13 +154,13 @@ void VtkReader::read_header() {
   const auto [end, ec] = std::from_chars(version.data(), version.data() + version.size(), major_version_);
   if (ec != std::errc() || major_version_ < 1) in_.fail("bad version '" + std::string(version) + "'");
   in_.skip_line();  // title
-  const std::string format = lower(in_.word("ASCII or BINARY"));
+  const std::string format = lower_case(in_.word("ASCII or BINARY"));
   if (format != "ascii" && format != "binary") in_.fail("expected ASCII or BINARY, found '" + format + "'");
   binary_ = format == "binary";
   in_.skip_line();
-  if (lower(in_.word("DATASET")) != "dataset") in_.fail("expected DATASET");
+  if (lower_case(in_.word("DATASET")) != "dataset") in_.fail("expected DATASET");
   const auto args = arguments("DATASET", 1, 1);
-  if (lower(args[0]) != "unstructured_grid")
+  if (lower_case(args[0]) != "unstructured_grid")
     in_.fail("dataset type " + std::string(args[0]) + " is not supported (only UNSTRUCTURED_GRID)");
 }
 
@@ -195,7 +189,7 @@ int VtkReader::component_count(std::string_view word) {
 }
 
 VtkType VtkReader::type_argument(std::string_view word) {
-  const std::string name = lower(word);
+  const std::string name = lower_case(word);
   for (const VtkTypeName& t : kTypeNames)
     if (name == t.name) return t.type;
   in_.fail("unsupported data type '" + std::string(word.substr(0, 40)) + "'");
@@ -287,10 +281,10 @@ void VtkReader::read_count_prefixed_cells(uint64_t cells, uint64_t size) {
 
 // Version >= 5: OFFSETS (cells + 1 entries) and CONNECTIVITY arrays.
 void VtkReader::read_offset_cells(uint64_t offsets, uint64_t connectivity) {
-  if (lower(in_.word("OFFSETS")) != "offsets") in_.fail("CELLS: expected OFFSETS");
+  if (lower_case(in_.word("OFFSETS")) != "offsets") in_.fail("CELLS: expected OFFSETS");
   const VtkType offset_type = type_argument(arguments("OFFSETS", 1, 1)[0]);
   const std::vector<int64_t> off = read_integers(offsets, offset_type, "cell offsets");
-  if (lower(in_.word("CONNECTIVITY")) != "connectivity") in_.fail("CELLS: expected CONNECTIVITY");
+  if (lower_case(in_.word("CONNECTIVITY")) != "connectivity") in_.fail("CELLS: expected CONNECTIVITY");
   const VtkType conn_type = type_argument(arguments("CONNECTIVITY", 1, 1)[0]);
   const std::vector<int64_t> conn = read_integers(connectivity, conn_type, "cell connectivity");
   if (offsets > 0 && (off.front() != 0 || off.back() != int64_t(connectivity)))
@@ -356,7 +350,7 @@ void VtkReader::read_scalars(const std::vector<std::string_view>& args) {
   // LOOKUP_TABLE <name> usually follows; it names a colour table we do not use.
   const uint64_t before = in_.position();
   const auto next = in_.try_word();
-  if (next && lower(*next) == "lookup_table")
+  if (next && lower_case(*next) == "lookup_table")
     in_.skip_line();
   else
     in_.seek(before);
@@ -382,7 +376,7 @@ void VtkReader::read_field(const std::vector<std::string_view>& args) {
 // CELL_DATA, e.g. TIME) is read and dropped.
 void VtkReader::read_field_array() {
   std::string name(in_.word("field array name"));
-  while (lower(name) == "metadata") {
+  while (lower_case(name) == "metadata") {
     skip_metadata();
     name = in_.word("field array name");
   }

@@ -272,11 +272,15 @@ std::string read_blob(const VtuFile& f, Source& src, const std::string& what, ui
 }
 
 // Values as the reader wants them: double for coordinates and data, uint64_t for indices (which
-// must then be integers and not negative).
+// must then be integers and not negative), int64_t for offsets where -1 means none (integers).
 template <typename Out, typename Stored>
 Out convert_value(const VtuFile& f, Stored v, const std::string& what) {
   if constexpr (std::is_same_v<Out, double>) {
     return double(v);
+  } else if constexpr (std::is_same_v<Out, int64_t>) {
+    if constexpr (std::is_same_v<Stored, uint64_t>)
+      if (v > uint64_t(INT64_MAX)) input_error(f.name, what + ": value " + std::to_string(v) + " is out of range");
+    return int64_t(v);
   } else {
     if constexpr (std::is_signed_v<Stored>)
       if (v < 0) input_error(f.name, what + ": negative value " + std::to_string(int64_t(v)));
@@ -389,7 +393,7 @@ std::vector<Out> read_appended_values(const VtuFile& f, const XmlElement& array,
 template <typename Out>
 std::vector<Out> read_values(const VtuFile& f, const XmlElement& array, const ScalarInfo& type, uint64_t count,
                              const std::string& what) {
-  if constexpr (std::is_same_v<Out, uint64_t>)
+  if constexpr (!std::is_same_v<Out, double>)
     if (type.is_float) input_error(f.name, what + ": must be of an integer type, not " + std::string(type.name));
   if (count > kMaxValues) input_error(f.name, what + ": " + str(count) + " values is absurdly many");
   const std::string& format = required_attribute(f, array, "format", what);
@@ -505,15 +509,12 @@ PolyhedronFaces read_polyhedron_faces(const VtuFile& f, const XmlElement& cells,
     return faces;
   }
   const XmlElement& offsets_array = named_array(f, cells, "faceoffsets", what);
-  const std::vector<double> ends = read_values<double>(
+  const std::vector<int64_t> ends = read_values<int64_t>(
       f, offsets_array, numeric_type(f, offsets_array, what + " faceoffsets"), types.size(), what + " faceoffsets");
-  uint64_t stream_end = 0;
-  for (size_t c = 0; c < ends.size(); ++c) {
-    if (types[c] != kVtkPolyhedron) continue;  // VTK writes -1 for them
-    if (!(ends[c] >= 0 && ends[c] <= 0x1p53 && ends[c] == std::floor(ends[c])))
-      input_error(f.name, what + " faceoffsets: entry " + str(c) + " of a polyhedron is not an offset");
-    stream_end = std::max(stream_end, uint64_t(ends[c]));
-  }
+  uint64_t stream_end = 0;  // the largest end of a polyhedron's stream (VTK writes -1 for other cells)
+  for (size_t c = 0; c < ends.size(); ++c)
+    if (types[c] == kVtkPolyhedron)
+      stream_end = std::max<uint64_t>(stream_end, uint64_t(std::max<int64_t>(ends[c], 0)));
   const std::vector<uint64_t> stream = read_cell_array(f, cells, "faces", stream_end, what);
   uint64_t begin = 0;
   for (size_t c = 0; c < types.size(); ++c) {
@@ -521,11 +522,11 @@ PolyhedronFaces read_polyhedron_faces(const VtuFile& f, const XmlElement& cells,
       faces.add_other_cell();
       continue;
     }
-    const double end = ends[c];
-    if (!(end >= double(begin) && end <= double(stream_end) && end == std::floor(end)))
+    if (ends[c] < int64_t(begin))
       input_error(f.name, what + " faceoffsets: entry " + str(c) + " of a polyhedron is not the end of its faces");
-    faces.add_face_stream(std::span(stream).subspan(begin, uint64_t(end) - begin), c, f.name);
-    begin = uint64_t(end);
+    const uint64_t end = uint64_t(ends[c]);
+    faces.add_face_stream(std::span(stream).subspan(begin, end - begin), c, f.name);
+    begin = end;
   }
   return faces;
 }

@@ -8,6 +8,7 @@
 #include "volstream/io/binary_file.h"
 #include "volstream/io/parse_cursor.h"
 #include "volstream/umesh/polyhedra.h"
+#include "volstream/umesh/quadratic.h"
 
 namespace vs {
 namespace {
@@ -421,6 +422,7 @@ void VtkReader::finish() {
     in_.fail("CELLS has " + std::to_string(cells) + " cells, CELL_TYPES " + std::to_string(mesh_.cell_types.size()));
   split_polyhedra(mesh_, faces_in_connectivity(mesh_, in_.file()), in_.file());
   voxels_to_hexahedra(mesh_);
+  split_quadratic_cells(mesh_, in_.file());
   check_mesh(mesh_, in_.file());
 }
 

@@ -27,6 +27,7 @@
 #include "volstream/io/xml_scan.h"
 #include "volstream/umesh/mesh_pieces.h"
 #include "volstream/umesh/polyhedra.h"
+#include "volstream/umesh/quadratic.h"
 
 namespace vs {
 namespace {
@@ -693,6 +694,7 @@ MeshData read_block(const fs::path& file) {
 
 MeshData checked(MeshData mesh, const fs::path& file) {
   voxels_to_hexahedra(mesh);
+  split_quadratic_cells(mesh, file.string());
   check_mesh(mesh, file.string());
   return mesh;
 }

@@ -34,6 +34,16 @@ const char* cell_type_name(uint32_t vtk_type) {
       return "quadratic tetra";
     case 25:
       return "quadratic hexahedron";
+    case 26:
+      return "quadratic wedge";
+    case 27:
+      return "quadratic pyramid";
+    case 29:
+      return "triquadratic hexahedron";
+    case 32:
+      return "biquadratic-quadratic wedge";
+    case 33:
+      return "biquadratic-quadratic hexahedron";
     case 42:
       return "polyhedron";
     default:
@@ -54,9 +64,11 @@ void check_cells(const MeshData& m, const std::string& file) {
     if (cell_vertex_count(m.cell_types[i]) == 0) ++unsupported[m.cell_types[i]];
   if (!unsupported.empty()) {
     const auto& [type, count] = *unsupported.begin();
-    input_error(file, "unsupported cell type " + std::to_string(type) + " (" + cell_type_name(type) + ") in " +
-                          std::to_string(count) + " cells (volstream renders tetra 10, hexahedron 12, wedge 13, " +
-                          "pyramid 14; voxels 11 and polyhedra 42 of VTK files as hexahedra and tets and pyramids)");
+    input_error(file,
+                "unsupported cell type " + std::to_string(type) + " (" + cell_type_name(type) + ") in " +
+                    std::to_string(count) + " cells (volstream renders tetra 10, hexahedron 12, wedge 13, " +
+                    "pyramid 14; of VTK files also voxels 11, polyhedra 42 and the quadratic cells 24-27, 29, 32 " +
+                    "and 33, split into those)");
   }
   input_check(m.cell_offsets[0] == 0 && m.cell_offsets[n] == m.connectivity.size(), file,
               "cell offsets do not span the connectivity array");

@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "volstream/core/error.h"
+#include "volstream/umesh/cell_rebuild.h"
 
 namespace vs {
 namespace {
@@ -79,16 +80,8 @@ void check_faces(const PolyhedronFaces& f, uint64_t cells, uint64_t points, cons
 // The mean of `vertices` as a new point of `m`, its data the mean of theirs (so that a field
 // linear in space stays exact); returns its index.
 uint64_t add_mean_point(MeshData& m, std::span<const uint64_t> vertices) {
-  m.points.push_back(mean_point(m, vertices));
-  for (MeshArray& a : m.point_data) {
-    const auto components = size_t(a.components);
-    for (size_t k = 0; k < components; ++k) {
-      double total = 0.0;
-      for (uint64_t v : vertices) total += a.values[v * components + k];
-      a.values.push_back(total / double(vertices.size()));
-    }
-  }
-  return m.points.size() - 1;
+  const std::vector<double> weights(vertices.size(), 1.0 / double(vertices.size()));
+  return add_combined_point(m, vertices, weights);
 }
 
 // Splits one polyhedron at a time, adding its centroid and the centres of its faces of more
@@ -285,19 +278,6 @@ class PolyhedronSplitter {
   std::map<std::vector<uint64_t>, uint64_t> face_centres_;  // by the face's sorted vertices
 };
 
-// The cell data of the new cells: new cell i has old cell source[i]'s.
-void take_cell_data(std::vector<MeshArray>& arrays, const std::vector<uint64_t>& source) {
-  for (MeshArray& a : arrays) {
-    const auto components = size_t(a.components);
-    std::vector<double> values;
-    values.reserve(source.size() * components);
-    for (uint64_t c : source)
-      values.insert(values.end(), a.values.begin() + int64_t(c * components),
-                    a.values.begin() + int64_t((c + 1) * components));
-    a.values = std::move(values);
-  }
-}
-
 }  // namespace
 
 void PolyhedronFaces::add_face_stream(std::span<const uint64_t> stream, uint64_t cell, const std::string& file) {
@@ -335,37 +315,17 @@ PolyhedronFaces faces_in_connectivity(const MeshData& m, const std::string& file
 void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::string& file) {
   if (std::find(m.cell_types.begin(), m.cell_types.end(), kVtkPolyhedron) == m.cell_types.end()) return;
   check_faces(faces, m.cell_count(), m.points.size(), file);
-  // The readers check these; the split below indexes by them.
-  input_check(m.cell_offsets.size() == m.cell_count() + 1 && m.cell_offsets.back() == m.connectivity.size(), file,
-              "polyhedra: the cell offsets do not match the cells");
-  const auto match = [](const std::vector<MeshArray>& arrays, uint64_t tuples) {
-    return std::all_of(arrays.begin(), arrays.end(), [&](const MeshArray& a) {
-      return a.components >= 1 && a.values.size() == tuples * uint64_t(a.components);
-    });
-  };
-  input_check(match(m.point_data, m.points.size()) && match(m.cell_data, m.cell_count()), file,
-              "polyhedra: a data array does not match the points or cells");
-  std::vector<uint8_t> types;
-  std::vector<uint64_t> offsets{0}, connectivity, source;
-  auto add = [&](uint8_t type, std::span<const uint64_t> v, uint64_t from) {
-    types.push_back(type);
-    connectivity.insert(connectivity.end(), v.begin(), v.end());
-    offsets.push_back(connectivity.size());
-    source.push_back(from);
-  };
+  check_rebuild_input(m, "polyhedra", file);
+  CellRebuild cells;
   PolyhedronSplitter splitter(m, faces, file);
   for (uint64_t c = 0; c < m.cell_count(); ++c) {
     if (m.cell_types[c] != kVtkPolyhedron) {
-      add(m.cell_types[c],
-          std::span(m.connectivity).subspan(m.cell_offsets[c], m.cell_offsets[c + 1] - m.cell_offsets[c]), c);
+      cells.keep(m, c);
       continue;
     }
-    for (const Piece& p : splitter.split(c)) add(uint8_t(type_of(p)), std::span(p.v.data(), size_t(p.count)), c);
+    for (const Piece& p : splitter.split(c)) cells.add(uint8_t(type_of(p)), std::span(p.v.data(), size_t(p.count)), c);
   }
-  m.cell_types = std::move(types);
-  m.cell_offsets = std::move(offsets);
-  m.connectivity = std::move(connectivity);
-  take_cell_data(m.cell_data, source);
+  cells.finish(m);
 }
 
 }  // namespace vs

@@ -188,6 +188,109 @@ def write_polyhedra():
         legacy.Write()
 
 
+def quadratic_mesh(curved=True):
+    """One cell of each quadratic type volstream reads, side by side along x, and a second
+    quadratic hexahedron sharing a face with the first: every node at its parametric place in a
+    unit cell (a unit cube, or the part of it a tet, wedge or pyramid fills), then, if `curved`,
+    moved by a smooth map, so that the cells are curved. Returns the grid (point
+    arrays f = 1 + 2x + 3y + 4z, linear, and g = xy + z^2 + x^2, a cell array cell_id) and
+    probes: rows (x, y, z, g) where VTK's own cell puts each of its nodes and the parametric
+    centres of its quad faces and body (the corners of volstream's split), with the value of g
+    that the cell's shape functions give there."""
+    grid = vtk.vtkUnstructuredGrid()
+    points = vtk.vtkPoints()
+    index = {}
+
+    def curve(x, y, z):
+        if not curved:
+            return (x, y, z)
+        return (x + 0.05 * y * y, y + 0.04 * z * z, z + 0.06 * y * (1 - y))
+
+    def point(p):
+        key = tuple(round(c, 9) for c in p)
+        if key not in index:
+            index[key] = points.InsertNextPoint(curve(*key))
+        return index[key]
+
+    cells = []
+    for origin, cell_class in ((0, vtk.vtkQuadraticHexahedron), (1, vtk.vtkQuadraticHexahedron),
+                               (3, vtk.vtkTriQuadraticHexahedron), (5, vtk.vtkQuadraticTetra),
+                               (7, vtk.vtkQuadraticWedge), (9, vtk.vtkBiQuadraticQuadraticWedge),
+                               (11, vtk.vtkQuadraticPyramid), (13, vtk.vtkBiQuadraticQuadraticHexahedron)):
+        cell = cell_class()
+        pcoords = cell.GetParametricCoords()
+        ids = vtk.vtkIdList()
+        for n in range(cell.GetNumberOfPoints()):
+            r, s, t = pcoords[3 * n:3 * n + 3]
+            if cell_class is vtk.vtkQuadraticPyramid:  # VTK's parametric apex is (0,0,1): put it above the centre
+                r, s = r + 0.5 * t * (1 - 2 * r), s + 0.5 * t * (1 - 2 * s)
+            ids.InsertNextId(point((origin + r, s, t)))
+        grid.InsertNextCell(cell.GetCellType(), ids)
+        cells.append(cell_class)
+    grid.SetPoints(points)
+    for name, formula in (("f", lambda x, y, z: 1 + 2 * x + 3 * y + 4 * z), ("g", lambda x, y, z: x * y + z * z + x * x)):
+        values = vtk.vtkDoubleArray()
+        values.SetName(name)
+        for i in range(points.GetNumberOfPoints()):
+            values.InsertNextValue(formula(*points.GetPoint(i)))
+        grid.GetPointData().AddArray(values)
+    cell_id = vtk.vtkIntArray()
+    cell_id.SetName("cell_id")
+    for c in range(grid.GetNumberOfCells()):
+        cell_id.InsertNextValue(c)
+    grid.GetCellData().AddArray(cell_id)
+    return grid, quadratic_probes(grid)
+
+
+def quadratic_probes(grid):
+    g = grid.GetPointData().GetArray("g")
+    rows = []
+    for c in range(grid.GetNumberOfCells()):
+        cell = grid.GetCell(c)
+        n = cell.GetNumberOfPoints()
+        own = cell.GetParametricCoords()
+        at = [tuple(own[3 * k:3 * k + 3]) for k in range(n)]
+        if cell.GetCellType() in (vtk.VTK_QUADRATIC_HEXAHEDRON, vtk.VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON):
+            at += [(0, .5, .5), (1, .5, .5), (.5, 0, .5), (.5, 1, .5), (.5, .5, 0), (.5, .5, 1), (.5, .5, .5)]
+        if cell.GetCellType() == vtk.VTK_QUADRATIC_WEDGE:
+            at += [(.5, 0, .5), (.5, .5, .5), (0, .5, .5)]
+        if cell.GetCellType() == vtk.VTK_QUADRATIC_PYRAMID:
+            at += [(.5, .5, 0)]
+        for pc in at:
+            x, weights = [0.0] * 3, [0.0] * n
+            cell.EvaluateLocation(vtk.reference(0), pc, x, weights)
+            value = sum(weights[k] * g.GetValue(cell.GetPointId(k)) for k in range(n))
+            rows.append((*x, value))
+    return rows
+
+
+def write_quadratic():
+    """The curved quadratic cells as vtk_quadratic.vtu (appended raw) and ../vtk/vtk_quadratic.vtk
+    (legacy 5.1, binary), and their probes as vtk_quadratic_probes.txt; the straight ones as
+    vtk_quadratic_straight.vtu (ascii)."""
+    grid, probes = quadratic_mesh()
+    xml = vtk.vtkXMLUnstructuredGridWriter()
+    xml.SetInputData(grid)
+    xml.SetFileName("vtk_quadratic.vtu")
+    xml.SetDataModeToAppended()
+    xml.EncodeAppendedDataOff()
+    xml.Write()
+    legacy = vtk.vtkUnstructuredGridWriter()
+    legacy.SetInputData(grid)
+    legacy.SetFileName("../vtk/vtk_quadratic.vtk")
+    legacy.SetFileTypeToBinary()
+    legacy.Write()
+    straight = vtk.vtkXMLUnstructuredGridWriter()
+    straight.SetInputData(quadratic_mesh(curved=False)[0])
+    straight.SetFileName("vtk_quadratic_straight.vtu")
+    straight.SetDataModeToAscii()
+    straight.Write()
+    with open("vtk_quadratic_probes.txt", "w") as out:
+        out.write("# x y z g: VTK's quadratic cells' nodes and face and body centres (make_vtk_files.py)\n")
+        for row in probes:
+            out.write(" ".join(repr(v) for v in row) + "\n")
+
+
 if __name__ == "__main__":
     mesh = tets()
     write_compressed(mesh)
@@ -195,3 +298,4 @@ if __name__ == "__main__":
     write_blocks()
     write_voxels()
     write_polyhedra()
+    write_quadratic()

@@ -1,0 +1,250 @@
+#include "volstream/umesh/quadratic.h"
+
+#include <algorithm>
+#include <array>
+#include <map>
+#include <span>
+#include <vector>
+
+#include "volstream/core/error.h"
+#include "volstream/umesh/cell_rebuild.h"
+
+namespace vs {
+namespace {
+
+constexpr auto kTet = uint8_t(CellType::tet), kHex = uint8_t(CellType::hex), kWedge = uint8_t(CellType::wedge),
+               kPyramid = uint8_t(CellType::pyramid);
+
+// A node a quadratic cell lacks, at -1/4 of each of its `corners` nodes and `mid_weight` of each of
+// its `mids` (VTK's shape functions there): a serendipity quad face's centre (4 corners, 4 mid-edge
+// nodes at 1/2), shared with the cell across the face, or a hex's body centre.
+struct Centre {
+  std::array<uint8_t, 8> corner;
+  std::array<uint8_t, 12> mid;
+  uint8_t corners, mids;
+  double mid_weight;
+  bool on_face;
+};
+
+constexpr Centre face(std::array<uint8_t, 4> c, std::array<uint8_t, 4> m) {
+  return {{c[0], c[1], c[2], c[3]}, {m[0], m[1], m[2], m[3]}, 4, 4, 0.5, true};
+}
+
+// The hex27's face centres 20-25 (faces x = 0, x = 1, y = 0, y = 1, z = 0, z = 1 of the
+// parametric cube) from a hex20's nodes, then its body centre 26.
+constexpr std::array<Centre, 7> kHex20Centres = {
+    face({0, 3, 4, 7}, {11, 15, 16, 19}),
+    face({1, 2, 5, 6}, {9, 13, 17, 18}),
+    face({0, 1, 4, 5}, {8, 12, 16, 17}),
+    face({2, 3, 6, 7}, {10, 14, 18, 19}),
+    face({0, 1, 2, 3}, {8, 9, 10, 11}),
+    face({4, 5, 6, 7}, {12, 13, 14, 15}),
+    Centre{{0, 1, 2, 3, 4, 5, 6, 7}, {8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19}, 8, 12, 0.25, false}};
+// A hex24 has the side faces' centres (20-23); its faces z = 0 and z = 1 are serendipity quads,
+// and its body centre is the centre of the quad of its mid-height nodes 16-19 and 20-23.
+constexpr std::array<Centre, 3> kHex24Centres = {face({0, 1, 2, 3}, {8, 9, 10, 11}),
+                                                 face({4, 5, 6, 7}, {12, 13, 14, 15}),
+                                                 Centre{{16, 17, 18, 19}, {20, 21, 22, 23}, 4, 4, 0.5, false}};
+// The wedge18's quad face centres 15-17 from a wedge15's nodes.
+constexpr std::array<Centre, 3> kWedge15Centres = {
+    face({0, 1, 3, 4}, {6, 9, 12, 13}), face({1, 2, 4, 5}, {7, 10, 13, 14}), face({0, 2, 3, 5}, {8, 11, 12, 14})};
+// A pyramid13's base centre (node 13 of its split).
+constexpr std::array<Centre, 1> kPyramid13Centres = {face({0, 1, 2, 3}, {5, 6, 7, 8})};
+
+// The hex27's node at parametric grid point (i, j, k) / 2, as kHex27Node[k][j][i].
+constexpr uint8_t kHex27Node[3][3][3] = {{{0, 8, 1}, {11, 24, 9}, {3, 10, 2}},
+                                         {{16, 22, 17}, {20, 26, 21}, {19, 23, 18}},
+                                         {{4, 12, 5}, {15, 25, 13}, {7, 14, 6}}};
+constexpr uint8_t kHexCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                      {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+
+// The wedge18's nodes by layer (bottom, mid-height, top), each as its triangle's corners a, b, c
+// and its mid-edge nodes ab, bc, ca; and the four triangles of a layer, by those positions.
+constexpr uint8_t kWedge18Layer[3][6] = {{0, 1, 2, 6, 7, 8}, {12, 13, 14, 15, 16, 17}, {3, 4, 5, 9, 10, 11}};
+constexpr uint8_t kLayerTriangle[4][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {3, 4, 5}};
+
+// A tet10's corner tets, and its inner octahedron's four tets around each of its diagonals 4-9,
+// 5-7 and 6-8 (each in VTK's orientation, as the cell is).
+constexpr uint8_t kTet10Corner[4][4] = {{0, 4, 6, 7}, {4, 1, 5, 8}, {6, 5, 2, 9}, {7, 8, 9, 3}};
+constexpr uint8_t kTet10Diagonal[3][2] = {{4, 9}, {5, 7}, {6, 8}};
+constexpr uint8_t kTet10Octahedron[3][4][4] = {{{4, 9, 5, 6}, {4, 9, 6, 7}, {4, 9, 7, 8}, {4, 9, 8, 5}},
+                                               {{5, 7, 6, 4}, {5, 7, 9, 6}, {5, 7, 8, 9}, {5, 7, 4, 8}},
+                                               {{6, 8, 4, 5}, {6, 8, 5, 9}, {6, 8, 9, 7}, {6, 8, 7, 4}}};
+
+// A pyramid with its base centre (node 13): a pyramid on each quarter of the base, one on the
+// quad of the side edges' mid-nodes up to the apex and one down to the base centre, and a tet
+// between each side's two.
+constexpr uint8_t kPyramid14Pyramids[6][5] = {{0, 5, 13, 8, 9},  {5, 1, 6, 13, 10},  {13, 6, 2, 7, 11},
+                                              {8, 13, 7, 3, 12}, {9, 10, 11, 12, 4}, {9, 12, 11, 10, 13}};
+constexpr uint8_t kPyramid14Tets[4][4] = {{5, 13, 9, 10}, {6, 13, 10, 11}, {7, 13, 11, 12}, {8, 13, 12, 9}};
+
+std::span<const Centre> centres_of(uint8_t type) {
+  switch (QuadraticCell(type)) {
+    case QuadraticCell::hex20:
+      return kHex20Centres;
+    case QuadraticCell::hex24:
+      return kHex24Centres;
+    case QuadraticCell::wedge15:
+      return kWedge15Centres;
+    case QuadraticCell::pyramid13:
+      return kPyramid13Centres;
+    default:
+      return {};
+  }
+}
+
+// Splits one quadratic cell at a time; face centres are kept by their nodes, for the cell on the
+// face's other side.
+class QuadraticSplitter {
+ public:
+  QuadraticSplitter(MeshData& mesh, CellRebuild& cells) : mesh_(mesh), cells_(cells) {}
+
+  void split(uint64_t c) {
+    const uint8_t type = mesh_.cell_types[c];
+    const auto begin = mesh_.connectivity.begin() + int64_t(mesh_.cell_offsets[c]);
+    nodes_.assign(begin, begin + quadratic_node_count(type));
+    for (const Centre& centre : centres_of(type)) nodes_.push_back(add_centre(centre));
+    switch (QuadraticCell(type)) {
+      case QuadraticCell::tet10:
+        return split_tet10(c);
+      case QuadraticCell::hex20:
+      case QuadraticCell::hex24:
+      case QuadraticCell::hex27:
+        return split_hex27(c);
+      case QuadraticCell::wedge15:
+      case QuadraticCell::wedge18:
+        return split_wedge18(c);
+      case QuadraticCell::pyramid13:
+        return split_pyramid14(c);
+    }
+  }
+
+ private:
+  template <size_t N>
+  void add(uint8_t type, const uint8_t (&local)[N], uint64_t c) {
+    std::array<uint64_t, N> v;
+    for (size_t k = 0; k < N; ++k) v[k] = nodes_[local[k]];
+    cells_.add(type, v, c);
+  }
+
+  uint64_t add_centre(const Centre& centre) {
+    vertices_.clear();
+    weights_.clear();
+    for (int k = 0; k < centre.corners; ++k) {
+      vertices_.push_back(nodes_[centre.corner[size_t(k)]]);
+      weights_.push_back(-0.25);
+    }
+    for (int k = 0; k < centre.mids; ++k) {
+      vertices_.push_back(nodes_[centre.mid[size_t(k)]]);
+      weights_.push_back(centre.mid_weight);
+    }
+    if (!centre.on_face) return add_combined_point(mesh_, vertices_, weights_);
+    std::array<uint64_t, 8> key;
+    std::copy_n(vertices_.begin(), 8, key.begin());
+    std::sort(key.begin(), key.end());
+    const auto [at, added] = face_centres_.try_emplace(key, 0);
+    if (added) at->second = add_combined_point(mesh_, vertices_, weights_);
+    return at->second;
+  }
+
+  void split_tet10(uint64_t c) {
+    for (const auto& tet : kTet10Corner) add(kTet, tet, c);
+    // The shortest diagonal gives the best-shaped tets; any of the three fills the octahedron.
+    int best = 0;
+    double best_length = INFINITY;
+    for (int d = 0; d < 3; ++d) {
+      const vec3d e = mesh_.points[nodes_[kTet10Diagonal[d][1]]] - mesh_.points[nodes_[kTet10Diagonal[d][0]]];
+      if (dot(e, e) < best_length) best_length = dot(e, e), best = d;
+    }
+    for (const auto& tet : kTet10Octahedron[best]) add(kTet, tet, c);
+  }
+
+  void split_hex27(uint64_t c) {
+    for (int k = 0; k < 2; ++k)
+      for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+          uint8_t hex[8];
+          for (int n = 0; n < 8; ++n)
+            hex[n] = kHex27Node[k + kHexCorner[n][2]][j + kHexCorner[n][1]][i + kHexCorner[n][0]];
+          add(kHex, hex, c);
+        }
+  }
+
+  void split_wedge18(uint64_t c) {
+    for (int layer = 0; layer < 2; ++layer)
+      for (const auto& triangle : kLayerTriangle) {
+        uint8_t wedge[6];
+        for (int n = 0; n < 3; ++n) {
+          wedge[n] = kWedge18Layer[layer][triangle[n]];
+          wedge[n + 3] = kWedge18Layer[layer + 1][triangle[n]];
+        }
+        add(kWedge, wedge, c);
+      }
+  }
+
+  void split_pyramid14(uint64_t c) {
+    for (const auto& pyramid : kPyramid14Pyramids) add(kPyramid, pyramid, c);
+    for (const auto& tet : kPyramid14Tets) add(kTet, tet, c);
+  }
+
+  MeshData& mesh_;
+  CellRebuild& cells_;
+  std::vector<uint64_t> nodes_, vertices_;
+  std::vector<double> weights_;
+  std::map<std::array<uint64_t, 8>, uint64_t> face_centres_;  // by the face's sorted nodes
+};
+
+void check_quadratic_cells(const MeshData& m, const std::string& file) {
+  for (uint64_t c = 0; c < m.cell_count(); ++c) {
+    const int nodes = quadratic_node_count(m.cell_types[c]);
+    if (nodes == 0) continue;
+    const uint64_t begin = m.cell_offsets[c], count = m.cell_offsets[c + 1] - begin;
+    if (count != uint64_t(nodes))
+      input_error(file, "cell " + std::to_string(c) + " (" + cell_type_name(m.cell_types[c]) + ") has " +
+                            std::to_string(count) + " vertices, expected " + std::to_string(nodes));
+    for (uint64_t k = begin; k < begin + count; ++k)
+      if (m.connectivity[k] >= m.points.size())
+        input_error(file, "connectivity entry " + std::to_string(k) + " = " + std::to_string(m.connectivity[k]) +
+                              " is out of range (" + std::to_string(m.points.size()) + " points)");
+  }
+}
+
+}  // namespace
+
+int quadratic_node_count(uint32_t vtk_type) {
+  switch (vtk_type) {
+    case uint32_t(QuadraticCell::tet10):
+      return 10;
+    case uint32_t(QuadraticCell::hex20):
+      return 20;
+    case uint32_t(QuadraticCell::wedge15):
+      return 15;
+    case uint32_t(QuadraticCell::pyramid13):
+      return 13;
+    case uint32_t(QuadraticCell::hex27):
+      return 27;
+    case uint32_t(QuadraticCell::wedge18):
+      return 18;
+    case uint32_t(QuadraticCell::hex24):
+      return 24;
+    default:
+      return 0;
+  }
+}
+
+void split_quadratic_cells(MeshData& m, const std::string& file) {
+  if (std::none_of(m.cell_types.begin(), m.cell_types.end(), [](uint8_t t) { return quadratic_node_count(t) > 0; }))
+    return;
+  check_rebuild_input(m, "quadratic cells", file);
+  check_quadratic_cells(m, file);
+  CellRebuild cells;
+  QuadraticSplitter splitter(m, cells);
+  for (uint64_t c = 0; c < m.cell_count(); ++c)
+    if (quadratic_node_count(m.cell_types[c]) > 0)
+      splitter.split(c);
+    else
+      cells.keep(m, c);
+  cells.finish(m);
+}
+
+}  // namespace vs

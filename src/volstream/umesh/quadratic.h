@@ -1,0 +1,38 @@
+// VTK's quadratic cells as linear elements on their nodes. Finite-element codes write second-order
+// meshes (Abaqus C3D10 and C3D20, ANSYS SOLID187, COMSOL, FEniCS, deal.II and MOOSE's HEX27) as
+// these cells, and ParaView's volume mappers draw them the same way: split into linear pieces.
+#pragma once
+#include <string>
+
+#include "volstream/umesh/mesh_data.h"
+
+namespace vs {
+
+// VTK ids of the quadratic cells split_quadratic_cells() reads.
+enum class QuadraticCell : uint8_t {
+  tet10 = 24,      // quadratic tetra
+  hex20 = 25,      // quadratic hexahedron (serendipity)
+  wedge15 = 26,    // quadratic wedge
+  pyramid13 = 27,  // quadratic pyramid
+  hex27 = 29,      // triquadratic hexahedron
+  wedge18 = 32,    // biquadratic-quadratic wedge
+  hex24 = 33,      // biquadratic-quadratic hexahedron
+};
+
+// Nodes of a quadratic cell type above (10, 20, 15, 13, 27, 18, 24); 0 for any other id.
+int quadratic_node_count(uint32_t vtk_type);
+
+// Replaces each quadratic cell of `mesh` by the linear elements of its nodes, halving each of its
+// edges: a tet10 by 8 tets (its inner octahedron cut along its shortest diagonal), a hex by 8
+// hexes, a wedge by 8 wedges, a pyramid by 6 pyramids and 4 tets. The nodes a cell lacks for that
+// (the centres of a serendipity quad face and of a hex's body) are added as points where the
+// cell's own shape functions put them, with the values those functions give there: -1/4 of each
+// corner and +1/2 of each mid-edge node for a quad face, as VTK's cells give. A face's centre is
+// shared by the two cells on it. The pieces keep the cell's orientation and its cell data. So the
+// field is exact at every node and piecewise linear (trilinear) between them, and exact
+// everywhere for a field linear in space; a curved cell's faces become flat or bilinear pieces
+// through its nodes. Other cells are left as they are. InputError naming `file` for a quadratic
+// cell with the wrong number of vertices or a vertex index out of range.
+void split_quadratic_cells(MeshData& mesh, const std::string& file);
+
+}  // namespace vs

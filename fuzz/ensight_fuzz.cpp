@@ -1,6 +1,7 @@
 // EnSight Gold: the test cases of tests/data/ensight (ASCII, big-endian C Binary: two parts of
 // volume elements with polyhedra, a boundary part, node and element ids, two steps, scalar and
-// vector variables per node and per element; VTK's little-endian C Binary) with one of their
+// vector variables per node and per element; VTK's little-endian C Binary, of linear and of
+// quadratic elements) with one of their
 // files patched or truncated, read step by step as `convert` reads them.
 #include <algorithm>
 #include <iterator>
@@ -9,7 +10,8 @@
 #include "volstream/io/ensight.h"
 
 namespace {
-const std::filesystem::path kCases[] = {"ascii/mesh.case", "big_endian/mesh.case", "vtk/mixed.0.case"};
+const std::filesystem::path kCases[] = {"ascii/mesh.case", "big_endian/mesh.case", "vtk/mixed.0.case",
+                                        "vtk_quadratic/quadratic.0.case"};
 
 void read_all_steps(const std::filesystem::path& file) {
   const vs::EnsightCase c = vs::read_ensight_case(file);

@@ -1,5 +1,5 @@
-// Legacy VTK: valid files of every writer option (ascii/binary, 4.2/5.1) and of polyhedra, with
-// one of them patched or truncated.
+// Legacy VTK: valid files of every writer option (ascii/binary, 4.2/5.1), of polyhedra and of
+// VTK's quadratic cells (tests/data/vtk/vtk_quadratic.vtk), with one of them patched or truncated.
 #include <fstream>
 #include <string>
 
@@ -47,6 +47,7 @@ std::vector<std::filesystem::path> make_bases(const std::filesystem::path& dir) 
     files.push_back(dir / (version5 ? "polyhedra51.vtk" : "polyhedra42.vtk"));
     std::ofstream(files.back()) << polyhedra_vtk(version5);
   }
+  files.push_back(std::filesystem::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "vtk" / "vtk_quadratic.vtk");
   return files;
 }
 }  // namespace

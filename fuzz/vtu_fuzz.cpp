@@ -2,8 +2,8 @@
 // inline base64 + zlib, appended raw, appended raw + LZ4, appended raw + LZMA, appended base64 +
 // zlib with UInt32 headers and two pieces' worth of arrays), a .pvd, a .pvtu of two ascii pieces
 // with ghost cells (pieces_0.vtu and pieces_1.vtu, also read alone), a .vtm of a .vtu, the .pvtu
-// and a surface, a JSON .series, and polyhedra in both of VTK's layouts, one of them patched or
-// truncated.
+// and a surface, a JSON .series, polyhedra in both of VTK's layouts and VTK's quadratic cells
+// (tests/data/vtu/vtk_quadratic.vtu), one of them patched or truncated.
 #include <algorithm>
 #include <fstream>
 #include <string>
@@ -74,6 +74,9 @@ void make_base(const std::filesystem::path& dir) {
                                        "<DataSet file=\"walls.vtp\"/></vtkMultiBlockDataSet></VTKFile>\n";
   std::ofstream(dir / "polyhedra_streams.vtu") << polyhedra_vtu(false);
   std::ofstream(dir / "polyhedra_tables.vtu") << polyhedra_vtu(true);
+  std::filesystem::copy_file(
+      std::filesystem::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "vtu" / "vtk_quadratic.vtu",
+      dir / "quadratic.vtu", std::filesystem::copy_options::overwrite_existing);
   std::ofstream(dir / "steps.series") << "{\"file-series-version\": \"1.0\", \"files\": [{\"name\": \"raw.vtu\", "
                                          "\"time\": 1}, {\"name\": \"ascii.vtu\", \"time\": 0.5}]}\n";
 }

@@ -145,6 +145,29 @@ compare_probes ens_ascii.txt ens_want.txt || fail "the EnSight case does not rep
 echo -n "EnSight big-endian binary against ASCII: "
 compare_probes ens_big_endian.txt ens_ascii.txt || fail "the binary EnSight case probes otherwise"
 
+# VTK's quadratic cells (make_vtk_files.py: one of each type, curved), from .vtu and legacy .vtk,
+# and the EnSight ones as VTK's writer writes them: g = xy + z^2 + x^2 where VTK's shape functions
+# put each node and face and body centre (vtk_quadratic_probes.txt; the pyramid's apex, where a
+# pyramid's map is singular, left out), and the .vtu's split into 32 hexahedra.
+grep -v '^#' "$DATA/vtk_quadratic_probes.txt" | awk 'NR != 132' >quad_rows.txt
+cut -d' ' -f1-3 quad_rows.txt >quad_points.txt
+cut -d' ' -f4 quad_rows.txt >quad_want.txt
+for f in "$DATA/vtk_quadratic.vtu" "$LEGACY/vtk_quadratic.vtk"; do
+  name=$(basename "$f" | tr . _)
+  "$VS" convert "$f" -o "$name" -q
+  "$VS" info "$name" --json | grep -q '"hexahedron": 32,' || fail "$f: not 32 hexahedra after the split"
+  "$VS" probe "$name" --field g --points quad_points.txt >"$name.txt"
+  echo -n "$(basename "$f"): "
+  compare_probes "$name.txt" quad_want.txt || fail "$f: the quadratic cells' nodes and centres are not VTK's"
+done
+"$VS" convert "$DATA/../ensight/vtk_quadratic/quadratic.0.case" -o ens_quadratic -q
+"$VS" info ens_quadratic --json | grep -q '"hexahedron": 16,' || fail "EnSight hexa20: not 16 hexahedra"
+awk '$1 < 2.5 || ($1 > 4.5 && $1 < 8.5) || ($1 > 10.5 && $1 < 12.5)' quad_points.txt >ens_quad_points.txt
+"$VS" probe ens_quadratic --field g_n --points ens_quad_points.txt >ens_quad.txt
+"$VS" probe vtk_quadratic_vtu --field g --points ens_quad_points.txt >ens_quad_want.txt
+echo -n "EnSight tetra10, pyramid13, penta15, hexa20: "
+compare_probes ens_quad.txt ens_quad_want.txt || fail "the EnSight quadratic elements probe otherwise than the .vtu's"
+
 # Bad input: a truncated file, a .pvd whose steps have different meshes, an unknown scalars spec.
 head -c 3000 m.vtu >trunc.vtu
 expect_bad_input "truncated .vtu" convert trunc.vtu -o bad1

@@ -11,6 +11,7 @@
 #include "volstream/io/binary_file.h"
 #include "volstream/io/parse_cursor.h"
 #include "volstream/umesh/mesh_pieces.h"
+#include "volstream/umesh/quadratic.h"
 
 namespace vs {
 namespace fs = std::filesystem;
@@ -285,18 +286,25 @@ bool ids_listed(IdMode m) { return m == IdMode::given || m == IdMode::ignore; }
 
 struct ElementType {
   const char* name;
-  int nodes;        // 0: nsided and nfaced (their own counts)
-  uint8_t vtk = 0;  // 0: not a volume element, skipped
-  std::array<int, 6> wedge_order{};
+  int nodes;                        // 0: nsided and nfaced (their own counts)
+  uint8_t vtk = 0;                  // 0: not a volume element, skipped
+  std::array<uint8_t, 15> order{};  // VTK's node k is EnSight's node order[k] (when `reordered`)
+  bool reordered = false;
 };
-// EnSight's penta6 has its first triangle's normal towards the second; VTK's wedge the other way.
+// EnSight's penta6 and penta15 have their first triangle's normal towards the second; VTK's
+// wedges the other way, so corners 1 and 2 (4 and 5) swap, and the mid-edge nodes with them.
+// The other types list their nodes as VTK does.
 constexpr ElementType kElementTypes[] = {
-    {"point", 1},     {"bar2", 2},    {"bar3", 3},       {"tria3", 3},        {"tria6", 6},
-    {"quad4", 4},     {"quad8", 8},   {"tetra4", 4, 10}, {"pyramid5", 5, 14}, {"penta6", 6, 13, {0, 2, 1, 3, 5, 4}},
-    {"hexa8", 8, 12}, {"nsided", 0},  {"nfaced", 0, 42}, {"tetra10", 10},     {"pyramid13", 13},
-    {"penta15", 15},  {"hexa20", 20},
+    {"point", 1},          {"bar2", 2},
+    {"bar3", 3},           {"tria3", 3},
+    {"tria6", 6},          {"quad4", 4},
+    {"quad8", 8},          {"tetra4", 4, 10},
+    {"pyramid5", 5, 14},   {"penta6", 6, 13, {0, 2, 1, 3, 5, 4}, true},
+    {"hexa8", 8, 12},      {"nsided", 0},
+    {"nfaced", 0, 42},     {"tetra10", 10, 24},
+    {"pyramid13", 13, 27}, {"penta15", 15, 26, {0, 2, 1, 3, 5, 4, 8, 7, 6, 11, 10, 9, 12, 14, 13}, true},
+    {"hexa20", 20, 25},
 };
-constexpr const char* kQuadratic[] = {"tetra10", "pyramid13", "penta15", "hexa20"};
 
 const ElementType* element_type(const std::string& keyword) {
   const std::string_view name =
@@ -335,7 +343,7 @@ void add_fixed_block(EnsightFile& f, const ElementType& t, uint64_t count, bool 
   MeshData& m = part.mesh;
   for (uint64_t e = 0; e < count; ++e) {
     const uint64_t* v = nodes.data() + e * uint64_t(t.nodes);
-    for (int k = 0; k < t.nodes; ++k) m.connectivity.push_back(t.vtk == 13 ? v[t.wedge_order[size_t(k)]] : v[k]);
+    for (int k = 0; k < t.nodes; ++k) m.connectivity.push_back(t.reordered ? v[t.order[size_t(k)]] : v[k]);
     m.cell_types.push_back(t.vtk);
     m.cell_offsets.push_back(m.connectivity.size());
     part.faces.add_other_cell();
@@ -387,10 +395,6 @@ void add_variable_block(EnsightFile& f, const ElementType& t, uint64_t count, bo
 void read_element_block(EnsightFile& f, const std::string& keyword, IdMode elements, EnsightGeometry::Part& part) {
   const ElementType* t = element_type(keyword);
   if (!t) f.fail("unknown element type '" + keyword.substr(0, 40) + "'");
-  for (const char* q : kQuadratic)
-    if (std::string_view(t->name) == q)
-      f.fail(std::string("quadratic elements (") + q +
-             ") are not read; write linear elements (tetra4, pyramid5, penta6, hexa8)");
   const bool keep = t->vtk != 0 && !keyword.starts_with("g_");
   const uint64_t count = f.count("element count", uint64_t(std::max(t->nodes, 1) + (ids_listed(elements) ? 1 : 0)));
   if (ids_listed(elements)) f.skip_integers(count, "element ids");
@@ -567,8 +571,10 @@ MeshData read_ensight_step(const EnsightCase& c, const EnsightGeometry& g, size_
     split_polyhedra(parts[i], g.parts[i].faces, origin);
     volume.push_back(std::move(parts[i]));
   }
-  input_check(!volume.empty(), origin, "no part has volume elements (tetra4, pyramid5, penta6, hexa8, nfaced)");
+  input_check(!volume.empty(), origin,
+              "no part has volume elements (tetra4, pyramid5, penta6, hexa8, nfaced, or the quadratic ones)");
   MeshData m = join_pieces(std::move(volume), origin);
+  split_quadratic_cells(m, origin);
   check_mesh(m, origin);
   return m;
 }

@@ -1,13 +1,14 @@
 // EnSight Gold (the case format that Fluent, STAR-CCM+, CFX and OpenFOAM's foamToEnsight write
 // for visualisation): a .case file naming a geometry file and variable files, over time steps.
 // Read here: "C Binary" (either byte order) and ASCII files; unstructured parts of tetra4,
-// pyramid5, penta6, hexa8 and nfaced (polyhedra, split as umesh/polyhedra.h says) elements,
-// node and element ids off, assign, given or ignore; scalar and vector variables per node and
-// per element; one time set (numbered files, '*' wildcards). Surface and line elements (the
+// pyramid5, penta6, hexa8, nfaced (polyhedra, split as umesh/polyhedra.h says) and the quadratic
+// tetra10, pyramid13, penta15 and hexa20 (split as umesh/quadratic.h says) elements, node and
+// element ids off, assign, given or ignore; scalar and vector variables per node and per
+// element; one time set (numbered files, '*' wildcards). Surface and line elements (the
 // boundary parts beside the volume) and ghost elements (g_*) are skipped, with their values;
 // parts without volume elements are left out. Refused with one line: Fortran binary files,
-// structured (block) parts, quadratic elements, partial or undefined variable values, several
-// time sets, single-file (FILE section) cases.
+// structured (block) parts, partial or undefined variable values, several time sets,
+// single-file (FILE section) cases.
 #pragma once
 #include <cstdint>
 #include <filesystem>

@@ -10,6 +10,8 @@
   v = (x, y, z); per element "cell" (1, 2, 3, ... within each part).
 - vtk/: volstream's demo mixed mesh (tests/data/ensight/vtk/mixed.vtu, written by `volstream demo
   mixed --elements 300 --steps 1 --write-mesh`) as VTK's vtkEnSightWriter writes it (C Binary).
+- vtk_quadratic/: the quadratic cells of ../vtu/vtk_quadratic.vtu that EnSight has (tetra10,
+  pyramid13, penta15, hexa20), as vtkEnSightWriter writes them.
 
 Each case is read back with VTK's vtkGenericEnSightReader, which prints what it found. Run from
 this directory with Debian's python3-vtk9: /usr/bin/python3 make_ensight_files.py
@@ -176,6 +178,29 @@ def write_vtk_case():
     writer.WriteCaseFile(1)
 
 
+def write_vtk_quadratic_case():
+    """The quadratic cells of ../vtu/vtk_quadratic.vtu that EnSight has (tetra10, pyramid13,
+    penta15, hexa20: cells 0, 1, 3, 4 and 6) as vtkEnSightWriter writes them, in vtk_quadratic/."""
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName("../vtu/vtk_quadratic.vtu")
+    ids = vtk.vtkIdList()
+    for c in (0, 1, 3, 4, 6):
+        ids.InsertNextId(c)
+    extract = vtk.vtkExtractCells()
+    extract.SetInputConnection(reader.GetOutputPort())
+    extract.SetCellList(ids)
+    extract.Update()
+    cells = extract.GetOutput()
+    cells.GetCellData().RemoveArray("vtkOriginalCellIds")
+    os.makedirs("vtk_quadratic", exist_ok=True)
+    writer = vtk.vtkEnSightWriter()
+    writer.SetInputData(cells)
+    writer.SetPath("vtk_quadratic")
+    writer.SetBaseName("quadratic")
+    writer.Write()
+    writer.WriteCaseFile(1)
+
+
 def check_with_vtk(case):
     reader = vtk.vtkGenericEnSightReader()
     reader.SetCaseFileName(os.path.abspath(case))
@@ -193,5 +218,6 @@ if __name__ == "__main__":
     write_case("ascii", binary=False)
     write_case("big_endian", binary=True, order=">")
     write_vtk_case()
-    for c in ("ascii/mesh.case", "big_endian/mesh.case", "vtk/mixed.0.case"):
+    write_vtk_quadratic_case()
+    for c in ("ascii/mesh.case", "big_endian/mesh.case", "vtk/mixed.0.case", "vtk_quadratic/quadratic.0.case"):
         check_with_vtk(c)

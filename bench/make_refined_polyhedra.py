@@ -32,6 +32,23 @@ FACES = [((0, 0, 0), (0, 1, 0), (1, 1, 0), (1, 0, 0)), ((0, 0, 1), (1, 0, 1), (1
 HEX = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
 
 
+def write_with_density(grid, points, out):
+    """Adds the point field "density" (a sum of three Gaussians, up to about 1.1) at `points`
+    (an N x 3 array, the grid's) and writes the grid to `out` (.vtu, appended raw)."""
+    density = np.zeros(len(points))
+    for centre, width in (((0.5, 0.5, 0.45), 0.12), ((0.3, 0.6, 0.5), 0.08), ((0.7, 0.35, 0.55), 0.1)):
+        density += np.exp(-np.sum((points - centre) ** 2, axis=1) / (2 * width ** 2))
+    array = numpy_support.numpy_to_vtk(density, deep=True)
+    array.SetName("density")
+    grid.GetPointData().AddArray(array)
+    writer = vtk.vtkXMLUnstructuredGridWriter()
+    writer.SetInputData(grid)
+    writer.SetFileName(out)
+    writer.SetDataModeToAppended()
+    writer.EncodeAppendedDataOff()
+    writer.Write()
+
+
 def main():
     n, out = int(sys.argv[1]), sys.argv[2]
     all_polyhedra = "--all-polyhedra" in sys.argv
@@ -103,18 +120,7 @@ def main():
     vtk_points = vtk.vtkPoints()
     vtk_points.SetData(numpy_support.numpy_to_vtk(points, deep=True))
     grid.SetPoints(vtk_points)
-    density = np.zeros(len(points))
-    for centre, width in (((0.5, 0.5, 0.45), 0.12), ((0.3, 0.6, 0.5), 0.08), ((0.7, 0.35, 0.55), 0.1)):
-        density += np.exp(-np.sum((points - centre) ** 2, axis=1) / (2 * width ** 2))
-    array = numpy_support.numpy_to_vtk(density, deep=True)
-    array.SetName("density")
-    grid.GetPointData().AddArray(array)
-    writer = vtk.vtkXMLUnstructuredGridWriter()
-    writer.SetInputData(grid)
-    writer.SetFileName(out)
-    writer.SetDataModeToAppended()
-    writer.EncodeAppendedDataOff()
-    writer.Write()
+    write_with_density(grid, points, out)
     types = numpy_support.vtk_to_numpy(grid.GetCellTypesArray())
     print(f"{out}: {grid.GetNumberOfCells()} cells ({int((types == 42).sum())} polyhedra, "
           f"{int((types == 12).sum())} hexes), {len(points)} points")

@@ -169,6 +169,18 @@ DemoMesh demo_mesh(const std::string& name, uint64_t elements) {
   return d;
 }
 
+std::vector<float> mesh_field(const MeshData& m, const std::string& name) {
+  for (const MeshFieldRef& f : mesh_fields(m))
+    if (f.name == name) return mesh_field_values(m, f);
+  throw std::runtime_error("no field " + name);
+}
+
+const MeshArray& array_named(const std::vector<MeshArray>& arrays, const std::string& name) {
+  for (const MeshArray& a : arrays)
+    if (a.name == name) return a;
+  throw std::runtime_error("no array " + name);
+}
+
 int expect_probe_is_brute_force(const UMesh& mesh, const WorldTransform& transform, const float* values,
                                 const std::vector<vec3f>& points) {
   const UMeshRenderer renderer(mesh, transform);

@@ -82,4 +82,8 @@ DemoMesh demo_mesh(const std::string& name, uint64_t elements);
 // same points, else relative 1e-5); returns how many points lie in an element.
 int expect_probe_is_brute_force(const UMesh& mesh, const WorldTransform& transform, const float* values,
                                 const std::vector<vec3f>& points);
+// The point or cell field `name` of a mesh as the renderer samples it (umesh/from_mesh_data.h),
+// and the array `name` as read; std::runtime_error if there is none.
+std::vector<float> mesh_field(const MeshData& mesh, const std::string& name);
+const MeshArray& array_named(const std::vector<MeshArray>& arrays, const std::string& name);
 }  // namespace vs::test

@@ -27,18 +27,6 @@ MeshData read_case(const fs::path& file, size_t step) {
   return read_ensight_step(c, read_ensight_geometry(ensight_step_file(c, c.geometry, step)), step);
 }
 
-std::vector<float> field(const MeshData& m, const std::string& name) {
-  for (const MeshFieldRef& f : mesh_fields(m))
-    if (f.name == name) return mesh_field_values(m, f);
-  throw std::runtime_error("no field " + name);
-}
-
-const MeshArray& array_named(const std::vector<MeshArray>& arrays, const std::string& name) {
-  for (const MeshArray& a : arrays)
-    if (a.name == name) return a;
-  throw std::runtime_error("no array " + name);
-}
-
 // The case's field probes as the .vtu's at 4,000 points in the case's box (those of them that
 // `compared` holds, in world coordinates).
 void expect_probes_alike(const MeshData& vtu, const std::string& vtu_field, const MeshData& ens,
@@ -47,7 +35,7 @@ void expect_probes_alike(const MeshData& vtu, const std::string& vtu_field, cons
   const UMesh a = make_umesh(vtu, xf, "vtu"), b = make_umesh(ens, xf, "ensight");
   std::vector<vec3f> points = test::points_around(b.vertices, 4000, 5);
   if (compared) std::erase_if(points, [&](const vec3f& p) { return !compared(xf.to_world(vec3d(p))); });
-  const std::vector<float> fa = field(vtu, vtu_field), fb = field(ens, ens_field);
+  const std::vector<float> fa = test::mesh_field(vtu, vtu_field), fb = test::mesh_field(ens, ens_field);
   const std::vector<float> pa = UMeshRenderer(a, xf).probe(fa.data(), points),
                            pb = UMeshRenderer(b, xf).probe(fb.data(), points);
   int inside = 0;
@@ -96,15 +84,15 @@ TEST(Ensight, AsciiAndBigEndianBinaryCasesAreTheSameMesh) {
     // 4 hexes on nodes of its own, welded to part 1's at x = 3; part 3 (quads) left out.
     EXPECT_EQ(a.cell_count(), 4u + 25u + 1u + 18u + 1u + 1u + 4u);
     EXPECT_EQ(a.points.size(), 45u + 18u - 9u + 2u + 6u);
-    const MeshArray& f = array_named(a.point_data, "f");
-    const MeshArray& v = array_named(a.point_data, "v");
+    const MeshArray& f = test::array_named(a.point_data, "f");
+    const MeshArray& v = test::array_named(a.point_data, "v");
     ASSERT_EQ(v.components, 3);
     for (size_t i = 0; i < a.points.size(); ++i) {
       EXPECT_NEAR(f.values[i], linear(a.points[i]) + 10.0 * double(step), 1e-4) << i;
       EXPECT_NEAR(v.values[3 * i + 1], a.points[i].y, 1e-5) << i;
     }
     std::map<double, int> per_cell;
-    for (double x : array_named(a.cell_data, "cell").values) ++per_cell[x];
+    for (double x : test::array_named(a.cell_data, "cell").values) ++per_cell[x];
     EXPECT_EQ(per_cell[5], 25);  // the cube, element 5 of part 1
     EXPECT_EQ(per_cell[8], 1);   // the wedge
     EXPECT_EQ(per_cell[1], 2);   // a hex of each part
@@ -115,7 +103,7 @@ TEST(Ensight, LinearFieldIsExactThroughPartsAndPolyhedra) {
   const MeshData m = read_case(kDir / "big_endian" / "mesh.case", 0);
   const WorldTransform xf = mesh_transform(m);
   const UMesh mesh = make_umesh(m, xf, "ensight");
-  const std::vector<float> f = field(m, "f");
+  const std::vector<float> f = test::mesh_field(m, "f");
   std::vector<vec3f> points;
   std::vector<vec3d> world;
   for (int i = 0; i < 7; ++i)

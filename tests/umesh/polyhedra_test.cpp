@@ -38,12 +38,6 @@ const double kVolume = 8.0 + 8.0 + 4.0 / 3.0 + kHexagonArea;
 
 double linear(const vec3d& p) { return 1 + 2 * p.x + 3 * p.y + 4 * p.z; }
 
-const MeshArray& array_named(const std::vector<MeshArray>& arrays, const std::string& name) {
-  for (const MeshArray& a : arrays)
-    if (a.name == name) return a;
-  throw std::runtime_error("no array " + name);
-}
-
 // Six times the volume of tet (a, b, c, d), positive in VTK's orientation.
 double tet6(const vec3d& a, const vec3d& b, const vec3d& c, const vec3d& d) { return dot(cross(b - a, c - a), d - a); }
 
@@ -73,7 +67,7 @@ TEST(Polyhedra, VtksFilesSplitIntoTetsAndPyramids) {
     EXPECT_EQ(types[uint8_t(CellType::hex)], 8);
     EXPECT_EQ(m.points.size(), 44u + 2u + 6u);  // a centroid per split polyhedron, a centre per face of 5 or 6
     std::map<double, int> from_cell;
-    for (double id : array_named(m.cell_data, "cell_id").values) ++from_cell[id];
+    for (double id : test::array_named(m.cell_data, "cell_id").values) ++from_cell[id];
     EXPECT_EQ(from_cell[0], 25);
     EXPECT_EQ(from_cell[9], 1);
     EXPECT_EQ(from_cell[10], 18);
@@ -84,7 +78,7 @@ TEST(Polyhedra, VtksFilesSplitIntoTetsAndPyramids) {
       total += v;
     }
     EXPECT_NEAR(total, kVolume, 1e-5);
-    const MeshArray& f = array_named(m.point_data, "f");
+    const MeshArray& f = test::array_named(m.point_data, "f");
     for (size_t i = 44; i < m.points.size(); ++i) EXPECT_NEAR(f.values[i], linear(m.points[i]), 1e-4) << i;
     check_mesh(m, "polyhedra");
   }
@@ -109,11 +103,7 @@ TEST(Polyhedra, SplitMeshIsSampledWithoutGaps) {
   const WorldTransform xf = mesh_transform(m);
   const UMesh mesh = make_umesh(m, xf, "polyhedra");
   const UMeshRenderer renderer(mesh, xf);
-  std::vector<float> f, g;
-  for (const MeshFieldRef& ref : mesh_fields(m)) {
-    if (ref.name == "f") f = mesh_field_values(m, ref);
-    if (ref.name == "g") g = mesh_field_values(m, ref);
-  }
+  const std::vector<float> f = test::mesh_field(m, "f"), g = test::mesh_field(m, "g");
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<vec3f> points;

@@ -35,12 +35,6 @@ enum : int { kHex20a, kHex20b, kHex27, kTet10, kWedge15, kWedge18, kPyramid13, k
 
 double linear(const vec3d& p) { return 1 + 2 * p.x + 3 * p.y + 4 * p.z; }
 
-const MeshArray& array_named(const std::vector<MeshArray>& arrays, const std::string& name) {
-  for (const MeshArray& a : arrays)
-    if (a.name == name) return a;
-  throw std::runtime_error("no array " + name);
-}
-
 // Six times the volume of tet (a, b, c, d), positive in VTK's orientation.
 double tet6(const vec3d& a, const vec3d& b, const vec3d& c, const vec3d& d) { return dot(cross(b - a, c - a), d - a); }
 
@@ -80,7 +74,7 @@ TEST(QuadraticCells, VtksFilesSplitIntoLinearElements) {
     // centres, the pyramid's base centre
     EXPECT_EQ(m.points.size(), (20 + 12 + 27 + 10 + 15 + 18 + 13 + 24) + (11 + 2) + 3 + 3 + 1u);
     std::map<double, int> from_cell;
-    for (double id : array_named(m.cell_data, "cell_id").values) ++from_cell[id];
+    for (double id : test::array_named(m.cell_data, "cell_id").values) ++from_cell[id];
     for (int c = 0; c < kCells; ++c) EXPECT_EQ(from_cell[c], c == kPyramid13 ? 10 : 8) << "cell " << c;
   }
 }
@@ -98,7 +92,7 @@ TEST(QuadraticCells, XmlAndLegacyFilesGiveTheSameMesh) {
 // orientation, and a cell's pieces fill its volume.
 TEST(QuadraticCells, PiecesFillStraightCells) {
   const MeshData m = read_vtu(kDataDir / "vtu" / "vtk_quadratic_straight.vtu");
-  const std::vector<double>& cell_id = array_named(m.cell_data, "cell_id").values;
+  const std::vector<double>& cell_id = test::array_named(m.cell_data, "cell_id").values;
   std::vector<double> volume(kCells, 0.0);
   for (uint64_t c = 0; c < m.cell_count(); ++c) {
     const double v = element_volume(m, c);
@@ -133,9 +127,7 @@ TEST(QuadraticCells, NodesAndAddedCentresCarryVtksValues) {
   const WorldTransform xf = mesh_transform(m);
   const UMesh mesh = make_umesh(m, xf, "quadratic");
   const UMeshRenderer renderer(mesh, xf);
-  std::vector<float> g;
-  for (const MeshFieldRef& ref : mesh_fields(m))
-    if (ref.name == "g") g = mesh_field_values(m, ref);
+  const std::vector<float> g = test::mesh_field(m, "g");
   const std::vector<std::array<double, 4>> probes = vtk_probes();
   ASSERT_EQ(probes.size(), 172u);
   std::vector<vec3f> points;
@@ -157,11 +149,7 @@ TEST(QuadraticCells, LinearFieldIsExactThroughCurvedCells) {
   const WorldTransform xf = mesh_transform(m);
   const UMesh mesh = make_umesh(m, xf, "quadratic");
   const UMeshRenderer renderer(mesh, xf);
-  std::vector<float> f, g;
-  for (const MeshFieldRef& ref : mesh_fields(m)) {
-    if (ref.name == "f") f = mesh_field_values(m, ref);
-    if (ref.name == "g") g = mesh_field_values(m, ref);
-  }
+  const std::vector<float> f = test::mesh_field(m, "f"), g = test::mesh_field(m, "g");
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<vec3f> points;

@@ -99,6 +99,23 @@ def write_voxels():
     legacy.Write()
 
 
+def add_test_arrays(grid, g):
+    """Point arrays f = 1 + 2x + 3y + 4z (linear) and g (a formula of x, y, z) at the grid's
+    points, and a cell array cell_id = 0, 1, 2, ..."""
+    points = grid.GetPoints()
+    for name, formula in (("f", lambda x, y, z: 1 + 2 * x + 3 * y + 4 * z), ("g", g)):
+        values = vtk.vtkDoubleArray()
+        values.SetName(name)
+        for i in range(points.GetNumberOfPoints()):
+            values.InsertNextValue(formula(*points.GetPoint(i)))
+        grid.GetPointData().AddArray(values)
+    cell_id = vtk.vtkIntArray()
+    cell_id.SetName("cell_id")
+    for c in range(grid.GetNumberOfCells()):
+        cell_id.InsertNextValue(c)
+    grid.GetCellData().AddArray(cell_id)
+
+
 def polyhedra_mesh():
     """Polyhedra (type 42) as OpenFOAM's foamToVTK writes them, with hexes beside them: a cube
     [0,2]^3 whose face x = 2 is split into four quads to meet the eight hexes of [2,4]x[0,2]^2
@@ -152,17 +169,7 @@ def polyhedra_mesh():
     sides = [[bottom[n], bottom[(n + 1) % 6], upper[(n + 1) % 6], upper[n]] for n in range(6)]
     add_polyhedron([list(reversed(bottom)), upper] + sides)
     grid.SetPoints(points)
-    for name, formula in (("f", lambda x, y, z: 1 + 2 * x + 3 * y + 4 * z), ("g", lambda x, y, z: x * y + z * z)):
-        values = vtk.vtkDoubleArray()
-        values.SetName(name)
-        for i in range(points.GetNumberOfPoints()):
-            values.InsertNextValue(formula(*points.GetPoint(i)))
-        grid.GetPointData().AddArray(values)
-    cell_id = vtk.vtkIntArray()
-    cell_id.SetName("cell_id")
-    for c in range(grid.GetNumberOfCells()):
-        cell_id.InsertNextValue(c)
-    grid.GetCellData().AddArray(cell_id)
+    add_test_arrays(grid, lambda x, y, z: x * y + z * z)
     return grid
 
 
@@ -228,17 +235,7 @@ def quadratic_mesh(curved=True):
         grid.InsertNextCell(cell.GetCellType(), ids)
         cells.append(cell_class)
     grid.SetPoints(points)
-    for name, formula in (("f", lambda x, y, z: 1 + 2 * x + 3 * y + 4 * z), ("g", lambda x, y, z: x * y + z * z + x * x)):
-        values = vtk.vtkDoubleArray()
-        values.SetName(name)
-        for i in range(points.GetNumberOfPoints()):
-            values.InsertNextValue(formula(*points.GetPoint(i)))
-        grid.GetPointData().AddArray(values)
-    cell_id = vtk.vtkIntArray()
-    cell_id.SetName("cell_id")
-    for c in range(grid.GetNumberOfCells()):
-        cell_id.InsertNextValue(c)
-    grid.GetCellData().AddArray(cell_id)
+    add_test_arrays(grid, lambda x, y, z: x * y + z * z + x * x)
     return grid, quadratic_probes(grid)
 
 

@@ -86,6 +86,17 @@ def test_load_ensight_case():
     np.testing.assert_allclose(binary_case.probe("f", pts), ascii_case.probe("f", pts), rtol=1e-6)
 
 
+def test_load_quadratic_cells():
+    """VTK's quadratic cells (tests/data/vtu/vtk_quadratic.vtu: one of each type, curved) load
+    split into the linear elements of their nodes, with VTK's values at the nodes and the face
+    and body centres (vtk_quadratic_probes.txt, less the pyramid's apex)."""
+    data = os.path.join(os.path.dirname(__file__), "..", "data", "vtu")
+    ds = vs.load(os.path.join(data, "vtk_quadratic.vtu"))
+    assert (ds.element_count, ds.vertex_count) == (66, 159)
+    rows = np.delete(np.loadtxt(os.path.join(data, "vtk_quadratic_probes.txt")), 131, axis=0)
+    np.testing.assert_allclose(ds.probe("g", rows[:, :3]), rows[:, 3], rtol=1e-5, atol=1e-6)
+
+
 def test_mesh_probe_equals_cli_and_brute_force(mesh_files, tmp_path):
     vtu, converted = mesh_files
     ds = vs.load(str(vtu))

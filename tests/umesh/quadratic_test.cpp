@@ -170,6 +170,35 @@ TEST(QuadraticCells, LinearFieldIsExactThroughCurvedCells) {
   EXPECT_GT(test::expect_probe_is_brute_force(mesh, xf, g.data(), test::points_around(mesh.vertices, 3000, 5)), 500);
 }
 
+// VTK's Lagrange cells of order 1 and 2 (vtkCellTypeSource's tets, hex and wedges, curved) read as
+// their twin file, the same nodes typed as the linear and quadratic cells (the generator checks
+// that each Lagrange node lies where the twin's cell puts its node of the same index), and the
+// split mesh is a valid one.
+TEST(QuadraticCells, LagrangeCellsOfOrder1And2AreTheFixedCells) {
+  const MeshData lagrange = read_vtu(kDataDir / "vtu" / "vtk_lagrange.vtu");
+  const MeshData twin = read_vtu(kDataDir / "vtu" / "vtk_lagrange_twin.vtu");
+  EXPECT_EQ(lagrange.cell_types, twin.cell_types);
+  EXPECT_EQ(lagrange.connectivity, twin.connectivity);
+  EXPECT_EQ(lagrange.points.size(), twin.points.size());
+  std::map<uint8_t, int> types;
+  for (uint8_t t : lagrange.cell_types) ++types[t];
+  EXPECT_EQ(types[uint8_t(CellType::tet)], 12 + 12 * 8);
+  EXPECT_EQ(types[uint8_t(CellType::hex)], 1 + 8);
+  EXPECT_EQ(types[uint8_t(CellType::wedge)], 2 + 2 * 8);
+  const WorldTransform xf = mesh_transform(lagrange);
+  const UMesh mesh = make_umesh(lagrange, xf, "lagrange");
+  const std::vector<float> f = test::mesh_field(lagrange, "f");
+  const std::vector<vec3f> points = test::points_around(mesh.vertices, 2000, 9);
+  const std::vector<float> probed = UMeshRenderer(mesh, xf).probe(f.data(), points);
+  int inside = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (std::isnan(probed[i])) continue;
+    ++inside;
+    EXPECT_NEAR(probed[i], linear(xf.to_world(vec3d(points[i]))), 2e-5 * 25) << "point " << i;
+  }
+  EXPECT_GT(inside, 400);
+}
+
 // A mesh of the given cells over the points of a unit cube's 3x3x3 grid (enough for any cell
 // here), each cell's vertices the first indices.
 MeshData grid_mesh(std::vector<std::pair<uint8_t, std::vector<uint64_t>>> cells) {
@@ -212,6 +241,11 @@ TEST(QuadraticCells, BadCellsAreRefused) {
   MeshData bad_offsets = grid_mesh({{24, ten}});
   bad_offsets.cell_offsets.back() = 11;
   EXPECT_NE(split_error(bad_offsets).find("cell offsets do not match"), std::string::npos);
+  // Lagrange cells of order 3 (a hex of 64 nodes), and the 15-node tetra variant, are refused.
+  EXPECT_NE(split_error(grid_mesh({{72, std::vector<uint64_t>(64, 0)}}))
+                .find("cell 0 (Lagrange hexahedron) has 64 nodes: volstream reads Lagrange cells of order 1 and 2"),
+            std::string::npos);
+  EXPECT_NE(split_error(grid_mesh({{71, std::vector<uint64_t>(15, 0)}})).find("has 15 nodes"), std::string::npos);
   // A type volstream does not split is left for check_mesh, which names it.
   MeshData triquadratic_pyramid = grid_mesh({{37, std::vector<uint64_t>(19, 0)}});
   EXPECT_EQ(split_error(triquadratic_pyramid), "");

@@ -44,8 +44,18 @@ const char* cell_type_name(uint32_t vtk_type) {
       return "biquadratic-quadratic wedge";
     case 33:
       return "biquadratic-quadratic hexahedron";
+    case 37:
+      return "triquadratic pyramid";
     case 42:
       return "polyhedron";
+    case 71:
+      return "Lagrange tetra";
+    case 72:
+      return "Lagrange hexahedron";
+    case 73:
+      return "Lagrange wedge";
+    case 74:
+      return "Lagrange pyramid";
     default:
       return "unknown";
   }

@@ -194,6 +194,25 @@ class QuadraticSplitter {
   std::map<std::array<uint64_t, 8>, uint64_t> face_centres_;  // by the face's sorted nodes
 };
 
+constexpr uint8_t kLagrangeTetra = 71, kLagrangePyramid = 74;
+
+bool is_lagrange(uint8_t type) { return type >= kLagrangeTetra && type <= kLagrangePyramid; }
+
+// Lagrange cells as the fixed types of their nodes (the order checked by vertex count).
+void lagrange_to_fixed_types(MeshData& m, const std::string& file) {
+  for (uint64_t c = 0; c < m.cell_count(); ++c) {
+    if (!is_lagrange(m.cell_types[c])) continue;
+    const uint64_t nodes = m.cell_offsets[c + 1] - m.cell_offsets[c];
+    const uint8_t fixed = lagrange_as_fixed_type(m.cell_types[c], nodes);
+    if (fixed == 0)
+      input_error(file, "cell " + std::to_string(c) + " (" + cell_type_name(m.cell_types[c]) + ") has " +
+                            std::to_string(nodes) +
+                            " nodes: volstream reads Lagrange cells of order 1 and 2 (tetra 4 or 10 nodes, "
+                            "hexahedron 8 or 27, wedge 6 or 18, pyramid 5)");
+    m.cell_types[c] = fixed;
+  }
+}
+
 void check_quadratic_cells(const MeshData& m, const std::string& file) {
   for (uint64_t c = 0; c < m.cell_count(); ++c) {
     const int nodes = quadratic_node_count(m.cell_types[c]);
@@ -210,6 +229,21 @@ void check_quadratic_cells(const MeshData& m, const std::string& file) {
 }
 
 }  // namespace
+
+uint8_t lagrange_as_fixed_type(uint32_t vtk_type, uint64_t nodes) {
+  struct Order {
+    uint32_t lagrange;
+    uint64_t nodes;
+    uint8_t fixed;
+  };
+  constexpr Order kOrders[] = {{71, 4, kTet},    {71, 10, uint8_t(QuadraticCell::tet10)},
+                               {72, 8, kHex},    {72, 27, uint8_t(QuadraticCell::hex27)},
+                               {73, 6, kWedge},  {73, 18, uint8_t(QuadraticCell::wedge18)},
+                               {74, 5, kPyramid}};
+  for (const Order& o : kOrders)
+    if (o.lagrange == vtk_type && o.nodes == nodes) return o.fixed;
+  return 0;
+}
 
 int quadratic_node_count(uint32_t vtk_type) {
   switch (vtk_type) {
@@ -233,9 +267,11 @@ int quadratic_node_count(uint32_t vtk_type) {
 }
 
 void split_quadratic_cells(MeshData& m, const std::string& file) {
-  if (std::none_of(m.cell_types.begin(), m.cell_types.end(), [](uint8_t t) { return quadratic_node_count(t) > 0; }))
+  if (std::none_of(m.cell_types.begin(), m.cell_types.end(),
+                   [](uint8_t t) { return quadratic_node_count(t) > 0 || is_lagrange(t); }))
     return;
   check_rebuild_input(m, "quadratic cells", file);
+  lagrange_to_fixed_types(m, file);
   check_quadratic_cells(m, file);
   CellRebuild cells;
   QuadraticSplitter splitter(m, cells);

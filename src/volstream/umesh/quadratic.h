@@ -22,6 +22,14 @@ enum class QuadraticCell : uint8_t {
 // Nodes of a quadratic cell type above (10, 20, 15, 13, 27, 18, 24); 0 for any other id.
 int quadratic_node_count(uint32_t vtk_type);
 
+// VTK's Lagrange cells (71 tetrahedron, 72 hexahedron, 73 wedge, 74 pyramid; dolfinx and deal.II
+// write their P1 and P2 meshes so, MFEM its ParaView output) of order 1 have the nodes of the
+// linear cells, and of order 2 those of the quadratic tetra (10 nodes), triquadratic hexahedron
+// (27) and biquadratic-quadratic wedge (18), in the same order; split_quadratic_cells() reads
+// them as those. Returns the type a Lagrange cell of `nodes` nodes is read as; 0 for another
+// order (or the 15-node tetra and 21-node wedge variants), and for any other type.
+uint8_t lagrange_as_fixed_type(uint32_t vtk_type, uint64_t nodes);
+
 // Replaces each quadratic cell of `mesh` by the linear elements of its nodes, halving each of its
 // edges: a tet10 by 8 tets (its inner octahedron cut along its shortest diagonal), a hex by 8
 // hexes, a wedge by 8 wedges, a pyramid by 6 pyramids and 4 tets. The nodes a cell lacks for that
@@ -31,8 +39,9 @@ int quadratic_node_count(uint32_t vtk_type);
 // shared by the two cells on it. The pieces keep the cell's orientation and its cell data. So the
 // field is exact at every node and piecewise linear (trilinear) between them, and exact
 // everywhere for a field linear in space; a curved cell's faces become flat or bilinear pieces
-// through its nodes. Other cells are left as they are. InputError naming `file` for a quadratic
-// cell with the wrong number of vertices or a vertex index out of range.
+// through its nodes. Lagrange cells are read as lagrange_as_fixed_type() says first. Other cells
+// are left as they are. InputError naming `file` for a quadratic cell with the wrong number of
+// vertices or a vertex index out of range, and a Lagrange cell of another order.
 void split_quadratic_cells(MeshData& mesh, const std::string& file);
 
 }  // namespace vs

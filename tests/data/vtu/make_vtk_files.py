@@ -288,6 +288,65 @@ def write_quadratic():
             out.write(" ".join(repr(v) for v in row) + "\n")
 
 
+def lagrange_mesh():
+    """VTK's Lagrange tetra, hexahedron and wedge of order 1 and 2 as vtkCellTypeSource makes them
+    (a unit cube of each: 12 tets, 1 hex, 2 wedges), side by side along x (origin 2 * k for the
+    k-th), curved by the smooth map of quadratic_mesh(), with add_test_arrays' arrays
+    (g = xy + z^2 + x^2). Returns it and its twin, the same points and cells typed as the linear
+    and quadratic cells (10, 24, 12, 29, 13, 32), after checking that every Lagrange node lies where
+    the twin's cell puts its node of the same index."""
+    twins = {(vtk.VTK_LAGRANGE_TETRAHEDRON, 1): vtk.vtkTetra, (vtk.VTK_LAGRANGE_TETRAHEDRON, 2): vtk.vtkQuadraticTetra,
+             (vtk.VTK_LAGRANGE_HEXAHEDRON, 1): vtk.vtkHexahedron,
+             (vtk.VTK_LAGRANGE_HEXAHEDRON, 2): vtk.vtkTriQuadraticHexahedron,
+             (vtk.VTK_LAGRANGE_WEDGE, 1): vtk.vtkWedge, (vtk.VTK_LAGRANGE_WEDGE, 2): vtk.vtkBiQuadraticQuadraticWedge}
+    grids = [vtk.vtkUnstructuredGrid(), vtk.vtkUnstructuredGrid()]
+    points = vtk.vtkPoints()
+    for k, ((cell_type, order), twin_class) in enumerate(twins.items()):
+        source = vtk.vtkCellTypeSource()
+        source.SetCellType(cell_type)
+        source.SetCellOrder(order)
+        source.SetBlocksDimensions(1, 1, 1)
+        source.Update()
+        block = source.GetOutput()
+        first = points.GetNumberOfPoints()
+        for i in range(block.GetNumberOfPoints()):
+            x, y, z = block.GetPoint(i)
+            x += 2 * k
+            points.InsertNextPoint(x + 0.05 * y * y, y + 0.04 * z * z, z + 0.06 * y * (1 - y))
+        for c in range(block.GetNumberOfCells()):
+            cell = block.GetCell(c)
+            twin = twin_class()
+            own = twin.GetParametricCoords()
+            nodes = [block.GetPoint(cell.GetPointId(i)) for i in range(cell.GetNumberOfPoints())]
+            linear = {vtk.VTK_LAGRANGE_TETRAHEDRON: vtk.vtkTetra, vtk.VTK_LAGRANGE_HEXAHEDRON: vtk.vtkHexahedron,
+                      vtk.VTK_LAGRANGE_WEDGE: vtk.vtkWedge}[cell_type]()
+            for i in range(linear.GetNumberOfPoints()):
+                linear.GetPoints().SetPoint(i, nodes[i])
+            for i in range(twin.GetNumberOfPoints()):
+                x, weights = [0.0] * 3, [0.0] * linear.GetNumberOfPoints()
+                linear.EvaluateLocation(vtk.reference(0), own[3 * i:3 * i + 3], x, weights)
+                assert max(abs(a - b) for a, b in zip(x, nodes[i])) < 1e-9, (cell_type, order, i)
+            ids = vtk.vtkIdList()
+            for i in range(cell.GetNumberOfPoints()):
+                ids.InsertNextId(first + cell.GetPointId(i))
+            grids[0].InsertNextCell(cell_type, ids)
+            grids[1].InsertNextCell(twin.GetCellType(), ids)
+    for grid in grids:
+        grid.SetPoints(points)
+        add_test_arrays(grid, lambda x, y, z: x * y + z * z + x * x)
+    return grids
+
+
+def write_lagrange():
+    """The Lagrange cells as vtk_lagrange.vtu and their twin as vtk_lagrange_twin.vtu (ascii)."""
+    for grid, name in zip(lagrange_mesh(), ("vtk_lagrange.vtu", "vtk_lagrange_twin.vtu")):
+        xml = vtk.vtkXMLUnstructuredGridWriter()
+        xml.SetInputData(grid)
+        xml.SetFileName(name)
+        xml.SetDataModeToAscii()
+        xml.Write()
+
+
 if __name__ == "__main__":
     mesh = tets()
     write_compressed(mesh)
@@ -296,3 +355,4 @@ if __name__ == "__main__":
     write_voxels()
     write_polyhedra()
     write_quadratic()
+    write_lagrange()

@@ -1,5 +1,6 @@
 // Legacy VTK: valid files of every writer option (ascii/binary, 4.2/5.1), of polyhedra and of
-// VTK's quadratic cells (tests/data/vtk/vtk_quadratic.vtk), with one of them patched or truncated.
+// VTK's quadratic and Lagrange cells (tests/data/vtk/vtk_quadratic.vtk, vtk_lagrange_42.vtk), with
+// one of them patched or truncated.
 #include <fstream>
 #include <string>
 
@@ -47,7 +48,8 @@ std::vector<std::filesystem::path> make_bases(const std::filesystem::path& dir) 
     files.push_back(dir / (version5 ? "polyhedra51.vtk" : "polyhedra42.vtk"));
     std::ofstream(files.back()) << polyhedra_vtk(version5);
   }
-  files.push_back(std::filesystem::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "vtk" / "vtk_quadratic.vtk");
+  for (const char* name : {"vtk_quadratic.vtk", "vtk_lagrange_42.vtk"})
+    files.push_back(std::filesystem::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "vtk" / name);
   return files;
 }
 }  // namespace

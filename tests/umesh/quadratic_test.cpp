@@ -199,6 +199,22 @@ TEST(QuadraticCells, LagrangeCellsOfOrder1And2AreTheFixedCells) {
   EXPECT_GT(inside, 400);
 }
 
+// Files older than VTK 9.1 (XML version 1.0, legacy 4.2) list an order-2 Lagrange hexahedron's
+// nodes 18 and 19 the other way round; they read as VTK reads them (the generator checks that VTK
+// reads each as the current numbering), the same mesh as the current files (XML 2.2, legacy 5.1).
+TEST(QuadraticCells, LagrangeHexahedraOfOlderFilesAreRenumbered) {
+  const MeshData current = read_vtu(kDataDir / "vtu" / "vtk_lagrange.vtu");
+  for (const MeshData& m : {read_vtu(kDataDir / "vtu" / "vtk_lagrange_pre91.vtu"),
+                            read_vtk_legacy(kDataDir / "vtk" / "vtk_lagrange_42.vtk"),
+                            read_vtk_legacy(kDataDir / "vtk" / "vtk_lagrange.vtk")}) {
+    EXPECT_EQ(m.cell_types, current.cell_types);
+    EXPECT_EQ(m.connectivity, current.connectivity);
+    ASSERT_EQ(m.points.size(), current.points.size());
+    for (size_t i = 0; i < m.points.size(); ++i)  // legacy ascii: 6 digits
+      EXPECT_LT(length(m.points[i] - current.points[i]), 2e-5) << i;
+  }
+}
+
 // A mesh of the given cells over the points of a unit cube's 3x3x3 grid (enough for any cell
 // here), each cell's vertices the first indices.
 MeshData grid_mesh(std::vector<std::pair<uint8_t, std::vector<uint64_t>>> cells) {

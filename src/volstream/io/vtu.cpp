@@ -130,7 +130,8 @@ struct VtuFile {
   size_t header_bytes = 4;  // UInt32 or UInt64 binary headers
   VtuCompressor compressor = VtuCompressor::none;
   bool appended_base64 = false;
-  size_t appended_end = 0;  // end of the appended section (base64: the next '<')
+  size_t appended_end = 0;          // end of the appended section (base64: the next '<')
+  bool pre_vtk91_lagrange = false;  // version below 2.2: Lagrange hexahedra in the old node order
 };
 
 // Appended raw bytes, read in order from an offset; the same interface as Base64Reader.
@@ -550,7 +551,19 @@ MeshData read_piece(const VtuFile& f, const XmlElement& piece, size_t index) {
   return mesh;
 }
 
-// The VTKFile attributes that say how binary data are stored.
+// Whether a "MAJOR.MINOR" version attribute is below major.minor (a missing or unreadable one is:
+// VTK's oldest files have none).
+bool version_below(const std::string* version, int major, int minor) {
+  int file_major = 0, file_minor = 0;
+  if (!version) return true;
+  const char* end = version->data() + version->size();
+  const auto [dot, ec] = std::from_chars(version->data(), end, file_major);
+  if (ec != std::errc()) return true;
+  if (dot < end && *dot == '.') std::from_chars(dot + 1, end, file_minor);
+  return file_major < major || (file_major == major && file_minor < minor);
+}
+
+// The VTKFile attributes that say how binary data are stored, and its version.
 void read_file_attributes(VtuFile& f) {
   const XmlElement& root = f.doc.root;
   if (root.name != "VTKFile") input_error(f.name, "not a VTK XML file (root element <" + root.name + ">)");
@@ -564,6 +577,7 @@ void read_file_attributes(VtuFile& f) {
   const std::string* header = root.attribute("header_type");
   if (header && *header != "UInt32" && *header != "UInt64") input_error(f.name, "unknown header_type " + *header);
   f.header_bytes = header && *header == "UInt64" ? 8 : 4;
+  f.pre_vtk91_lagrange = version_below(root.attribute("version"), 2, 2);
   const std::string* compressor = root.attribute("compressor");
   if (compressor && !compressor->empty()) {
     const auto known = std::find_if(std::begin(kCompressors), std::end(kCompressors),
@@ -603,6 +617,8 @@ MeshData read_vtu_unchecked(const fs::path& file) {
   for (const XmlElement& e : grid.children)
     if (e.name == "Piece") pieces.push_back(read_piece(f, e, pieces.size()));
   if (pieces.empty()) input_error(f.name, "the UnstructuredGrid has no <Piece>");
+  if (f.pre_vtk91_lagrange)
+    for (MeshData& piece : pieces) lagrange_hexahedra_from_pre_vtk91_order(piece);
   return join_pieces(std::move(pieces), f.name);
 }
 

@@ -245,6 +245,16 @@ uint8_t lagrange_as_fixed_type(uint32_t vtk_type, uint64_t nodes) {
   return 0;
 }
 
+void lagrange_hexahedra_from_pre_vtk91_order(MeshData& m) {
+  constexpr uint8_t kLagrangeHexahedron = 72;
+  for (uint64_t c = 0; c < m.cell_count() && c + 1 < m.cell_offsets.size(); ++c) {
+    const uint64_t begin = m.cell_offsets[c];
+    if (m.cell_types[c] == kLagrangeHexahedron && m.cell_offsets[c + 1] == begin + 27 &&
+        m.cell_offsets[c + 1] <= m.connectivity.size())
+      std::swap(m.connectivity[begin + 18], m.connectivity[begin + 19]);
+  }
+}
+
 int quadratic_node_count(uint32_t vtk_type) {
   switch (vtk_type) {
     case uint32_t(QuadraticCell::tet10):

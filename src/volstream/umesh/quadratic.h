@@ -30,6 +30,13 @@ int quadratic_node_count(uint32_t vtk_type);
 // order (or the 15-node tetra and 21-node wedge variants), and for any other type.
 uint8_t lagrange_as_fixed_type(uint32_t vtk_type, uint64_t nodes);
 
+// Before VTK 9.1 a Lagrange hexahedron listed the nodes of its edges (2,6) and (3,7) the other way
+// round. Files older than that (XML version below 2.2, legacy below 5.1) are read as VTK reads
+// them: their readers call this, which swaps the two mid-edge nodes (18, 19) of each order-2
+// Lagrange hexahedron (27 nodes) of `mesh`. Other cells, and cells whose offsets do not span
+// the connectivity, are left as they are (for the checks after).
+void lagrange_hexahedra_from_pre_vtk91_order(MeshData& mesh);
+
 // Replaces each quadratic cell of `mesh` by the linear elements of its nodes, halving each of its
 // edges: a tet10 by 8 tets (its inner octahedron cut along its shortest diagonal), a hex by 8
 // hexes, a wedge by 8 wedges, a pyramid by 6 pyramids and 4 tets. The nodes a cell lacks for that

@@ -337,14 +337,60 @@ def lagrange_mesh():
     return grids
 
 
+def pre_vtk91_numbering(grid):
+    """A copy of `grid` whose order-2 Lagrange hexahedra list their nodes as before VTK 9.1 (the
+    mid-edge nodes of edges (2,6) and (3,7), 18 and 19, the other way round)."""
+    old = vtk.vtkUnstructuredGrid()
+    old.DeepCopy(grid)
+    for c in range(old.GetNumberOfCells()):
+        if old.GetCellType(c) == vtk.VTK_LAGRANGE_HEXAHEDRON and old.GetCell(c).GetNumberOfPoints() == 27:
+            ids = vtk.vtkIdList()
+            old.GetCellPoints(c, ids)
+            a, b = ids.GetId(18), ids.GetId(19)
+            ids.SetId(18, b)
+            ids.SetId(19, a)
+            old.ReplaceCell(c, 27, [ids.GetId(i) for i in range(27)])
+    return old
+
+
+def same_cells(a, b):
+    return a.GetNumberOfCells() == b.GetNumberOfCells() and all(
+        a.GetCellType(c) == b.GetCellType(c) and
+        [a.GetCell(c).GetPointId(i) for i in range(a.GetCell(c).GetNumberOfPoints())] ==
+        [b.GetCell(c).GetPointId(i) for i in range(b.GetCell(c).GetNumberOfPoints())] for c in range(a.GetNumberOfCells()))
+
+
 def write_lagrange():
-    """The Lagrange cells as vtk_lagrange.vtu and their twin as vtk_lagrange_twin.vtu (ascii)."""
-    for grid, name in zip(lagrange_mesh(), ("vtk_lagrange.vtu", "vtk_lagrange_twin.vtu")):
+    """The Lagrange cells as vtk_lagrange.vtu and their twin as vtk_lagrange_twin.vtu (ascii);
+    the Lagrange cells as files older than VTK 9.1 have them (the order-2 hexahedron's nodes 18 and
+    19 swapped): vtk_lagrange_pre91.vtu (XML version 1.0) and ../vtk/vtk_lagrange_42.vtk (legacy
+    4.2), each checked to read back in VTK as the current numbering; and ../vtk/vtk_lagrange.vtk
+    (legacy 5.1, current numbering)."""
+    grid, twin = lagrange_mesh()
+    for data, name in ((grid, "vtk_lagrange.vtu"), (twin, "vtk_lagrange_twin.vtu"),
+                       (pre_vtk91_numbering(grid), "vtk_lagrange_pre91.vtu")):
         xml = vtk.vtkXMLUnstructuredGridWriter()
-        xml.SetInputData(grid)
+        xml.SetInputData(data)
         xml.SetFileName(name)
         xml.SetDataModeToAscii()
         xml.Write()
+    with open("vtk_lagrange_pre91.vtu") as f:
+        text = f.read()
+    with open("vtk_lagrange_pre91.vtu", "w") as f:
+        f.write(text.replace('version="2.2"', 'version="1.0"', 1))
+    for data, name, version in ((grid, "../vtk/vtk_lagrange.vtk", 51),
+                                (pre_vtk91_numbering(grid), "../vtk/vtk_lagrange_42.vtk", 42)):
+        legacy = vtk.vtkUnstructuredGridWriter()
+        legacy.SetInputData(data)
+        legacy.SetFileName(name)
+        legacy.SetFileVersion(version)
+        legacy.Write()
+    for name, reader in (("vtk_lagrange_pre91.vtu", vtk.vtkXMLUnstructuredGridReader()),
+                         ("../vtk/vtk_lagrange_42.vtk", vtk.vtkUnstructuredGridReader()),
+                         ("../vtk/vtk_lagrange.vtk", vtk.vtkUnstructuredGridReader())):
+        reader.SetFileName(name)
+        reader.Update()
+        assert same_cells(reader.GetOutput(), grid), name + ": VTK does not read it as the current numbering"
 
 
 if __name__ == "__main__":

@@ -199,9 +199,35 @@ TEST(QuadraticCells, LagrangeCellsOfOrder1And2AreTheFixedCells) {
   EXPECT_GT(inside, 400);
 }
 
-// Files older than VTK 9.1 (XML version 1.0, legacy 4.2) list an order-2 Lagrange hexahedron's
-// nodes 18 and 19 the other way round; they read as VTK reads them (the generator checks that VTK
-// reads each as the current numbering), the same mesh as the current files (XML 2.2, legacy 5.1).
+// Lagrange hexahedra of order 3 and 4 (vtkCellTypeSource's, curved) split into the 27 and 64
+// hexes of their node lattices: the twin file lists them, found from where VTK puts each node.
+TEST(QuadraticCells, LagrangeHexahedraOfHigherOrderSplitOnTheirLattice) {
+  const MeshData m = read_vtu(kDataDir / "vtu" / "vtk_lagrange_hex.vtu");
+  const MeshData twin = read_vtu(kDataDir / "vtu" / "vtk_lagrange_hex_twin.vtu");
+  EXPECT_EQ(m.cell_count(), 27 + 64u);
+  EXPECT_EQ(m.cell_types, twin.cell_types);
+  EXPECT_EQ(m.connectivity, twin.connectivity);
+  std::vector<double> from_cell(27, 0.0);
+  from_cell.resize(27 + 64, 1.0);
+  EXPECT_EQ(test::array_named(m.cell_data, "cell_id").values, from_cell);
+  const WorldTransform xf = mesh_transform(m);
+  const UMesh mesh = make_umesh(m, xf, "lagrange");  // no piece tangled or inverted
+  const std::vector<float> f = test::mesh_field(m, "f");
+  const std::vector<vec3f> points = test::points_around(mesh.vertices, 2000, 13);
+  const std::vector<float> probed = UMeshRenderer(mesh, xf).probe(f.data(), points);
+  int inside = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (std::isnan(probed[i])) continue;
+    ++inside;
+    EXPECT_NEAR(probed[i], linear(xf.to_world(vec3d(points[i]))), 2e-5 * 25) << "point " << i;
+  }
+  EXPECT_GT(inside, 500);
+}
+
+// Files older than VTK 9.1 (XML version 1.0, legacy 4.2) list the nodes inside a Lagrange
+// hexahedron's edges 2-6 and 3-7 the other way round (18 and 19 at order 2); they read as VTK
+// reads them (the generator checks that VTK reads each as the current numbering), the same mesh
+// as the current files (XML 2.2, legacy 5.1).
 TEST(QuadraticCells, LagrangeHexahedraOfOlderFilesAreRenumbered) {
   const MeshData current = read_vtu(kDataDir / "vtu" / "vtk_lagrange.vtu");
   for (const MeshData& m : {read_vtu(kDataDir / "vtu" / "vtk_lagrange_pre91.vtu"),
@@ -213,6 +239,9 @@ TEST(QuadraticCells, LagrangeHexahedraOfOlderFilesAreRenumbered) {
     for (size_t i = 0; i < m.points.size(); ++i)  // legacy ascii: 6 digits
       EXPECT_LT(length(m.points[i] - current.points[i]), 2e-5) << i;
   }
+  // orders 3 and 4: the nodes inside the two edges swapped as runs
+  const MeshData old = read_vtu(kDataDir / "vtu" / "vtk_lagrange_hex_pre91.vtu");
+  EXPECT_EQ(old.connectivity, read_vtu(kDataDir / "vtu" / "vtk_lagrange_hex.vtu").connectivity);
 }
 
 // A mesh of the given cells over the points of a unit cube's 3x3x3 grid (enough for any cell
@@ -257,10 +286,12 @@ TEST(QuadraticCells, BadCellsAreRefused) {
   MeshData bad_offsets = grid_mesh({{24, ten}});
   bad_offsets.cell_offsets.back() = 11;
   EXPECT_NE(split_error(bad_offsets).find("cell offsets do not match"), std::string::npos);
-  // Lagrange cells of order 3 (a hex of 64 nodes), and the 15-node tetra variant, are refused.
-  EXPECT_NE(split_error(grid_mesh({{72, std::vector<uint64_t>(64, 0)}}))
-                .find("cell 0 (Lagrange hexahedron) has 64 nodes: volstream reads Lagrange cells of order 1 and 2"),
+  // A Lagrange tetra of order 3 (20 nodes), a hexahedron of no order (30 nodes), and the 15-node
+  // tetra variant are refused.
+  EXPECT_NE(split_error(grid_mesh({{71, std::vector<uint64_t>(20, 0)}}))
+                .find("cell 0 (Lagrange tetra) has 20 nodes: volstream reads Lagrange hexahedra of order 1 to 10"),
             std::string::npos);
+  EXPECT_NE(split_error(grid_mesh({{72, std::vector<uint64_t>(30, 0)}})).find("has 30 nodes"), std::string::npos);
   EXPECT_NE(split_error(grid_mesh({{71, std::vector<uint64_t>(15, 0)}})).find("has 15 nodes"), std::string::npos);
   // A type volstream does not split is left for check_mesh, which names it.
   MeshData triquadratic_pyramid = grid_mesh({{37, std::vector<uint64_t>(19, 0)}});

@@ -51,12 +51,43 @@ constexpr std::array<Centre, 3> kWedge15Centres = {
 // A pyramid13's base centre (node 13 of its split).
 constexpr std::array<Centre, 1> kPyramid13Centres = {face({0, 1, 2, 3}, {5, 6, 7, 8})};
 
-// The hex27's node at parametric grid point (i, j, k) / 2, as kHex27Node[k][j][i].
-constexpr uint8_t kHex27Node[3][3][3] = {{{0, 8, 1}, {11, 24, 9}, {3, 10, 2}},
-                                         {{16, 22, 17}, {20, 26, 21}, {19, 23, 18}},
-                                         {{4, 12, 5}, {15, 25, 13}, {7, 14, 6}}};
+// A Lagrange hexahedron of order p (VTK 9.1's node order, the triquadratic hexahedron's at p = 2):
+// the index of its node at lattice point (i, j, k), each in 0..p. Corners first, then the p - 1
+// nodes inside each edge (edges 0-1, 1-2, 3-2, 0-3, 4-5, 5-6, 7-6, 4-7, 0-4, 1-5, 2-6, 3-7, each
+// along its axis), then the (p - 1)^2 inside each face (x = 0, x = p, y = 0, y = p, z = 0,
+// z = p; the lower axis fastest), then the (p - 1)^3 inside the cell (x fastest).
+constexpr uint32_t lagrange_hex_node(int i, int j, int k, int p) {
+  const bool on_i = i == 0 || i == p, on_j = j == 0 || j == p, on_k = k == 0 || k == p;
+  // The corner of a unit square's (x, y) in VTK's order 0, 1, 2, 3.
+  const auto corner = [](bool x, bool y) { return x ? (y ? 2 : 1) : (y ? 3 : 0); };
+  const int m = p - 1;
+  const int on = int(on_i) + int(on_j) + int(on_k);
+  if (on == 3) return uint32_t(corner(i != 0, j != 0) + (k != 0 ? 4 : 0));
+  if (on == 2) {
+    const int edge = !on_i   ? (j != 0 ? 2 : 0) + (k != 0 ? 4 : 0)
+                     : !on_j ? (i != 0 ? 1 : 3) + (k != 0 ? 4 : 0)
+                             : 8 + corner(i != 0, j != 0);
+    const int along = !on_i ? i : !on_j ? j : k;
+    return uint32_t(8 + edge * m + along - 1);
+  }
+  const int faces = 8 + 12 * m;
+  if (on == 1) {
+    const int face = on_i ? (i != 0 ? 1 : 0) : on_j ? (j != 0 ? 3 : 2) : (k != 0 ? 5 : 4);
+    const int a = on_i ? j : i, b = on_k ? j : k;
+    return uint32_t(faces + face * m * m + (a - 1) + m * (b - 1));
+  }
+  return uint32_t(faces + 6 * m * m + (i - 1) + m * ((j - 1) + m * (k - 1)));
+}
 constexpr uint8_t kHexCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
                                       {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+constexpr int kMaxLagrangeOrder = 10;  // 1,331 nodes a hexahedron
+
+// The order of a Lagrange hexahedron of `nodes` nodes ((p + 1)^3); 0 if none up to the largest.
+int lagrange_hex_order(uint64_t nodes) {
+  for (int p = 1; p <= kMaxLagrangeOrder; ++p)
+    if (uint64_t((p + 1) * (p + 1) * (p + 1)) == nodes) return p;
+  return 0;
+}
 
 // The wedge18's nodes by layer (bottom, mid-height, top), each as its triangle's corners a, b, c
 // and its mid-edge nodes ab, bc, ca; and the four triangles of a layer, by those positions.
@@ -102,7 +133,7 @@ class QuadraticSplitter {
   void split(uint64_t c) {
     const uint8_t type = mesh_.cell_types[c];
     const auto begin = mesh_.connectivity.begin() + int64_t(mesh_.cell_offsets[c]);
-    nodes_.assign(begin, begin + quadratic_node_count(type));
+    nodes_.assign(begin, mesh_.connectivity.begin() + int64_t(mesh_.cell_offsets[c + 1]));
     for (const Centre& centre : centres_of(type)) nodes_.push_back(add_centre(centre));
     switch (QuadraticCell(type)) {
       case QuadraticCell::tet10:
@@ -110,7 +141,9 @@ class QuadraticSplitter {
       case QuadraticCell::hex20:
       case QuadraticCell::hex24:
       case QuadraticCell::hex27:
-        return split_hex27(c);
+        return split_lagrange_hex(c, 2);
+      case QuadraticCell::lagrange_hex:
+        return split_lagrange_hex(c, lagrange_hex_order(nodes_.size()));
       case QuadraticCell::wedge15:
       case QuadraticCell::wedge18:
         return split_wedge18(c);
@@ -159,14 +192,16 @@ class QuadraticSplitter {
     for (const auto& tet : kTet10Octahedron[best]) add(kTet, tet, c);
   }
 
-  void split_hex27(uint64_t c) {
-    for (int k = 0; k < 2; ++k)
-      for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 2; ++i) {
-          uint8_t hex[8];
+  // The p^3 hexes of the node lattice (for p = 1, the cell itself).
+  void split_lagrange_hex(uint64_t c, int p) {
+    for (int k = 0; k < p; ++k)
+      for (int j = 0; j < p; ++j)
+        for (int i = 0; i < p; ++i) {
+          std::array<uint64_t, 8> hex;
           for (int n = 0; n < 8; ++n)
-            hex[n] = kHex27Node[k + kHexCorner[n][2]][j + kHexCorner[n][1]][i + kHexCorner[n][0]];
-          add(kHex, hex, c);
+            hex[size_t(n)] =
+                nodes_[lagrange_hex_node(i + kHexCorner[n][0], j + kHexCorner[n][1], k + kHexCorner[n][2], p)];
+          cells_.add(kHex, hex, c);
         }
   }
 
@@ -194,9 +229,12 @@ class QuadraticSplitter {
   std::map<std::array<uint64_t, 8>, uint64_t> face_centres_;  // by the face's sorted nodes
 };
 
-constexpr uint8_t kLagrangeTetra = 71, kLagrangePyramid = 74;
+constexpr uint8_t kLagrangeTetra = 71, kLagrangeHex = uint8_t(QuadraticCell::lagrange_hex), kLagrangePyramid = 74;
 
 bool is_lagrange(uint8_t type) { return type >= kLagrangeTetra && type <= kLagrangePyramid; }
+
+// Whether the splitter takes cells of this type, once Lagrange cells have their fixed types.
+bool split_here(uint8_t type) { return quadratic_node_count(type) > 0 || type == kLagrangeHex; }
 
 // Lagrange cells as the fixed types of their nodes (the order checked by vertex count).
 void lagrange_to_fixed_types(MeshData& m, const std::string& file) {
@@ -206,19 +244,22 @@ void lagrange_to_fixed_types(MeshData& m, const std::string& file) {
     const uint8_t fixed = lagrange_as_fixed_type(m.cell_types[c], nodes);
     if (fixed == 0)
       input_error(file, "cell " + std::to_string(c) + " (" + cell_type_name(m.cell_types[c]) + ") has " +
-                            std::to_string(nodes) +
-                            " nodes: volstream reads Lagrange cells of order 1 and 2 (tetra 4 or 10 nodes, "
-                            "hexahedron 8 or 27, wedge 6 or 18, pyramid 5)");
+                            std::to_string(nodes) + " nodes: volstream reads Lagrange hexahedra of order 1 to " +
+                            std::to_string(kMaxLagrangeOrder) +
+                            " ((order + 1)^3 nodes) and Lagrange tetra, wedges and pyramids of order 1 and 2 (4 or "
+                            "10, 6 or 18, and 5 nodes)");
     m.cell_types[c] = fixed;
   }
 }
 
+// The vertex counts of the cells the splitter takes (a Lagrange hexahedron's order was checked),
+// and their vertex indices.
 void check_quadratic_cells(const MeshData& m, const std::string& file) {
   for (uint64_t c = 0; c < m.cell_count(); ++c) {
+    if (!split_here(m.cell_types[c])) continue;
     const int nodes = quadratic_node_count(m.cell_types[c]);
-    if (nodes == 0) continue;
     const uint64_t begin = m.cell_offsets[c], count = m.cell_offsets[c + 1] - begin;
-    if (count != uint64_t(nodes))
+    if (nodes > 0 && count != uint64_t(nodes))
       input_error(file, "cell " + std::to_string(c) + " (" + cell_type_name(m.cell_types[c]) + ") has " +
                             std::to_string(count) + " vertices, expected " + std::to_string(nodes));
     for (uint64_t k = begin; k < begin + count; ++k)
@@ -236,22 +277,21 @@ uint8_t lagrange_as_fixed_type(uint32_t vtk_type, uint64_t nodes) {
     uint64_t nodes;
     uint8_t fixed;
   };
-  constexpr Order kOrders[] = {{71, 4, kTet},    {71, 10, uint8_t(QuadraticCell::tet10)},
-                               {72, 8, kHex},    {72, 27, uint8_t(QuadraticCell::hex27)},
-                               {73, 6, kWedge},  {73, 18, uint8_t(QuadraticCell::wedge18)},
-                               {74, 5, kPyramid}};
+  constexpr Order kOrders[] = {{71, 4, kTet},   {71, 10, uint8_t(QuadraticCell::tet10)},   {72, 8, kHex},
+                               {73, 6, kWedge}, {73, 18, uint8_t(QuadraticCell::wedge18)}, {74, 5, kPyramid}};
   for (const Order& o : kOrders)
     if (o.lagrange == vtk_type && o.nodes == nodes) return o.fixed;
-  return 0;
+  return vtk_type == kLagrangeHex && lagrange_hex_order(nodes) >= 2 ? kLagrangeHex : 0;
 }
 
 void lagrange_hexahedra_from_pre_vtk91_order(MeshData& m) {
-  constexpr uint8_t kLagrangeHexahedron = 72;
   for (uint64_t c = 0; c < m.cell_count() && c + 1 < m.cell_offsets.size(); ++c) {
-    const uint64_t begin = m.cell_offsets[c];
-    if (m.cell_types[c] == kLagrangeHexahedron && m.cell_offsets[c + 1] == begin + 27 &&
-        m.cell_offsets[c + 1] <= m.connectivity.size())
-      std::swap(m.connectivity[begin + 18], m.connectivity[begin + 19]);
+    const uint64_t begin = m.cell_offsets[c], end = m.cell_offsets[c + 1];
+    const int p = m.cell_types[c] == kLagrangeHex && begin <= end ? lagrange_hex_order(end - begin) : 0;
+    if (p < 2 || end > m.connectivity.size()) continue;
+    // edges 10 and 11 (2-6 and 3-7), p - 1 nodes each, after the corners and edges 0-9
+    const auto edge10 = m.connectivity.begin() + int64_t(begin + 8 + 10 * uint64_t(p - 1));
+    std::swap_ranges(edge10, edge10 + (p - 1), edge10 + (p - 1));
   }
 }
 
@@ -277,8 +317,7 @@ int quadratic_node_count(uint32_t vtk_type) {
 }
 
 void split_quadratic_cells(MeshData& m, const std::string& file) {
-  if (std::none_of(m.cell_types.begin(), m.cell_types.end(),
-                   [](uint8_t t) { return quadratic_node_count(t) > 0 || is_lagrange(t); }))
+  if (std::none_of(m.cell_types.begin(), m.cell_types.end(), [](uint8_t t) { return split_here(t) || is_lagrange(t); }))
     return;
   check_rebuild_input(m, "quadratic cells", file);
   lagrange_to_fixed_types(m, file);
@@ -286,7 +325,7 @@ void split_quadratic_cells(MeshData& m, const std::string& file) {
   CellRebuild cells;
   QuadraticSplitter splitter(m, cells);
   for (uint64_t c = 0; c < m.cell_count(); ++c)
-    if (quadratic_node_count(m.cell_types[c]) > 0)
+    if (split_here(m.cell_types[c]))
       splitter.split(c);
     else
       cells.keep(m, c);

@@ -1,6 +1,8 @@
-// VTK's quadratic cells as linear elements on their nodes. Finite-element codes write second-order
-// meshes (Abaqus C3D10 and C3D20, ANSYS SOLID187, COMSOL, FEniCS, deal.II and MOOSE's HEX27) as
-// these cells, and ParaView's volume mappers draw them the same way: split into linear pieces.
+// VTK's quadratic and Lagrange cells as linear elements on their nodes. Finite-element codes write
+// second-order meshes (Abaqus C3D10 and C3D20, ANSYS SOLID187, COMSOL, FEniCS, deal.II and MOOSE's
+// HEX27) as the quadratic cells, high-order and spectral-element codes (dolfinx, deal.II, MFEM,
+// Nektar++, FLEXI) as Lagrange cells, and ParaView's volume mappers draw them the same way: split
+// into linear pieces.
 #pragma once
 #include <string>
 
@@ -8,33 +10,35 @@
 
 namespace vs {
 
-// VTK ids of the quadratic cells split_quadratic_cells() reads.
+// VTK ids of the cells split_quadratic_cells() splits.
 enum class QuadraticCell : uint8_t {
-  tet10 = 24,      // quadratic tetra
-  hex20 = 25,      // quadratic hexahedron (serendipity)
-  wedge15 = 26,    // quadratic wedge
-  pyramid13 = 27,  // quadratic pyramid
-  hex27 = 29,      // triquadratic hexahedron
-  wedge18 = 32,    // biquadratic-quadratic wedge
-  hex24 = 33,      // biquadratic-quadratic hexahedron
+  tet10 = 24,         // quadratic tetra
+  hex20 = 25,         // quadratic hexahedron (serendipity)
+  wedge15 = 26,       // quadratic wedge
+  pyramid13 = 27,     // quadratic pyramid
+  hex27 = 29,         // triquadratic hexahedron
+  wedge18 = 32,       // biquadratic-quadratic wedge
+  hex24 = 33,         // biquadratic-quadratic hexahedron
+  lagrange_hex = 72,  // Lagrange hexahedron of order 2 to 10 ((order + 1)^3 nodes)
 };
 
 // Nodes of a quadratic cell type above (10, 20, 15, 13, 27, 18, 24); 0 for any other id.
 int quadratic_node_count(uint32_t vtk_type);
 
-// VTK's Lagrange cells (71 tetrahedron, 72 hexahedron, 73 wedge, 74 pyramid; dolfinx and deal.II
-// write their P1 and P2 meshes so, MFEM its ParaView output) of order 1 have the nodes of the
-// linear cells, and of order 2 those of the quadratic tetra (10 nodes), triquadratic hexahedron
-// (27) and biquadratic-quadratic wedge (18), in the same order; split_quadratic_cells() reads
-// them as those. Returns the type a Lagrange cell of `nodes` nodes is read as; 0 for another
-// order (or the 15-node tetra and 21-node wedge variants), and for any other type.
+// VTK's Lagrange cells (71 tetrahedron, 72 hexahedron, 73 wedge, 74 pyramid) of order 1 have the
+// nodes of the linear cells, and the tetra and wedge of order 2 those of the quadratic tetra (10
+// nodes) and biquadratic-quadratic wedge (18), in the same order; split_quadratic_cells() reads
+// them as those. A Lagrange hexahedron of order 2 to 10 is split into the hexes of its node
+// lattice (at order 2 its nodes are the triquadratic hexahedron's). Returns the type a Lagrange
+// cell of `nodes` nodes is read as (72 for a hexahedron split so); 0 for another order (or the
+// 15-node tetra and 21-node wedge variants), and for any other type.
 uint8_t lagrange_as_fixed_type(uint32_t vtk_type, uint64_t nodes);
 
 // Before VTK 9.1 a Lagrange hexahedron listed the nodes of its edges (2,6) and (3,7) the other way
 // round. Files older than that (XML version below 2.2, legacy below 5.1) are read as VTK reads
-// them: their readers call this, which swaps the two mid-edge nodes (18, 19) of each order-2
-// Lagrange hexahedron (27 nodes) of `mesh`. Other cells, and cells whose offsets do not span
-// the connectivity, are left as they are (for the checks after).
+// them: their readers call this, which swaps the nodes inside those two edges (18 and 19 at order
+// 2) of each Lagrange hexahedron of order 2 or more of `mesh`. Other cells, and cells whose
+// offsets do not span the connectivity, are left as they are (for the checks after).
 void lagrange_hexahedra_from_pre_vtk91_order(MeshData& mesh);
 
 // Replaces each quadratic cell of `mesh` by the linear elements of its nodes, halving each of its

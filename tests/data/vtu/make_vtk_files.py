@@ -337,19 +337,56 @@ def lagrange_mesh():
     return grids
 
 
+def lagrange_hexahedra():
+    """Lagrange hexahedra of order 3 and 4 as vtkCellTypeSource makes them (a unit cube each, at
+    x = 0 and x = 2), curved as lagrange_mesh()'s, with add_test_arrays' arrays; and their twin:
+    the same points, each cell as the p^3 linear hexes of its node lattice (found from where
+    vtkCellTypeSource puts each node), in the order volstream splits them (x fastest, then y, z)."""
+    grid, twin = vtk.vtkUnstructuredGrid(), vtk.vtkUnstructuredGrid()
+    points = vtk.vtkPoints()
+    corners = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+    for k, order in enumerate((3, 4)):
+        source = vtk.vtkCellTypeSource()
+        source.SetCellType(vtk.VTK_LAGRANGE_HEXAHEDRON)
+        source.SetCellOrder(order)
+        source.SetBlocksDimensions(1, 1, 1)
+        source.Update()
+        block = source.GetOutput()
+        first = points.GetNumberOfPoints()
+        for i in range(block.GetNumberOfPoints()):
+            x, y, z = block.GetPoint(i)
+            x += 2 * k
+            points.InsertNextPoint(x + 0.05 * y * y, y + 0.04 * z * z, z + 0.06 * y * (1 - y))
+        cell = block.GetCell(0)
+        ids = [first + cell.GetPointId(n) for n in range(cell.GetNumberOfPoints())]
+        grid.InsertNextCell(vtk.VTK_LAGRANGE_HEXAHEDRON, len(ids), ids)
+        at = {tuple(round(c * order) for c in block.GetPoint(cell.GetPointId(n))): ids[n]
+              for n in range(cell.GetNumberOfPoints())}
+        for c in range(order):
+            for b in range(order):
+                for a in range(order):
+                    twin.InsertNextCell(vtk.VTK_HEXAHEDRON, 8, [at[(a + u, b + v, c + w)] for u, v, w in corners])
+    for g in (grid, twin):
+        g.SetPoints(points)
+        add_test_arrays(g, lambda x, y, z: x * y + z * z + x * x)
+    return grid, twin
+
+
 def pre_vtk91_numbering(grid):
-    """A copy of `grid` whose order-2 Lagrange hexahedra list their nodes as before VTK 9.1 (the
-    mid-edge nodes of edges (2,6) and (3,7), 18 and 19, the other way round)."""
+    """A copy of `grid` whose Lagrange hexahedra list their nodes as before VTK 9.1 (the nodes
+    inside edges (2,6) and (3,7), edges 10 and 11, the other way round: 18 and 19 at order 2)."""
     old = vtk.vtkUnstructuredGrid()
     old.DeepCopy(grid)
     for c in range(old.GetNumberOfCells()):
-        if old.GetCellType(c) == vtk.VTK_LAGRANGE_HEXAHEDRON and old.GetCell(c).GetNumberOfPoints() == 27:
+        n = old.GetCell(c).GetNumberOfPoints()
+        if old.GetCellType(c) == vtk.VTK_LAGRANGE_HEXAHEDRON and n >= 27:
             ids = vtk.vtkIdList()
             old.GetCellPoints(c, ids)
-            a, b = ids.GetId(18), ids.GetId(19)
-            ids.SetId(18, b)
-            ids.SetId(19, a)
-            old.ReplaceCell(c, 27, [ids.GetId(i) for i in range(27)])
+            nodes = [ids.GetId(i) for i in range(n)]
+            m = round(n ** (1 / 3)) - 2  # nodes inside an edge
+            e10, e11 = 8 + 10 * m, 8 + 11 * m
+            nodes[e10:e10 + m], nodes[e11:e11 + m] = nodes[e11:e11 + m], nodes[e10:e10 + m]
+            old.ReplaceCell(c, n, nodes)
     return old
 
 
@@ -385,12 +422,26 @@ def write_lagrange():
         legacy.SetFileName(name)
         legacy.SetFileVersion(version)
         legacy.Write()
-    for name, reader in (("vtk_lagrange_pre91.vtu", vtk.vtkXMLUnstructuredGridReader()),
-                         ("../vtk/vtk_lagrange_42.vtk", vtk.vtkUnstructuredGridReader()),
-                         ("../vtk/vtk_lagrange.vtk", vtk.vtkUnstructuredGridReader())):
+    hexahedra, hexahedra_twin = lagrange_hexahedra()
+    for data, name in ((hexahedra, "vtk_lagrange_hex.vtu"), (hexahedra_twin, "vtk_lagrange_hex_twin.vtu"),
+                       (pre_vtk91_numbering(hexahedra), "vtk_lagrange_hex_pre91.vtu")):
+        xml = vtk.vtkXMLUnstructuredGridWriter()
+        xml.SetInputData(data)
+        xml.SetFileName(name)
+        xml.SetDataModeToAppended()
+        xml.EncodeAppendedDataOff()
+        xml.Write()
+    with open("vtk_lagrange_hex_pre91.vtu", "rb") as f:
+        data = f.read()
+    with open("vtk_lagrange_hex_pre91.vtu", "wb") as f:
+        f.write(data.replace(b'version="2.2"', b'version="1.0"', 1))
+    for name, reader, current in (("vtk_lagrange_pre91.vtu", vtk.vtkXMLUnstructuredGridReader(), grid),
+                                  ("../vtk/vtk_lagrange_42.vtk", vtk.vtkUnstructuredGridReader(), grid),
+                                  ("../vtk/vtk_lagrange.vtk", vtk.vtkUnstructuredGridReader(), grid),
+                                  ("vtk_lagrange_hex_pre91.vtu", vtk.vtkXMLUnstructuredGridReader(), hexahedra)):
         reader.SetFileName(name)
         reader.Update()
-        assert same_cells(reader.GetOutput(), grid), name + ": VTK does not read it as the current numbering"
+        assert same_cells(reader.GetOutput(), current), name + ": VTK does not read it as the current numbering"
 
 
 if __name__ == "__main__":

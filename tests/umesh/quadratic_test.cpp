@@ -199,16 +199,16 @@ TEST(QuadraticCells, LagrangeCellsOfOrder1And2AreTheFixedCells) {
   EXPECT_GT(inside, 400);
 }
 
-// Lagrange hexahedra of order 3 and 4 (vtkCellTypeSource's, curved) split into the 27 and 64
-// hexes of their node lattices: the twin file lists them, found from where VTK puts each node.
+// Lagrange hexahedra of order 3 to 6 (vtkCellTypeSource's, curved) split into the 27, 64, 125 and
+// 216 hexes of their node lattices: the twin file lists them, found from where VTK puts each node.
 TEST(QuadraticCells, LagrangeHexahedraOfHigherOrderSplitOnTheirLattice) {
   const MeshData m = read_vtu(kDataDir / "vtu" / "vtk_lagrange_hex.vtu");
   const MeshData twin = read_vtu(kDataDir / "vtu" / "vtk_lagrange_hex_twin.vtu");
-  EXPECT_EQ(m.cell_count(), 27 + 64u);
+  EXPECT_EQ(m.cell_count(), 27 + 64 + 125 + 216u);
   EXPECT_EQ(m.cell_types, twin.cell_types);
   EXPECT_EQ(m.connectivity, twin.connectivity);
-  std::vector<double> from_cell(27, 0.0);
-  from_cell.resize(27 + 64, 1.0);
+  std::vector<double> from_cell;
+  for (int p = 3; p <= 6; ++p) from_cell.resize(from_cell.size() + size_t(p * p * p), double(p - 3));
   EXPECT_EQ(test::array_named(m.cell_data, "cell_id").values, from_cell);
   const WorldTransform xf = mesh_transform(m);
   const UMesh mesh = make_umesh(m, xf, "lagrange");  // no piece tangled or inverted
@@ -239,7 +239,7 @@ TEST(QuadraticCells, LagrangeHexahedraOfOlderFilesAreRenumbered) {
     for (size_t i = 0; i < m.points.size(); ++i)  // legacy ascii: 6 digits
       EXPECT_LT(length(m.points[i] - current.points[i]), 2e-5) << i;
   }
-  // orders 3 and 4: the nodes inside the two edges swapped as runs
+  // orders 3 to 6: the nodes inside the two edges swapped as runs
   const MeshData old = read_vtu(kDataDir / "vtu" / "vtk_lagrange_hex_pre91.vtu");
   EXPECT_EQ(old.connectivity, read_vtu(kDataDir / "vtu" / "vtk_lagrange_hex.vtu").connectivity);
 }

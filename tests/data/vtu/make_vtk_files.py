@@ -338,14 +338,14 @@ def lagrange_mesh():
 
 
 def lagrange_hexahedra():
-    """Lagrange hexahedra of order 3 and 4 as vtkCellTypeSource makes them (a unit cube each, at
-    x = 0 and x = 2), curved as lagrange_mesh()'s, with add_test_arrays' arrays; and their twin:
+    """Lagrange hexahedra of order 3, 4, 5 and 6 as vtkCellTypeSource makes them (a unit cube each,
+    at x = 0, 2, 4, 6), curved as lagrange_mesh()'s, with add_test_arrays' arrays; and their twin:
     the same points, each cell as the p^3 linear hexes of its node lattice (found from where
     vtkCellTypeSource puts each node), in the order volstream splits them (x fastest, then y, z)."""
     grid, twin = vtk.vtkUnstructuredGrid(), vtk.vtkUnstructuredGrid()
     points = vtk.vtkPoints()
     corners = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
-    for k, order in enumerate((3, 4)):
+    for k, order in enumerate((3, 4, 5, 6)):
         source = vtk.vtkCellTypeSource()
         source.SetCellType(vtk.VTK_LAGRANGE_HEXAHEDRON)
         source.SetCellOrder(order)

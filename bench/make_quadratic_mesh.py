@@ -5,10 +5,11 @@ type 25), every node moved by the same smooth map so that the cells are curved, 
 curved part is. Point field "density": the sum of Gaussians of bench/make_refined_polyhedra.py
 (up to about 1.1, so that bench/umesh_vs_vtk.sh's looks apply), at every node.
 
-    /usr/bin/python3 bench/make_quadratic_mesh.py N OUT.vtu [tet10|hex20]
+    /usr/bin/python3 bench/make_quadratic_mesh.py N OUT.vtu [tet10|hex20|lagrangeP]
 
-volstream splits each tet10 into 8 tets and each hex20 into 8 hexes (docs/formats.md). Debian's
-python3-vtk9.
+lagrangeP (P = 1..10): N^3 Lagrange hexahedra (VTK type 72) of order P, as VTK's vtkCellTypeSource
+makes them, curved in the same way. volstream splits each tet10 into 8 tets, each hex20 into 8
+hexes and each Lagrange hexahedron into P^3 hexes (docs/formats.md). Debian's python3-vtk9.
 """
 import itertools
 import sys
@@ -53,16 +54,38 @@ def cells(n, kind):
     return np.concatenate(rows, axis=0) if len(rows) > 1 else rows[0]
 
 
+def curved(x, y, z):
+    return np.stack([x + 0.03 * np.sin(np.pi * y), y + 0.03 * np.sin(np.pi * z), z + 0.03 * np.sin(np.pi * x)], axis=1)
+
+
+def lagrange_hexahedra(n, order, out):
+    source = vtk.vtkCellTypeSource()
+    source.SetCellType(vtk.VTK_LAGRANGE_HEXAHEDRON)
+    source.SetCellOrder(order)
+    source.SetBlocksDimensions(n, n, n)
+    source.Update()
+    grid = source.GetOutput()
+    while grid.GetPointData().GetNumberOfArrays():
+        grid.GetPointData().RemoveArray(0)
+    unit = numpy_support.vtk_to_numpy(grid.GetPoints().GetData()) / n
+    points = curved(unit[:, 0], unit[:, 1], unit[:, 2])
+    grid.GetPoints().SetData(numpy_support.numpy_to_vtk(points, deep=True))
+    write_with_density(grid, points, out)
+    print(f"{out}: {grid.GetNumberOfCells()} Lagrange hexahedra of order {order}, {len(points)} points")
+
+
 def main():
     n, out = int(sys.argv[1]), sys.argv[2]
     kind = sys.argv[3] if len(sys.argv) > 3 else "tet10"
+    if kind.startswith("lagrange"):
+        return lagrange_hexahedra(n, int(kind[len("lagrange"):]), out)
     lattice = cells(n, kind)
     m = 2 * n + 1
     keys = (lattice[..., 0] * m + lattice[..., 1]) * m + lattice[..., 2]
     used, connectivity = np.unique(keys.ravel(), return_inverse=True)
     half = np.stack([used // (m * m), (used // m) % m, used % m], axis=1) / (2.0 * n)
     x, y, z = half[:, 0], half[:, 1], half[:, 2]
-    points = np.stack([x + 0.03 * np.sin(np.pi * y), y + 0.03 * np.sin(np.pi * z), z + 0.03 * np.sin(np.pi * x)], axis=1)
+    points = curved(x, y, z)
     per_cell = lattice.shape[1]
     cell_type = vtk.VTK_QUADRATIC_TETRA if kind == "tet10" else vtk.VTK_QUADRATIC_HEXAHEDRON
     grid = vtk.vtkUnstructuredGrid()

@@ -224,6 +224,36 @@ TEST(QuadraticCells, LagrangeHexahedraOfHigherOrderSplitOnTheirLattice) {
   EXPECT_GT(inside, 500);
 }
 
+// Lagrange tetra of order 3 to 6 (vtkCellTypeSource's, straight: 12 tets filling a unit cube for
+// each order) split into the p^3 tets of their node lattices: every piece in VTK's orientation
+// with 1/p^3 of its cell's volume (as each tet and octahedron quarter of the lattice has), every
+// node of the cell a corner of some piece.
+TEST(QuadraticCells, LagrangeTetraOfHigherOrderSplitOnTheirLattice) {
+  const MeshData m = read_vtu(kDataDir / "vtu" / "vtk_lagrange_tet.vtu");
+  const std::vector<double>& cell_id = test::array_named(m.cell_data, "cell_id").values;
+  EXPECT_EQ(m.cell_count(), 12u * (27 + 64 + 125 + 216));
+  std::vector<double> volume(48, 0.0);
+  std::vector<int> pieces(48, 0);
+  std::vector<bool> used(m.points.size(), false);
+  for (uint64_t c = 0; c < m.cell_count(); ++c) {
+    const auto source = size_t(cell_id[c]);
+    volume[source] += element_volume(m, c);
+    ++pieces[source];
+    for (uint64_t k = m.cell_offsets[c]; k < m.cell_offsets[c + 1]; ++k) used[m.connectivity[k]] = true;
+  }
+  for (uint64_t c = 0; c < m.cell_count(); ++c) {
+    const auto source = size_t(cell_id[c]);
+    EXPECT_NEAR(element_volume(m, c), volume[source] / pieces[source], 1e-4 * volume[source] / pieces[source])
+        << "piece " << c;  // float32 points
+  }
+  for (size_t source = 0; source < 48; ++source) {
+    const int p = 3 + int(source / 12);
+    EXPECT_EQ(pieces[source], p * p * p);
+    EXPECT_NEAR(volume[source], 1.0 / 12, 1e-6) << "cell " << source;  // a twelfth of the unit cube
+  }
+  EXPECT_EQ(std::count(used.begin(), used.end(), false), 0);
+}
+
 // Files older than VTK 9.1 (XML version 1.0, legacy 4.2) list the nodes inside a Lagrange
 // hexahedron's edges 2-6 and 3-7 the other way round (18 and 19 at order 2); they read as VTK
 // reads them (the generator checks that VTK reads each as the current numbering), the same mesh
@@ -286,10 +316,11 @@ TEST(QuadraticCells, BadCellsAreRefused) {
   MeshData bad_offsets = grid_mesh({{24, ten}});
   bad_offsets.cell_offsets.back() = 11;
   EXPECT_NE(split_error(bad_offsets).find("cell offsets do not match"), std::string::npos);
-  // A Lagrange tetra of order 3 (20 nodes), a hexahedron of no order (30 nodes), and the 15-node
+  // A Lagrange wedge of order 3 (40 nodes), a hexahedron of no order (30 nodes), and the 15-node
   // tetra variant are refused.
-  EXPECT_NE(split_error(grid_mesh({{71, std::vector<uint64_t>(20, 0)}}))
-                .find("cell 0 (Lagrange tetra) has 20 nodes: volstream reads Lagrange hexahedra of order 1 to 10"),
+  EXPECT_NE(split_error(grid_mesh({{73, std::vector<uint64_t>(40, 0)}}))
+                .find("cell 0 (Lagrange wedge) has 40 nodes: volstream reads Lagrange hexahedra and tetra of order 1 "
+                      "to 10"),
             std::string::npos);
   EXPECT_NE(split_error(grid_mesh({{72, std::vector<uint64_t>(30, 0)}})).find("has 30 nodes"), std::string::npos);
   EXPECT_NE(split_error(grid_mesh({{71, std::vector<uint64_t>(15, 0)}})).find("has 15 nodes"), std::string::npos);

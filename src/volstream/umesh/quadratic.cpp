@@ -82,10 +82,16 @@ constexpr uint8_t kHexCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}
                                       {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
 constexpr int kMaxLagrangeOrder = 10;  // 1,331 nodes a hexahedron
 
-// The order of a Lagrange hexahedron of `nodes` nodes ((p + 1)^3); 0 if none up to the largest.
+// The order of a Lagrange hexahedron of `nodes` nodes ((p + 1)^3) and of a Lagrange tetra
+// ((p + 1)(p + 2)(p + 3) / 6); 0 if none up to the largest.
 int lagrange_hex_order(uint64_t nodes) {
   for (int p = 1; p <= kMaxLagrangeOrder; ++p)
     if (uint64_t((p + 1) * (p + 1) * (p + 1)) == nodes) return p;
+  return 0;
+}
+int lagrange_tet_order(uint64_t nodes) {
+  for (int p = 1; p <= kMaxLagrangeOrder; ++p)
+    if (uint64_t((p + 1) * (p + 2) * (p + 3) / 6) == nodes) return p;
   return 0;
 }
 
@@ -94,13 +100,71 @@ int lagrange_hex_order(uint64_t nodes) {
 constexpr uint8_t kWedge18Layer[3][6] = {{0, 1, 2, 6, 7, 8}, {12, 13, 14, 15, 16, 17}, {3, 4, 5, 9, 10, 11}};
 constexpr uint8_t kLayerTriangle[4][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}, {3, 4, 5}};
 
-// A tet10's corner tets, and its inner octahedron's four tets around each of its diagonals 4-9,
-// 5-7 and 6-8 (each in VTK's orientation, as the cell is).
-constexpr uint8_t kTet10Corner[4][4] = {{0, 4, 6, 7}, {4, 1, 5, 8}, {6, 5, 2, 9}, {7, 8, 9, 3}};
+// The octahedron between a tet10's corner tets (its nodes 4-9), as four tets around each of its
+// diagonals 4-9, 5-7 and 6-8 (each in VTK's orientation, as the cell is).
 constexpr uint8_t kTet10Diagonal[3][2] = {{4, 9}, {5, 7}, {6, 8}};
 constexpr uint8_t kTet10Octahedron[3][4][4] = {{{4, 9, 5, 6}, {4, 9, 6, 7}, {4, 9, 7, 8}, {4, 9, 8, 5}},
                                                {{5, 7, 6, 4}, {5, 7, 9, 6}, {5, 7, 8, 9}, {5, 7, 4, 8}},
                                                {{6, 8, 4, 5}, {6, 8, 5, 9}, {6, 8, 9, 7}, {6, 8, 7, 4}}};
+
+// A Lagrange tetra of order p in VTK's node order (the quadratic tetra's at p = 2), as the lattice
+// points (i, j, k) of its nodes: i, j, k steps of 1/p from corner 0 towards corners 1, 2, 3
+// (i + j + k <= p). Corners, then the p - 1 nodes inside each edge (0-1, 1-2, 2-0, 0-3, 1-3, 2-3,
+// from the first corner), then the nodes inside each face (0-1-3, 2-3-1, 0-3-2, 0-2-1, each a
+// triangle of order p - 3 in this same order: corners, edges, inside), then those inside the
+// tetra, a tetra of order p - 4.
+using Lattice = std::array<int, 3>;
+
+Lattice step(const Lattice& from, const Lattice& to, int steps) {  // 1/steps of the way
+  return {(to[0] - from[0]) / steps, (to[1] - from[1]) / steps, (to[2] - from[2]) / steps};
+}
+Lattice plus(Lattice a, const Lattice& b, int times = 1) {
+  for (int d = 0; d < 3; ++d) a[size_t(d)] += times * b[size_t(d)];
+  return a;
+}
+
+void triangle_lattice(const Lattice& a, const Lattice& b, const Lattice& c, int order, std::vector<Lattice>& out) {
+  if (order < 0) return;
+  if (order == 0) return out.push_back(a);
+  out.insert(out.end(), {a, b, c});
+  const Lattice ab = step(a, b, order), bc = step(b, c, order), ca = step(c, a, order);
+  for (const auto& [from, along] : {std::pair{a, ab}, std::pair{b, bc}, std::pair{c, ca}})
+    for (int t = 1; t < order; ++t) out.push_back(plus(from, along, t));
+  // the inside: each corner one step in along both its edges
+  triangle_lattice(plus(plus(a, ab), ca, -1), plus(plus(b, bc), ab, -1), plus(plus(c, ca), bc, -1), order - 3, out);
+}
+
+void tetra_lattice(const std::array<Lattice, 4>& v, int order, std::vector<Lattice>& out) {
+  if (order < 0) return;
+  if (order == 0) return out.push_back(v[0]);
+  out.insert(out.end(), v.begin(), v.end());
+  constexpr int kEdges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+  for (const auto& e : kEdges)
+    for (int t = 1; t < order; ++t)
+      out.push_back(plus(v[size_t(e[0])], step(v[size_t(e[0])], v[size_t(e[1])], order), t));
+  // a face's (or the tetra's) inside: each of its corners one step towards each of its others
+  const auto inward = [&](int corner, std::initializer_list<int> others) {
+    Lattice p = v[size_t(corner)];
+    for (int o : others) p = plus(p, step(v[size_t(corner)], v[size_t(o)], order));
+    return p;
+  };
+  constexpr int kFaces[4][3] = {{0, 1, 3}, {2, 3, 1}, {0, 3, 2}, {0, 2, 1}};
+  for (const auto& f : kFaces)
+    triangle_lattice(inward(f[0], {f[1], f[2]}), inward(f[1], {f[0], f[2]}), inward(f[2], {f[0], f[1]}), order - 3,
+                     out);
+  tetra_lattice({inward(0, {1, 2, 3}), inward(1, {0, 2, 3}), inward(2, {0, 1, 3}), inward(3, {0, 1, 2})}, order - 4,
+                out);
+}
+
+// The node index of each lattice point of a Lagrange tetra of order p, at (i * (p + 1) + j) * (p + 1) + k.
+std::vector<uint32_t> tetra_node_table(int p) {
+  std::vector<Lattice> nodes;
+  tetra_lattice({Lattice{0, 0, 0}, Lattice{p, 0, 0}, Lattice{0, p, 0}, Lattice{0, 0, p}}, p, nodes);
+  std::vector<uint32_t> table(size_t((p + 1) * (p + 1) * (p + 1)), 0);
+  for (size_t n = 0; n < nodes.size(); ++n)
+    table[size_t((nodes[n][0] * (p + 1) + nodes[n][1]) * (p + 1) + nodes[n][2])] = uint32_t(n);
+  return table;
+}
 
 // A pyramid with its base centre (node 13): a pyramid on each quarter of the base, one on the
 // quad of the side edges' mid-nodes up to the apex and one down to the base centre, and a tet
@@ -137,7 +201,9 @@ class QuadraticSplitter {
     for (const Centre& centre : centres_of(type)) nodes_.push_back(add_centre(centre));
     switch (QuadraticCell(type)) {
       case QuadraticCell::tet10:
-        return split_tet10(c);
+        return split_lagrange_tet(c, 2);
+      case QuadraticCell::lagrange_tet:
+        return split_lagrange_tet(c, lagrange_tet_order(nodes_.size()));
       case QuadraticCell::hex20:
       case QuadraticCell::hex24:
       case QuadraticCell::hex27:
@@ -180,16 +246,40 @@ class QuadraticSplitter {
     return at->second;
   }
 
-  void split_tet10(uint64_t c) {
-    for (const auto& tet : kTet10Corner) add(kTet, tet, c);
-    // The shortest diagonal gives the best-shaped tets; any of the three fills the octahedron.
+  // The p^3 tets of the node lattice: an upright tet at each lattice point (i + j + k < p), the
+  // octahedron above it (i + j + k < p - 1) as four tets around its shortest diagonal, and an
+  // upside-down tet beyond that (i + j + k < p - 2).
+  void split_lagrange_tet(uint64_t c, int p) {
+    std::vector<uint32_t>& table = tetra_tables_[size_t(p)];
+    if (table.empty()) table = tetra_node_table(p);
+    const auto node = [&](int i, int j, int k) { return nodes_[table[size_t((i * (p + 1) + j) * (p + 1) + k)]]; };
+    for (int i = 0; i < p; ++i)
+      for (int j = 0; i + j < p; ++j)
+        for (int k = 0; i + j + k < p; ++k) {
+          cells_.add(kTet, std::array{node(i, j, k), node(i + 1, j, k), node(i, j + 1, k), node(i, j, k + 1)}, c);
+          if (i + j + k < p - 1)
+            add_octahedron(c, {node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k), node(i, j, k + 1),
+                               node(i + 1, j, k + 1), node(i, j + 1, k + 1)});
+          if (i + j + k < p - 2)
+            cells_.add(kTet,
+                       std::array{node(i + 1, j + 1, k), node(i, j + 1, k + 1), node(i + 1, j, k + 1),
+                                  node(i + 1, j + 1, k + 1)},
+                       c);
+        }
+  }
+
+  // An octahedron with the nodes 4-9 of a tet10's (the midpoints of its edges 0-1, 1-2, 2-0, 0-3,
+  // 1-3, 2-3) as four tets around its shortest diagonal (the best-shaped; any fills it).
+  void add_octahedron(uint64_t c, const std::array<uint64_t, 6>& mid) {
+    const auto at = [&](uint8_t local) { return mid[size_t(local - 4)]; };
     int best = 0;
     double best_length = INFINITY;
     for (int d = 0; d < 3; ++d) {
-      const vec3d e = mesh_.points[nodes_[kTet10Diagonal[d][1]]] - mesh_.points[nodes_[kTet10Diagonal[d][0]]];
+      const vec3d e = mesh_.points[at(kTet10Diagonal[d][1])] - mesh_.points[at(kTet10Diagonal[d][0])];
       if (dot(e, e) < best_length) best_length = dot(e, e), best = d;
     }
-    for (const auto& tet : kTet10Octahedron[best]) add(kTet, tet, c);
+    for (const auto& tet : kTet10Octahedron[best])
+      cells_.add(kTet, std::array{at(tet[0]), at(tet[1]), at(tet[2]), at(tet[3])}, c);
   }
 
   // The p^3 hexes of the node lattice (for p = 1, the cell itself).
@@ -226,15 +316,19 @@ class QuadraticSplitter {
   CellRebuild& cells_;
   std::vector<uint64_t> nodes_, vertices_;
   std::vector<double> weights_;
-  std::map<std::array<uint64_t, 8>, uint64_t> face_centres_;  // by the face's sorted nodes
+  std::map<std::array<uint64_t, 8>, uint64_t> face_centres_;               // by the face's sorted nodes
+  std::array<std::vector<uint32_t>, kMaxLagrangeOrder + 1> tetra_tables_;  // tetra_node_table(p), once used
 };
 
-constexpr uint8_t kLagrangeTetra = 71, kLagrangeHex = uint8_t(QuadraticCell::lagrange_hex), kLagrangePyramid = 74;
+constexpr uint8_t kLagrangeTetra = uint8_t(QuadraticCell::lagrange_tet),
+                  kLagrangeHex = uint8_t(QuadraticCell::lagrange_hex), kLagrangePyramid = 74;
 
 bool is_lagrange(uint8_t type) { return type >= kLagrangeTetra && type <= kLagrangePyramid; }
 
 // Whether the splitter takes cells of this type, once Lagrange cells have their fixed types.
-bool split_here(uint8_t type) { return quadratic_node_count(type) > 0 || type == kLagrangeHex; }
+bool split_here(uint8_t type) {
+  return quadratic_node_count(type) > 0 || type == kLagrangeHex || type == kLagrangeTetra;
+}
 
 // Lagrange cells as the fixed types of their nodes (the order checked by vertex count).
 void lagrange_to_fixed_types(MeshData& m, const std::string& file) {
@@ -244,10 +338,11 @@ void lagrange_to_fixed_types(MeshData& m, const std::string& file) {
     const uint8_t fixed = lagrange_as_fixed_type(m.cell_types[c], nodes);
     if (fixed == 0)
       input_error(file, "cell " + std::to_string(c) + " (" + cell_type_name(m.cell_types[c]) + ") has " +
-                            std::to_string(nodes) + " nodes: volstream reads Lagrange hexahedra of order 1 to " +
+                            std::to_string(nodes) +
+                            " nodes: volstream reads Lagrange hexahedra and tetra of order 1 to " +
                             std::to_string(kMaxLagrangeOrder) +
-                            " ((order + 1)^3 nodes) and Lagrange tetra, wedges and pyramids of order 1 and 2 (4 or "
-                            "10, 6 or 18, and 5 nodes)");
+                            " ((p + 1)^3 and (p + 1)(p + 2)(p + 3) / 6 nodes), Lagrange wedges of order 1 and 2 (6 "
+                            "and 18 nodes) and Lagrange pyramids of order 1 (5 nodes)");
     m.cell_types[c] = fixed;
   }
 }
@@ -277,11 +372,13 @@ uint8_t lagrange_as_fixed_type(uint32_t vtk_type, uint64_t nodes) {
     uint64_t nodes;
     uint8_t fixed;
   };
-  constexpr Order kOrders[] = {{71, 4, kTet},   {71, 10, uint8_t(QuadraticCell::tet10)},   {72, 8, kHex},
-                               {73, 6, kWedge}, {73, 18, uint8_t(QuadraticCell::wedge18)}, {74, 5, kPyramid}};
+  constexpr Order kOrders[] = {
+      {71, 4, kTet}, {72, 8, kHex}, {73, 6, kWedge}, {73, 18, uint8_t(QuadraticCell::wedge18)}, {74, 5, kPyramid}};
   for (const Order& o : kOrders)
     if (o.lagrange == vtk_type && o.nodes == nodes) return o.fixed;
-  return vtk_type == kLagrangeHex && lagrange_hex_order(nodes) >= 2 ? kLagrangeHex : 0;
+  if (vtk_type == kLagrangeHex && lagrange_hex_order(nodes) >= 2) return kLagrangeHex;
+  if (vtk_type == kLagrangeTetra && lagrange_tet_order(nodes) >= 2) return kLagrangeTetra;
+  return 0;
 }
 
 void lagrange_hexahedra_from_pre_vtk91_order(MeshData& m) {

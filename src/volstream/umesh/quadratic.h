@@ -19,19 +19,20 @@ enum class QuadraticCell : uint8_t {
   hex27 = 29,         // triquadratic hexahedron
   wedge18 = 32,       // biquadratic-quadratic wedge
   hex24 = 33,         // biquadratic-quadratic hexahedron
-  lagrange_hex = 72,  // Lagrange hexahedron of order 2 to 10 ((order + 1)^3 nodes)
+  lagrange_tet = 71,  // Lagrange tetra of order 2 to 10 ((p + 1)(p + 2)(p + 3) / 6 nodes)
+  lagrange_hex = 72,  // Lagrange hexahedron of order 2 to 10 ((p + 1)^3 nodes)
 };
 
 // Nodes of a quadratic cell type above (10, 20, 15, 13, 27, 18, 24); 0 for any other id.
 int quadratic_node_count(uint32_t vtk_type);
 
 // VTK's Lagrange cells (71 tetrahedron, 72 hexahedron, 73 wedge, 74 pyramid) of order 1 have the
-// nodes of the linear cells, and the tetra and wedge of order 2 those of the quadratic tetra (10
-// nodes) and biquadratic-quadratic wedge (18), in the same order; split_quadratic_cells() reads
-// them as those. A Lagrange hexahedron of order 2 to 10 is split into the hexes of its node
-// lattice (at order 2 its nodes are the triquadratic hexahedron's). Returns the type a Lagrange
-// cell of `nodes` nodes is read as (72 for a hexahedron split so); 0 for another order (or the
-// 15-node tetra and 21-node wedge variants), and for any other type.
+// nodes of the linear cells, and the wedge of order 2 those of the biquadratic-quadratic wedge
+// (18), in the same order; split_quadratic_cells() reads them as those. A Lagrange hexahedron or
+// tetra of order p from 2 to 10 is split into the p^3 hexes or tets of its node lattice (at order
+// 2 its nodes are the triquadratic hexahedron's and the quadratic tetra's). Returns the type a
+// Lagrange cell of `nodes` nodes is read as (71 and 72 for cells split so); 0 for another order
+// (or the 15-node tetra and 21-node wedge variants), and for any other type.
 uint8_t lagrange_as_fixed_type(uint32_t vtk_type, uint64_t nodes);
 
 // Before VTK 9.1 a Lagrange hexahedron listed the nodes of its edges (2,6) and (3,7) the other way

@@ -372,6 +372,31 @@ def lagrange_hexahedra():
     return grid, twin
 
 
+def lagrange_tetra():
+    """Lagrange tetra of order 3, 4, 5 and 6 as vtkCellTypeSource makes them (12 straight tets
+    filling a unit cube, at x = 0, 2, 4, 6), with add_test_arrays' arrays."""
+    grid = vtk.vtkUnstructuredGrid()
+    points = vtk.vtkPoints()
+    for k, order in enumerate((3, 4, 5, 6)):
+        source = vtk.vtkCellTypeSource()
+        source.SetCellType(vtk.VTK_LAGRANGE_TETRAHEDRON)
+        source.SetCellOrder(order)
+        source.SetBlocksDimensions(1, 1, 1)
+        source.Update()
+        block = source.GetOutput()
+        first = points.GetNumberOfPoints()
+        for i in range(block.GetNumberOfPoints()):
+            x, y, z = block.GetPoint(i)
+            points.InsertNextPoint(x + 2 * k, y, z)
+        for c in range(block.GetNumberOfCells()):
+            cell = block.GetCell(c)
+            grid.InsertNextCell(vtk.VTK_LAGRANGE_TETRAHEDRON, cell.GetNumberOfPoints(),
+                                [first + cell.GetPointId(n) for n in range(cell.GetNumberOfPoints())])
+    grid.SetPoints(points)
+    add_test_arrays(grid, lambda x, y, z: x * y + z * z + x * x)
+    return grid
+
+
 def pre_vtk91_numbering(grid):
     """A copy of `grid` whose Lagrange hexahedra list their nodes as before VTK 9.1 (the nodes
     inside edges (2,6) and (3,7), edges 10 and 11, the other way round: 18 and 19 at order 2)."""
@@ -431,6 +456,12 @@ def write_lagrange():
         xml.SetDataModeToAppended()
         xml.EncodeAppendedDataOff()
         xml.Write()
+    xml = vtk.vtkXMLUnstructuredGridWriter()
+    xml.SetInputData(lagrange_tetra())
+    xml.SetFileName("vtk_lagrange_tet.vtu")
+    xml.SetDataModeToAppended()
+    xml.EncodeAppendedDataOff()
+    xml.Write()
     with open("vtk_lagrange_hex_pre91.vtu", "rb") as f:
         data = f.read()
     with open("vtk_lagrange_hex_pre91.vtu", "wb") as f:

@@ -170,6 +170,24 @@ TEST(QuadraticCells, LinearFieldIsExactThroughCurvedCells) {
   EXPECT_GT(test::expect_probe_is_brute_force(mesh, xf, g.data(), test::points_around(mesh.vertices, 3000, 5)), 500);
 }
 
+// Builds the split mesh (make_umesh refuses tangled or inverted pieces) and expects its field f
+// (add_test_arrays' linear field) to be exact at 2,000 points around it that lie in a piece;
+// returns how many do.
+int expect_linear_field_where_found(const MeshData& m, uint32_t seed) {
+  const WorldTransform xf = mesh_transform(m);
+  const UMesh mesh = make_umesh(m, xf, "split cells");
+  const std::vector<float> f = test::mesh_field(m, "f");
+  const std::vector<vec3f> points = test::points_around(mesh.vertices, 2000, seed);
+  const std::vector<float> probed = UMeshRenderer(mesh, xf).probe(f.data(), points);
+  int inside = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (std::isnan(probed[i])) continue;
+    ++inside;
+    EXPECT_NEAR(probed[i], linear(xf.to_world(vec3d(points[i]))), 2e-5 * 25) << "point " << i;
+  }
+  return inside;
+}
+
 // VTK's Lagrange cells of order 1 and 2 (vtkCellTypeSource's tets, hex and wedges, curved) read as
 // their twin file, the same nodes typed as the linear and quadratic cells (the generator checks
 // that each Lagrange node lies where the twin's cell puts its node of the same index), and the
@@ -185,18 +203,7 @@ TEST(QuadraticCells, LagrangeCellsOfOrder1And2AreTheFixedCells) {
   EXPECT_EQ(types[uint8_t(CellType::tet)], 12 + 12 * 8);
   EXPECT_EQ(types[uint8_t(CellType::hex)], 1 + 8);
   EXPECT_EQ(types[uint8_t(CellType::wedge)], 2 + 2 * 8);
-  const WorldTransform xf = mesh_transform(lagrange);
-  const UMesh mesh = make_umesh(lagrange, xf, "lagrange");
-  const std::vector<float> f = test::mesh_field(lagrange, "f");
-  const std::vector<vec3f> points = test::points_around(mesh.vertices, 2000, 9);
-  const std::vector<float> probed = UMeshRenderer(mesh, xf).probe(f.data(), points);
-  int inside = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    if (std::isnan(probed[i])) continue;
-    ++inside;
-    EXPECT_NEAR(probed[i], linear(xf.to_world(vec3d(points[i]))), 2e-5 * 25) << "point " << i;
-  }
-  EXPECT_GT(inside, 400);
+  EXPECT_GT(expect_linear_field_where_found(lagrange, 9), 400);
 }
 
 // Lagrange hexahedra of order 3 to 6 (vtkCellTypeSource's, curved) split into the 27, 64, 125 and
@@ -210,18 +217,7 @@ TEST(QuadraticCells, LagrangeHexahedraOfHigherOrderSplitOnTheirLattice) {
   std::vector<double> from_cell;
   for (int p = 3; p <= 6; ++p) from_cell.resize(from_cell.size() + size_t(p * p * p), double(p - 3));
   EXPECT_EQ(test::array_named(m.cell_data, "cell_id").values, from_cell);
-  const WorldTransform xf = mesh_transform(m);
-  const UMesh mesh = make_umesh(m, xf, "lagrange");  // no piece tangled or inverted
-  const std::vector<float> f = test::mesh_field(m, "f");
-  const std::vector<vec3f> points = test::points_around(mesh.vertices, 2000, 13);
-  const std::vector<float> probed = UMeshRenderer(mesh, xf).probe(f.data(), points);
-  int inside = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    if (std::isnan(probed[i])) continue;
-    ++inside;
-    EXPECT_NEAR(probed[i], linear(xf.to_world(vec3d(points[i]))), 2e-5 * 25) << "point " << i;
-  }
-  EXPECT_GT(inside, 500);
+  EXPECT_GT(expect_linear_field_where_found(m, 13), 500);
 }
 
 // Lagrange tetra of order 3 to 6 (vtkCellTypeSource's, straight: 12 tets filling a unit cube for

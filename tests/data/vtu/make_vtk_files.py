@@ -9,6 +9,29 @@ grid, split into 135 tets by vtkDataSetTriangleFilter, with its point scalar RTD
 import vtk
 
 
+def cell_type_source(cell_type, order):
+    """A unit cube of cells of `cell_type` and `order` as vtkCellTypeSource makes them."""
+    source = vtk.vtkCellTypeSource()
+    source.SetCellType(cell_type)
+    source.SetCellOrder(order)
+    source.SetBlocksDimensions(1, 1, 1)
+    source.Update()
+    return source.GetOutput()
+
+
+def write_xml(grid, name, ascii=False):
+    """`grid` as a .vtu, ascii or appended raw."""
+    xml = vtk.vtkXMLUnstructuredGridWriter()
+    xml.SetInputData(grid)
+    xml.SetFileName(name)
+    if ascii:
+        xml.SetDataModeToAscii()
+    else:
+        xml.SetDataModeToAppended()
+        xml.EncodeAppendedDataOff()
+    xml.Write()
+
+
 def tets():
     source = vtk.vtkRTAnalyticSource()
     source.SetWholeExtent(0, 3, 0, 3, 0, 3)
@@ -178,12 +201,7 @@ def write_polyhedra():
     streams, "faces" and "faceoffsets") and ../vtk/vtk_polyhedra.vtk (legacy, file version 5.1,
     binary) and ../vtk/vtk_polyhedra_42.vtk (version 4.2, ascii)."""
     grid = polyhedra_mesh()
-    xml = vtk.vtkXMLUnstructuredGridWriter()
-    xml.SetInputData(grid)
-    xml.SetFileName("vtk_polyhedra.vtu")
-    xml.SetDataModeToAppended()
-    xml.EncodeAppendedDataOff()
-    xml.Write()
+    write_xml(grid, "vtk_polyhedra.vtu")
     for name, version, binary in (("vtk_polyhedra", None, True), ("vtk_polyhedra_42", 42, False)):
         legacy = vtk.vtkUnstructuredGridWriter()
         legacy.SetInputData(grid)
@@ -266,22 +284,13 @@ def write_quadratic():
     (legacy 5.1, binary), and their probes as vtk_quadratic_probes.txt; the straight ones as
     vtk_quadratic_straight.vtu (ascii)."""
     grid, probes = quadratic_mesh()
-    xml = vtk.vtkXMLUnstructuredGridWriter()
-    xml.SetInputData(grid)
-    xml.SetFileName("vtk_quadratic.vtu")
-    xml.SetDataModeToAppended()
-    xml.EncodeAppendedDataOff()
-    xml.Write()
+    write_xml(grid, "vtk_quadratic.vtu")
     legacy = vtk.vtkUnstructuredGridWriter()
     legacy.SetInputData(grid)
     legacy.SetFileName("../vtk/vtk_quadratic.vtk")
     legacy.SetFileTypeToBinary()
     legacy.Write()
-    straight = vtk.vtkXMLUnstructuredGridWriter()
-    straight.SetInputData(quadratic_mesh(curved=False)[0])
-    straight.SetFileName("vtk_quadratic_straight.vtu")
-    straight.SetDataModeToAscii()
-    straight.Write()
+    write_xml(quadratic_mesh(curved=False)[0], "vtk_quadratic_straight.vtu", ascii=True)
     with open("vtk_quadratic_probes.txt", "w") as out:
         out.write("# x y z g: VTK's quadratic cells' nodes and face and body centres (make_vtk_files.py)\n")
         for row in probes:
@@ -302,12 +311,7 @@ def lagrange_mesh():
     grids = [vtk.vtkUnstructuredGrid(), vtk.vtkUnstructuredGrid()]
     points = vtk.vtkPoints()
     for k, ((cell_type, order), twin_class) in enumerate(twins.items()):
-        source = vtk.vtkCellTypeSource()
-        source.SetCellType(cell_type)
-        source.SetCellOrder(order)
-        source.SetBlocksDimensions(1, 1, 1)
-        source.Update()
-        block = source.GetOutput()
+        block = cell_type_source(cell_type, order)
         first = points.GetNumberOfPoints()
         for i in range(block.GetNumberOfPoints()):
             x, y, z = block.GetPoint(i)
@@ -346,12 +350,7 @@ def lagrange_hexahedra():
     points = vtk.vtkPoints()
     corners = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
     for k, order in enumerate((3, 4, 5, 6)):
-        source = vtk.vtkCellTypeSource()
-        source.SetCellType(vtk.VTK_LAGRANGE_HEXAHEDRON)
-        source.SetCellOrder(order)
-        source.SetBlocksDimensions(1, 1, 1)
-        source.Update()
-        block = source.GetOutput()
+        block = cell_type_source(vtk.VTK_LAGRANGE_HEXAHEDRON, order)
         first = points.GetNumberOfPoints()
         for i in range(block.GetNumberOfPoints()):
             x, y, z = block.GetPoint(i)
@@ -378,12 +377,7 @@ def lagrange_tetra():
     grid = vtk.vtkUnstructuredGrid()
     points = vtk.vtkPoints()
     for k, order in enumerate((3, 4, 5, 6)):
-        source = vtk.vtkCellTypeSource()
-        source.SetCellType(vtk.VTK_LAGRANGE_TETRAHEDRON)
-        source.SetCellOrder(order)
-        source.SetBlocksDimensions(1, 1, 1)
-        source.Update()
-        block = source.GetOutput()
+        block = cell_type_source(vtk.VTK_LAGRANGE_TETRAHEDRON, order)
         first = points.GetNumberOfPoints()
         for i in range(block.GetNumberOfPoints()):
             x, y, z = block.GetPoint(i)
@@ -431,15 +425,7 @@ def write_lagrange():
     grid, twin = lagrange_mesh()
     for data, name in ((grid, "vtk_lagrange.vtu"), (twin, "vtk_lagrange_twin.vtu"),
                        (pre_vtk91_numbering(grid), "vtk_lagrange_pre91.vtu")):
-        xml = vtk.vtkXMLUnstructuredGridWriter()
-        xml.SetInputData(data)
-        xml.SetFileName(name)
-        xml.SetDataModeToAscii()
-        xml.Write()
-    with open("vtk_lagrange_pre91.vtu") as f:
-        text = f.read()
-    with open("vtk_lagrange_pre91.vtu", "w") as f:
-        f.write(text.replace('version="2.2"', 'version="1.0"', 1))
+        write_xml(data, name, ascii=True)
     for data, name, version in ((grid, "../vtk/vtk_lagrange.vtk", 51),
                                 (pre_vtk91_numbering(grid), "../vtk/vtk_lagrange_42.vtk", 42)):
         legacy = vtk.vtkUnstructuredGridWriter()
@@ -449,23 +435,14 @@ def write_lagrange():
         legacy.Write()
     hexahedra, hexahedra_twin = lagrange_hexahedra()
     for data, name in ((hexahedra, "vtk_lagrange_hex.vtu"), (hexahedra_twin, "vtk_lagrange_hex_twin.vtu"),
-                       (pre_vtk91_numbering(hexahedra), "vtk_lagrange_hex_pre91.vtu")):
-        xml = vtk.vtkXMLUnstructuredGridWriter()
-        xml.SetInputData(data)
-        xml.SetFileName(name)
-        xml.SetDataModeToAppended()
-        xml.EncodeAppendedDataOff()
-        xml.Write()
-    xml = vtk.vtkXMLUnstructuredGridWriter()
-    xml.SetInputData(lagrange_tetra())
-    xml.SetFileName("vtk_lagrange_tet.vtu")
-    xml.SetDataModeToAppended()
-    xml.EncodeAppendedDataOff()
-    xml.Write()
-    with open("vtk_lagrange_hex_pre91.vtu", "rb") as f:
-        data = f.read()
-    with open("vtk_lagrange_hex_pre91.vtu", "wb") as f:
-        f.write(data.replace(b'version="2.2"', b'version="1.0"', 1))
+                       (pre_vtk91_numbering(hexahedra), "vtk_lagrange_hex_pre91.vtu"),
+                       (lagrange_tetra(), "vtk_lagrange_tet.vtu")):
+        write_xml(data, name)
+    for name in ("vtk_lagrange_pre91.vtu", "vtk_lagrange_hex_pre91.vtu"):  # as files older than VTK 9.1
+        with open(name, "rb") as f:
+            data = f.read()
+        with open(name, "wb") as f:
+            f.write(data.replace(b'version="2.2"', b'version="1.0"', 1))
     for name, reader, current in (("vtk_lagrange_pre91.vtu", vtk.vtkXMLUnstructuredGridReader(), grid),
                                   ("../vtk/vtk_lagrange_42.vtk", vtk.vtkUnstructuredGridReader(), grid),
                                   ("../vtk/vtk_lagrange.vtk", vtk.vtkUnstructuredGridReader(), grid),

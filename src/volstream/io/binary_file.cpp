@@ -1,6 +1,7 @@
 #include "volstream/io/binary_file.h"
 
 #include <cctype>
+#include <charconv>
 #include <cstdio>
 #include <memory>
 
@@ -91,6 +92,15 @@ std::string lower_case(std::string_view s) {
   std::string out(s);
   for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
   return out;
+}
+
+bool version_below(std::string_view version, int major, int minor) {
+  int file_major = 0, file_minor = 0;
+  const char* end = version.data() + version.size();
+  const auto [dot, ec] = std::from_chars(version.data(), end, file_major);
+  if (ec != std::errc()) return true;
+  if (dot < end && *dot == '.') std::from_chars(dot + 1, end, file_minor);
+  return file_major < major || (file_major == major && file_minor < minor);
 }
 
 std::string lower_extension(const std::filesystem::path& file) { return lower_case(file.extension().string()); }

@@ -27,6 +27,9 @@ void read_runs(const std::filesystem::path& path, const std::vector<ByteRun>& ru
 std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes = 64u << 20);
 // ASCII letters in lower case, as the text readers compare keywords.
 std::string lower_case(std::string_view s);
+// Whether a file format's "MAJOR.MINOR" version (the leading part of `version`; "5.1", "2.2") is
+// below major.minor; an unreadable one is (the oldest files have none), and a missing minor is 0.
+bool version_below(std::string_view version, int major, int minor);
 // The file name's extension in lower case (".vtu" for "Wing.VTU"), as the readers dispatch on it.
 std::string lower_extension(const std::filesystem::path& file);
 // Writes `bytes` bytes, zero-padded to a multiple of `pad_to` (1 = no padding), atomically

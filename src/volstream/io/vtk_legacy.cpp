@@ -133,7 +133,8 @@ class VtkReader {
 
   ParseCursor in_;
   bool binary_ = false;
-  int major_version_ = 0, minor_version_ = 0;
+  int major_version_ = 0;
+  bool pre_vtk91_lagrange_ = false;  // version below 5.1: Lagrange hexahedra in the old node order
   MeshData mesh_;
   bool have_points_ = false, have_cells_ = false, have_types_ = false;
   std::vector<MeshArray>* attributes_ = nullptr;  // the POINT_DATA or CELL_DATA being read
@@ -154,8 +155,7 @@ void VtkReader::read_header() {
   const std::string_view version = magic.substr(kMagic.size());
   const auto [end, ec] = std::from_chars(version.data(), version.data() + version.size(), major_version_);
   if (ec != std::errc() || major_version_ < 1) in_.fail("bad version '" + std::string(version) + "'");
-  if (end < version.data() + version.size() && *end == '.')
-    std::from_chars(end + 1, version.data() + version.size(), minor_version_);
+  pre_vtk91_lagrange_ = version_below(version, 5, 1);
   in_.skip_line();  // title
   const std::string format = lower_case(in_.word("ASCII or BINARY"));
   if (format != "ascii" && format != "binary") in_.fail("expected ASCII or BINARY, found '" + format + "'");
@@ -424,7 +424,7 @@ void VtkReader::finish() {
     in_.fail("CELLS has " + std::to_string(cells) + " cells, CELL_TYPES " + std::to_string(mesh_.cell_types.size()));
   split_polyhedra(mesh_, faces_in_connectivity(mesh_, in_.file()), in_.file());
   voxels_to_hexahedra(mesh_);
-  if (major_version_ < 5 || (major_version_ == 5 && minor_version_ < 1)) lagrange_hexahedra_from_pre_vtk91_order(mesh_);
+  if (pre_vtk91_lagrange_) lagrange_hexahedra_from_pre_vtk91_order(mesh_);
   split_quadratic_cells(mesh_, in_.file());
   check_mesh(mesh_, in_.file());
 }

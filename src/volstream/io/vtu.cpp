@@ -551,18 +551,6 @@ MeshData read_piece(const VtuFile& f, const XmlElement& piece, size_t index) {
   return mesh;
 }
 
-// Whether a "MAJOR.MINOR" version attribute is below major.minor (a missing or unreadable one is:
-// VTK's oldest files have none).
-bool version_below(const std::string* version, int major, int minor) {
-  int file_major = 0, file_minor = 0;
-  if (!version) return true;
-  const char* end = version->data() + version->size();
-  const auto [dot, ec] = std::from_chars(version->data(), end, file_major);
-  if (ec != std::errc()) return true;
-  if (dot < end && *dot == '.') std::from_chars(dot + 1, end, file_minor);
-  return file_major < major || (file_major == major && file_minor < minor);
-}
-
 // The VTKFile attributes that say how binary data are stored, and its version.
 void read_file_attributes(VtuFile& f) {
   const XmlElement& root = f.doc.root;
@@ -577,7 +565,8 @@ void read_file_attributes(VtuFile& f) {
   const std::string* header = root.attribute("header_type");
   if (header && *header != "UInt32" && *header != "UInt64") input_error(f.name, "unknown header_type " + *header);
   f.header_bytes = header && *header == "UInt64" ? 8 : 4;
-  f.pre_vtk91_lagrange = version_below(root.attribute("version"), 2, 2);
+  const std::string* version = root.attribute("version");
+  f.pre_vtk91_lagrange = !version || version_below(*version, 2, 2);
   const std::string* compressor = root.attribute("compressor");
   if (compressor && !compressor->empty()) {
     const auto known = std::find_if(std::begin(kCompressors), std::end(kCompressors),

@@ -1,5 +1,6 @@
-// What the readers' cell replacements share (polyhedra.h, quadratic.h): they replace some cells
-// of a MeshData by linear elements on the cells' vertices and on points they add.
+// What the readers' cell replacements share (polyhedra.h, quadratic.h: some cells of a MeshData
+// replaced by linear elements on the cells' vertices and on points they add; mesh_pieces.h:
+// ghost cells dropped).
 #pragma once
 #include <cstdint>
 #include <span>

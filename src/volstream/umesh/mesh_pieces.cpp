@@ -8,6 +8,7 @@
 #include <tbb/parallel_sort.h>
 
 #include "volstream/core/error.h"
+#include "volstream/umesh/cell_rebuild.h"
 
 namespace vs {
 namespace {
@@ -74,17 +75,10 @@ bool drop_ghost_cells(MeshData& m) {
     dropped += !keep[c];
   }
   if (dropped == 0) return false;
-  std::vector<uint64_t> offsets{0}, connectivity;
-  std::vector<uint8_t> types;
-  for (size_t c = 0; c < keep.size(); ++c) {
-    if (!keep[c]) continue;
-    connectivity.insert(connectivity.end(), m.connectivity.begin() + int64_t(m.cell_offsets[c]),
-                        m.connectivity.begin() + int64_t(m.cell_offsets[c + 1]));
-    offsets.push_back(connectivity.size());
-    types.push_back(m.cell_types[c]);
-  }
-  m.cell_offsets = std::move(offsets), m.connectivity = std::move(connectivity), m.cell_types = std::move(types);
-  keep_tuples(m.cell_data, keep);
+  CellRebuild cells;
+  for (size_t c = 0; c < keep.size(); ++c)
+    if (keep[c]) cells.keep(m, c);
+  cells.finish(m);
   return true;
 }
 

@@ -11,6 +11,7 @@
 #include "volstream/io/atomic_file.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/io/ensight.h"
+#include "volstream/io/exodus.h"
 #include "volstream/io/ugrid.h"
 #include "volstream/io/vtk_legacy.h"
 #include "volstream/io/vtu.h"
@@ -57,7 +58,8 @@ MeshData read_mesh_file(const fs::path& file) {
   if (ext == ".vtk") return read_vtk_legacy(file);
   if (ext == ".ugrid") return read_ugrid(file);
   input_error(file.string(),
-              "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, or a .pvd or .series of them; or an EnSight .case)");
+              "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, or a .pvd or .series of them; or an EnSight .case "
+              "or an Exodus II .exo)");
 }
 
 // A step's parts (a .pvd's entries of one time: a parallel run's pieces) as one mesh, read in
@@ -121,6 +123,37 @@ class EnsightSeries : public MeshSeries {
   std::optional<EnsightGeometry> geometry_;
 };
 
+// An Exodus II file: the mesh read once, each step's variables from the same file.
+class ExodusSeries : public MeshSeries {
+ public:
+  ExodusSeries(const fs::path& file, std::vector<RawScalars> scalars)
+      : file_(file), exodus_(file), scalars_(std::move(scalars)) {}
+  int step_count() const override { return int(exodus_.step_count()); }
+  double step_time(int step) const override { return exodus_.step_time(size_t(step)); }
+  MeshData read_step(int step) override {
+    MeshData m = exodus_.read_step(size_t(step));
+    for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
+    return m;
+  }
+  std::string origin(int) const override { return file_.string(); }
+  std::string description() const override {
+    const size_t steps = exodus_.step_count();
+    return "Exodus II " + file_.filename().string() + " (" + exodus_.summary() +
+           (steps > 1 ? "; " + std::to_string(steps) + " steps)" : ")");
+  }
+
+ private:
+  fs::path file_;
+  ExodusFile exodus_;
+  std::vector<RawScalars> scalars_;
+};
+
+bool is_exodus_file(const fs::path& file) {
+  static const char* const kExtensions[] = {".exo", ".e", ".ex2", ".exii", ".g", ".gen"};
+  const std::string ext = lower_extension(file);
+  return std::any_of(std::begin(kExtensions), std::end(kExtensions), [&](const char* e) { return ext == e; });
+}
+
 std::string format_name(const fs::path& file) {
   const std::string ext = lower_extension(file);
   if (ext == ".vtu") return "VTK XML unstructured grid";
@@ -137,7 +170,7 @@ std::string format_name(const fs::path& file) {
 bool is_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   return ext == ".vtu" || ext == ".pvtu" || ext == ".vtm" || ext == ".vtk" || ext == ".pvd" || ext == ".series" ||
-         ext == ".ugrid" || ext == ".case";
+         ext == ".ugrid" || ext == ".case" || is_exodus_file(file);
 }
 
 RawScalars parse_raw_scalars(const std::string& spec) {
@@ -155,6 +188,10 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
   if (ext == ".case") {
     if (files.size() > 1) throw UsageError("an EnSight .case file is converted on its own");
     return std::make_unique<EnsightSeries>(files.front(), scalars);
+  }
+  if (is_exodus_file(files.front())) {
+    if (files.size() > 1) throw UsageError("an Exodus II file is converted on its own (it holds its time steps)");
+    return std::make_unique<ExodusSeries>(files.front(), scalars);
   }
   if (ext == ".pvd" || ext == ".series") {
     if (files.size() > 1) throw UsageError("a .pvd collection or .series file is converted on its own");

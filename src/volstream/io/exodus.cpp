@@ -1,0 +1,405 @@
+#include "volstream/io/exodus.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <map>
+
+#include "volstream/core/error.h"
+#include "volstream/umesh/quadratic.h"
+
+#ifdef VOLSTREAM_HAVE_NETCDF
+#include <netcdf.h>
+#endif
+
+namespace vs {
+namespace fs = std::filesystem;
+
+#ifndef VOLSTREAM_HAVE_NETCDF
+
+bool exodus_supported() { return false; }
+struct ExodusFile::Impl {};
+ExodusFile::ExodusFile(const fs::path& file) {
+  input_error(file.string(),
+              "this volstream was built without the NetCDF library, which Exodus II files need "
+              "(Debian: apt-get install libnetcdf-dev, then build again)");
+}
+ExodusFile::~ExodusFile() = default;
+size_t ExodusFile::step_count() const { return 0; }
+double ExodusFile::step_time(size_t) const { return 0; }
+MeshData ExodusFile::read_step(size_t) { return {}; }
+std::string ExodusFile::summary() const { return {}; }
+
+#else
+
+bool exodus_supported() { return true; }
+
+namespace {
+
+// An element type as Exodus names it, the node count its block gives, and what it is in VTK:
+// the cell type and, for each VTK node, the Exodus node (0-based) that is it.
+struct ElementKind {
+  const char* family;  // the name's start (Exodus writers add the node count or not: HEX, HEX8)
+  int nodes;
+  uint8_t vtk_type;
+  std::vector<int> vtk_from_exodus;  // empty: the same order
+};
+
+// Exodus orders a quadratic hexahedron's and wedge's mid-edge nodes bottom, vertical, top; VTK
+// bottom, top, vertical. A HEX27's centre is its node 20, then the faces -z, +z, -x, +x, -y, +y;
+// VTK has the faces -x, +x, -y, +y, -z, +z, then the centre. (SEACAS's Ioss element tables.)
+// Exodus's wedge has its first triangle facing the second, as EnSight's: VTK's faces away, so
+// the triangles' second and third nodes change places.
+const std::vector<ElementKind>& element_kinds() {
+  static const std::vector<ElementKind> kinds = {
+      {"TET", 4, 10, {}},
+      {"TET", 10, uint8_t(QuadraticCell::tet10), {}},
+      {"HEX", 8, 12, {}},
+      {"HEX", 20, uint8_t(QuadraticCell::hex20), {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,
+                                                  10, 11, 16, 17, 18, 19, 12, 13, 14, 15}},
+      {"HEX", 27, uint8_t(QuadraticCell::hex27), {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 16, 17,
+                                                  18, 19, 12, 13, 14, 15, 23, 24, 25, 26, 21, 22, 20}},
+      {"WEDGE", 6, 13, {0, 2, 1, 3, 5, 4}},
+      {"WEDGE", 15, uint8_t(QuadraticCell::wedge15), {0, 2, 1, 3, 5, 4, 8, 7, 6, 14, 13, 12, 9, 11, 10}},
+      {"PYRA", 5, 14, {}},
+      {"PYRA", 13, uint8_t(QuadraticCell::pyramid13), {}},
+  };
+  return kinds;
+}
+
+// Element families that are not volumes: blocks of them are left out.
+bool is_lower_dimensional(const std::string& type) {
+  static const char* const kFamilies[] = {"SHELL", "QUAD",   "TRI",    "BEAM",  "BAR",  "TRUSS",  "ROD",
+                                          "EDGE",  "SPHERE", "CIRCLE", "POINT", "NODE", "SPRING", "NSIDED"};
+  return std::any_of(std::begin(kFamilies), std::end(kFamilies), [&](const char* f) { return type.rfind(f, 0) == 0; });
+}
+
+std::string trimmed_upper(std::string s) {
+  s.erase(std::find(s.begin(), s.end(), '\0'), s.end());
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  for (char& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// A variable named NAME_x, NAMEX, ... : NAME and the axis (0-2), or axis -1.
+std::pair<std::string, int> vector_component(const std::string& name) {
+  if (name.size() < 2) return {name, -1};
+  const char axis = char(std::tolower(static_cast<unsigned char>(name.back())));
+  if (axis < 'x' || axis > 'z') return {name, -1};
+  std::string base = name.substr(0, name.size() - 1);
+  if (base.size() > 1 && base.back() == '_') base.pop_back();
+  return {base, axis - 'x'};
+}
+
+}  // namespace
+
+struct ExodusFile::Impl {
+  struct Block {
+    int index = 0;  // 1-based, as in the variable names (connect3, vals_elem_var2eb3)
+    int64_t id = 0;
+    std::string type;
+    uint64_t count = 0;
+    bool kept = false;
+  };
+  // Variables of one kind (nodal or element) as arrays: `first` of the file's variables
+  // (0-based), `components` of them.
+  struct ArrayOfVariables {
+    std::string name;
+    int first = 0, components = 1;
+  };
+
+  std::string file;
+  int ncid = -1;
+  std::string format;
+  std::vector<Block> blocks;
+  std::vector<double> times;
+  MeshData topology;  // points and kept cells, VTK order; no data
+  std::vector<ArrayOfVariables> nodal, element;
+  bool nodal_in_one_variable = false;  // old files: vals_nod_var[time][variable][node]
+
+  ~Impl() {
+    if (ncid >= 0) nc_close(ncid);
+  }
+
+  void check(int status, const std::string& what) const {
+    if (status != NC_NOERR) input_error(file, what + ": " + nc_strerror(status));
+  }
+  bool has_variable(const std::string& name) const {
+    int id = 0;
+    return nc_inq_varid(ncid, name.c_str(), &id) == NC_NOERR;
+  }
+  int variable(const std::string& name) const {
+    int id = 0;
+    check(nc_inq_varid(ncid, name.c_str(), &id), "no variable " + name);
+    return id;
+  }
+  // A dimension's length; `fallback` when the file has no such dimension (-1: refuse).
+  size_t dimension(const std::string& name, int64_t fallback = -1) const {
+    int id = 0;
+    if (nc_inq_dimid(ncid, name.c_str(), &id) != NC_NOERR) {
+      input_check(fallback >= 0, file, "not an Exodus II file: no dimension " + name);
+      return size_t(fallback);
+    }
+    size_t length = 0;
+    check(nc_inq_dimlen(ncid, id, &length), "dimension " + name);
+    return length;
+  }
+  size_t variable_size(int var) const {
+    int rank = 0;
+    check(nc_inq_varndims(ncid, var, &rank), "variable shape");
+    std::vector<int> dims(size_t(std::max(rank, 0)));
+    check(nc_inq_vardimid(ncid, var, dims.data()), "variable shape");
+    size_t size = 1;
+    for (int d : dims) {
+      size_t length = 0;
+      check(nc_inq_dimlen(ncid, d, &length), "variable shape");
+      size *= length;
+    }
+    return size;
+  }
+  std::vector<double> doubles(const std::string& name, size_t expected) const {
+    const int var = variable(name);
+    input_check(variable_size(var) == expected, file,
+                name + " holds " + std::to_string(variable_size(var)) + " values, not " + std::to_string(expected));
+    std::vector<double> values(expected);
+    if (expected) check(nc_get_var_double(ncid, var, values.data()), "reading " + name);
+    return values;
+  }
+  std::string text_attribute(int var, const char* name) const {
+    size_t length = 0;
+    if (nc_inq_attlen(ncid, var, name, &length) != NC_NOERR) return {};
+    std::string s(length, '\0');
+    check(nc_get_att_text(ncid, var, name, s.data()), std::string("attribute ") + name);
+    return s;
+  }
+  // The rows of a char variable [count][len_name] (variable names), "" for a missing variable.
+  std::vector<std::string> names(const std::string& var_name, size_t count) const {
+    std::vector<std::string> out(count);
+    if (!count || !has_variable(var_name)) return out;
+    const int var = variable(var_name);
+    const size_t size = variable_size(var);
+    input_check(size % count == 0, file, var_name + " is not " + std::to_string(count) + " names");
+    std::string all(size, '\0');
+    check(nc_get_var_text(ncid, var, all.data()), "reading " + var_name);
+    const size_t width = size / count;
+    for (size_t i = 0; i < count; ++i) {
+      std::string n = all.substr(i * width, width);
+      n.erase(std::find(n.begin(), n.end(), '\0'), n.end());
+      while (!n.empty() && std::isspace(static_cast<unsigned char>(n.back()))) n.pop_back();
+      out[i] = n;
+    }
+    return out;
+  }
+
+  void open(const fs::path& path) {
+    file = path.string();
+    check(nc_open(file.c_str(), NC_NOWRITE, &ncid), "not a NetCDF file (Exodus II files are)");
+    int f = 0;
+    check(nc_inq_format(ncid, &f), "format");
+    format = f == NC_FORMAT_CLASSIC        ? "classic"
+             : f == NC_FORMAT_64BIT_OFFSET ? "64-bit offset"
+             : f == NC_FORMAT_64BIT_DATA   ? "64-bit data"
+                                           : "NetCDF-4";
+    const size_t dims = dimension("num_dim");
+    input_check(dims == 3, file, "a " + std::to_string(dims) + "D Exodus mesh: volstream renders volumes (num_dim 3)");
+    read_points();
+    read_blocks();
+    read_times();
+    nodal = arrays(names("name_nod_var", dimension("num_nod_var", 0)));
+    element = arrays(names("name_elem_var", dimension("num_elem_var", 0)));
+    nodal_in_one_variable = !nodal.empty() && has_variable("vals_nod_var");
+  }
+
+  void read_points() {
+    const size_t n = dimension("num_nodes");
+    input_check(n > 0, file, "an Exodus mesh without nodes");
+    std::array<std::vector<double>, 3> axes;
+    if (has_variable("coordx")) {
+      const char* kNames[] = {"coordx", "coordy", "coordz"};
+      for (int a = 0; a < 3; ++a) axes[size_t(a)] = doubles(kNames[a], n);
+    } else {
+      const std::vector<double> all = doubles("coord", 3 * n);  // coord[dimension][node]
+      for (size_t a = 0; a < 3; ++a)
+        axes[a].assign(all.begin() + ptrdiff_t(a * n), all.begin() + ptrdiff_t((a + 1) * n));
+    }
+    topology.points.resize(n);
+    for (size_t i = 0; i < n; ++i) topology.points[i] = vec3d(axes[0][i], axes[1][i], axes[2][i]);
+  }
+
+  void read_blocks() {
+    const size_t count = dimension("num_el_blk");
+    std::vector<long long> ids(count, 0);
+    if (count && has_variable("eb_prop1")) {
+      const int var = variable("eb_prop1");
+      input_check(variable_size(var) == count, file, "eb_prop1 is not one id per element block");
+      check(nc_get_var_longlong(ncid, var, ids.data()), "reading eb_prop1");
+    }
+    topology.cell_offsets = {0};
+    for (size_t b = 0; b < count; ++b) {
+      Block block;
+      block.index = int(b + 1);
+      block.id = ids[b] ? ids[b] : block.index;
+      const std::string suffix = std::to_string(block.index);
+      block.count = dimension("num_el_in_blk" + suffix, 0);
+      if (block.count) read_block(block, suffix);
+      blocks.push_back(block);
+    }
+    input_check(topology.cell_count() > 0, file, "no volume elements (only surface, line or point element blocks)");
+  }
+
+  std::string block_name(const Block& b) const { return "element block " + std::to_string(b.id); }
+
+  void read_block(Block& block, const std::string& suffix) {
+    const int var = variable("connect" + suffix);
+    block.type = trimmed_upper(text_attribute(var, "elem_type"));
+    const size_t nodes = dimension("num_nod_per_el" + suffix);
+    if (is_lower_dimensional(block.type)) return;
+    const auto& kinds = element_kinds();
+    const auto kind = std::find_if(kinds.begin(), kinds.end(), [&](const ElementKind& k) {
+      return block.type.rfind(k.family, 0) == 0 && size_t(k.nodes) == nodes;
+    });
+    if (kind == kinds.end())
+      input_error(file, block_name(block) + ": unsupported element type " + block.type + " with " +
+                            std::to_string(nodes) + " nodes (TETRA4/10, HEX8/20/27, WEDGE6/15, PYRAMID5/13 are read)");
+    input_check(variable_size(var) == block.count * nodes, file,
+                block_name(block) + ": connect" + suffix + " is not " + std::to_string(block.count) + " x " +
+                    std::to_string(nodes) + " node indices");
+    std::vector<long long> connect(block.count * nodes);
+    check(nc_get_var_longlong(ncid, var, connect.data()), "reading connect" + suffix);
+    const long long points = (long long)topology.points.size();
+    for (uint64_t e = 0; e < block.count; ++e) {
+      const long long* nodes_of_e = connect.data() + e * nodes;
+      for (size_t k = 0; k < nodes; ++k) {
+        const long long node = nodes_of_e[kind->vtk_from_exodus.empty() ? k : size_t(kind->vtk_from_exodus[k])];
+        input_check(node >= 1 && node <= points, file,
+                    block_name(block) + ", element " + std::to_string(e + 1) + ": node " + std::to_string(node) +
+                        " out of range 1.." + std::to_string(points));
+        topology.connectivity.push_back(uint64_t(node - 1));
+      }
+      topology.cell_types.push_back(kind->vtk_type);
+      topology.cell_offsets.push_back(topology.connectivity.size());
+    }
+    block.kept = true;
+  }
+
+  void read_times() {
+    const size_t steps = dimension("time_step", 0);
+    if (steps == 0) {
+      times = {0.0};
+      return;
+    }
+    times = doubles("time_whole", steps);
+    for (double t : times) input_check(std::isfinite(t), file, "a time step at a time that is not finite");
+  }
+
+  // The variables as arrays: three consecutive NAME_x, NAME_y, NAME_z as one vector NAME.
+  std::vector<ArrayOfVariables> arrays(const std::vector<std::string>& names) const {
+    std::vector<ArrayOfVariables> out;
+    for (size_t i = 0; i < names.size(); ++i) {
+      const auto [base, axis] = vector_component(names[i]);
+      if (axis == 0 && i + 2 < names.size() && vector_component(names[i + 1]) == std::pair(base, 1) &&
+          vector_component(names[i + 2]) == std::pair(base, 2)) {
+        out.push_back({base, int(i), 3});
+        i += 2;
+      } else {
+        out.push_back({names[i].empty() ? "variable_" + std::to_string(i + 1) : names[i], int(i), 1});
+      }
+    }
+    return out;
+  }
+
+  // Values of one variable at a step: [time_step][count] in `name`, or row `row` of
+  // [time_step][rows][count].
+  std::vector<double> step_values(const std::string& name, size_t step, size_t count, int row = -1) const {
+    const int var = variable(name);
+    std::vector<double> v(count);
+    if (row < 0) {
+      input_check(variable_size(var) == times.size() * count, file, name + " is not one value per step and entry");
+      const size_t start[2] = {step, 0}, extent[2] = {1, count};
+      check(nc_get_vara_double(ncid, var, start, extent, v.data()), "reading " + name);
+    } else {
+      const size_t start[3] = {step, size_t(row), 0}, extent[3] = {1, 1, count};
+      input_check(variable_size(var) % (times.size() * count) == 0, file, name + " is not one value per node");
+      check(nc_get_vara_double(ncid, var, start, extent, v.data()), "reading " + name);
+    }
+    return v;
+  }
+
+  std::vector<double> nodal_values(int variable_index, size_t step) const {
+    const size_t n = topology.points.size();
+    if (nodal_in_one_variable) return step_values("vals_nod_var", step, n, variable_index);
+    return step_values("vals_nod_var" + std::to_string(variable_index + 1), step, n);
+  }
+
+  std::vector<double> element_values(int variable_index, const std::string& array, size_t step) const {
+    std::vector<double> out;
+    for (const Block& b : blocks) {
+      if (!b.kept) continue;
+      const std::string name = "vals_elem_var" + std::to_string(variable_index + 1) + "eb" + std::to_string(b.index);
+      input_check(has_variable(name), file, "element variable " + array + " has no values on " + block_name(b));
+      const std::vector<double> v = step_values(name, step, b.count);
+      out.insert(out.end(), v.begin(), v.end());
+    }
+    return out;
+  }
+
+  // `arrays` interleaved as MeshArrays, from `values(variable index)`.
+  template <class Values>
+  static std::vector<MeshArray> interleaved(const std::vector<ArrayOfVariables>& arrays, Values values) {
+    std::vector<MeshArray> out;
+    for (const ArrayOfVariables& a : arrays) {
+      MeshArray m{a.name, a.components, {}};
+      for (int c = 0; c < a.components; ++c) {
+        const std::vector<double> v = values(a.first + c);
+        if (m.values.empty()) m.values.resize(v.size() * size_t(a.components));
+        for (size_t i = 0; i < v.size(); ++i) m.values[i * size_t(a.components) + size_t(c)] = v[i];
+      }
+      out.push_back(std::move(m));
+    }
+    return out;
+  }
+
+  MeshData step(size_t s) const {
+    input_check(s < times.size(), file, "no time step " + std::to_string(s));
+    MeshData m = topology;
+    const bool has_steps = dimension("time_step", 0) > 0;
+    if (has_steps) {
+      m.point_data = interleaved(nodal, [&](int v) { return nodal_values(v, s); });
+      m.cell_data = interleaved(element, [&](int v) { return element_values(v, element_name(v), s); });
+    }
+    split_quadratic_cells(m, file);
+    check_mesh(m, file);
+    return m;
+  }
+
+  std::string element_name(int variable_index) const {
+    for (const ArrayOfVariables& a : element)
+      if (variable_index >= a.first && variable_index < a.first + a.components) return a.name;
+    return std::to_string(variable_index + 1);
+  }
+
+  std::string summary() const {
+    std::string s = format;
+    std::map<std::string, uint64_t> counts;
+    for (const Block& b : blocks)
+      if (b.kept) counts[b.type] += b.count;
+    const char* sep = ": ";
+    for (const auto& [type, n] : counts) {
+      s += sep + type + " x " + std::to_string(n);
+      sep = ", ";
+    }
+    return s;
+  }
+};
+
+ExodusFile::ExodusFile(const fs::path& file) : impl_(std::make_unique<Impl>()) { impl_->open(file); }
+ExodusFile::~ExodusFile() = default;
+size_t ExodusFile::step_count() const { return impl_->times.size(); }
+double ExodusFile::step_time(size_t step) const { return impl_->times.at(step); }
+MeshData ExodusFile::read_step(size_t step) { return impl_->step(step); }
+std::string ExodusFile::summary() const { return impl_->summary(); }
+
+#endif
+
+}  // namespace vs

@@ -168,6 +168,35 @@ awk '$1 < 2.5 || ($1 > 4.5 && $1 < 8.5) || ($1 > 10.5 && $1 < 12.5)' quad_points
 echo -n "EnSight tetra10, pyramid13, penta15, hexa20: "
 compare_probes ens_quad.txt ens_quad_want.txt || fail "the EnSight quadratic elements probe otherwise than the .vtu's"
 
+# Exodus II (tests/data/exodus/make_exodus_files.py): three steps at their times; step 1's field
+# and vector probe as the .vtu VTK wrote of it; the quadratic elements as the .vtu's quadratic
+# cells; a file cut short is one line and exit 2. (Skipped in a build without NetCDF.)
+EXO="$DATA/../exodus"
+if "$VS" convert "$EXO/exodus_mixed.exo" -o exo_mixed -q 2>exo_err.txt; then
+  "$VS" info exo_mixed | grep -q "steps     3 (t = 0 .. 1.25)" || fail "Exodus: not 3 steps from 0 to 1.25"
+  "$VS" info exo_mixed | grep -q "Exodus II exodus_mixed.exo (64-bit offset: HEX8 x 8, PYRAMID5 x 48, TETRA x 48, WEDGE6 x 16; 3 steps)" ||
+    fail "Exodus: info does not name the file, its form and blocks"
+  "$VS" convert "$EXO/exodus_mixed_1.vtu" -o exo_vtu -q
+  random_points exo_vtu 2000 7 >exo_points.txt
+  for field in g vel_x; do  # vel_x: a component of the vector vel (vel_x, vel_y, vel_z in the file)
+    "$VS" probe exo_mixed --field $field --step 1 --points exo_points.txt >exo_$field.txt
+    "$VS" probe exo_vtu --field $field --points exo_points.txt >exo_${field}_want.txt
+    echo -n "Exodus step 1 $field against VTK's .vtu: "
+    compare_probes exo_$field.txt exo_${field}_want.txt || fail "the Exodus file's $field probes otherwise than the .vtu"
+  done
+  "$VS" convert "$EXO/exodus_quadratic.exo" -o exo_quadratic -q
+  "$VS" convert "$EXO/exodus_quadratic.vtu" -o exo_quadratic_vtu -q
+  "$VS" probe exo_quadratic --field g --points ens_quad_points.txt >exo_quad.txt
+  "$VS" probe exo_quadratic_vtu --field g --points ens_quad_points.txt >exo_quad_want.txt
+  echo -n "Exodus HEX20, HEX27, TETRA10, WEDGE15, PYRAMID13: "
+  compare_probes exo_quad.txt exo_quad_want.txt || fail "the Exodus quadratic elements probe otherwise than the .vtu's"
+  head -c 9000 "$EXO/exodus_mixed.exo" >cut.exo
+  expect_bad_input "truncated: its variables need 27404 bytes, the file has 9000" convert cut.exo -o cut_exo
+else
+  grep -q "built without the NetCDF library" exo_err.txt || fail "Exodus: $(cat exo_err.txt)"
+  echo "Exodus: skipped (built without NetCDF)"
+fi
+
 # Bad input: a truncated file, a .pvd whose steps have different meshes, an unknown scalars spec.
 head -c 3000 m.vtu >trunc.vtu
 expect_bad_input "truncated .vtu" convert trunc.vtu -o bad1

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 
 #include "test_util.h"
 #include "volstream/core/error.h"
@@ -176,6 +177,19 @@ TEST(Exodus, BadFilesAreRefusedWithOneLine) {
             "no volume elements (only surface, line or point element blocks)");
   EXPECT_EQ(refusal(write_exodus({.element_variable_names = true}, "novalues.exo")),
             "element variable pressure has no values on element block 1");
+
+  // The NetCDF library reads a classic file cut short as zeros: every cut is refused here.
+  const fs::path whole = kDir / "exodus_mixed.exo", cut = test::scratch_dir("exodus") / "cut.exo";
+  std::ifstream in(whole, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (size_t keep : {size_t(100), size_t(2000), size_t(9000), bytes.size() - 8}) {
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(keep));
+    const std::string why = refusal(cut);
+    const bool in_header = keep < 9000;  // there the library may refuse it first
+    EXPECT_TRUE(in_header ? why.starts_with("truncated in its NetCDF header (") || why.starts_with("not a NetCDF file")
+                          : why.starts_with("truncated: its variables need 27404 bytes"))
+        << keep << ": " << why;
+  }
 
   const fs::path text = test::scratch_dir("exodus") / "text.exo";
   std::ofstream(text) << "not netcdf\n";

@@ -4,9 +4,12 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <fstream>
 #include <map>
 
 #include "volstream/core/error.h"
+#include "volstream/io/binary_file.h"
+#include "volstream/io/parse_cursor.h"
 #include "volstream/umesh/quadratic.h"
 
 #ifdef VOLSTREAM_HAVE_NETCDF
@@ -90,6 +93,119 @@ std::pair<std::string, int> vector_component(const std::string& name) {
   std::string base = name.substr(0, name.size() - 1);
   if (base.size() > 1 && base.back() == '_') base.pop_back();
   return {base, axis - 'x'};
+}
+
+uint64_t padded4(uint64_t n) { return (n + 3) / 4 * 4; }
+
+uint64_t netcdf_type_size(uint32_t type, const ParseCursor& c) {
+  static const uint8_t kSizes[] = {0, 1, 1, 2, 4, 4, 8, 1, 2, 4, 8, 8};  // NC_BYTE (1) .. NC_UINT64 (11)
+  if (type == 0 || type >= std::size(kSizes)) c.fail("a variable of unknown NetCDF type " + std::to_string(type));
+  return kSizes[type];
+}
+
+// The bytes a classic NetCDF file (CDF-1, CDF-2 or CDF-5; its header at the front of `c`) needs
+// for all its variables' data, from the offsets and shapes its header gives; 0 for a file whose
+// record count is left open (streaming). The NetCDF library reads a classic file cut short as
+// zeros past its end, so the reader compares this with the file's size.
+uint64_t classic_netcdf_data_end(ParseCursor& c) {
+  const char* magic = c.take(4, "magic number");
+  const int version = magic[3];
+  const bool wide_counts = version == 5;  // CDF-5: 64-bit counts; CDF-2 and -5: 64-bit offsets
+  auto count = [&] { return wide_counts ? c.binary<uint64_t>(true, "count") : c.binary<uint32_t>(true, "count"); };
+  auto skip_name = [&] { c.take(padded4(count()), "name"); };
+  auto each = [&](uint32_t tag, auto&& item) {
+    const uint32_t t = c.binary<uint32_t>(true, "list tag");
+    const uint64_t n = count();
+    if (t == 0 && n == 0) return;
+    if (t != tag) c.fail("a NetCDF header list of an unknown kind");
+    c.require_fits(n, 8, "NetCDF header entries");
+    for (uint64_t i = 0; i < n; ++i) item();
+  };
+  auto skip_attributes = [&] {
+    each(0x0C, [&] {
+      skip_name();
+      const uint64_t type_size = netcdf_type_size(c.binary<uint32_t>(true, "attribute type"), c);
+      const uint64_t n = count();
+      c.require_fits(n, type_size, "attribute values");
+      c.take(padded4(n * type_size), "attribute values");
+    });
+  };
+  const uint64_t records = count();
+  if (records == (wide_counts ? ~uint64_t(0) : 0xFFFFFFFFu)) return 0;
+  std::vector<uint64_t> dims;
+  each(0x0A, [&] {
+    skip_name();
+    dims.push_back(count());
+  });
+  skip_attributes();
+  struct Variable {
+    uint64_t begin, bytes;
+    bool record;
+  };
+  std::vector<Variable> vars;
+  each(0x0B, [&] {
+    skip_name();
+    const uint64_t rank = count();
+    c.require_fits(rank, 4, "variable dimensions");
+    Variable v{0, 1, false};
+    for (uint64_t d = 0; d < rank; ++d) {
+      const uint64_t id = count();
+      if (id >= dims.size()) c.fail("a variable of a dimension the header does not define");
+      if (d == 0 && dims[id] == 0)
+        v.record = true;
+      else if (__builtin_mul_overflow(v.bytes, dims[id], &v.bytes))
+        c.fail("a variable larger than any file");
+    }
+    skip_attributes();
+    if (__builtin_mul_overflow(v.bytes, netcdf_type_size(c.binary<uint32_t>(true, "variable type"), c), &v.bytes))
+      c.fail("a variable larger than any file");
+    count();  // vsize: capped for large variables, so the shape's size is used
+    v.begin = version == 1 ? c.binary<uint32_t>(true, "offset") : c.binary<uint64_t>(true, "offset");
+    vars.push_back(v);
+  });
+  uint64_t record_bytes = 0, end = 0;
+  const size_t record_vars =
+      size_t(std::count_if(vars.begin(), vars.end(), [](const Variable& v) { return v.record; }));
+  for (const Variable& v : vars)
+    if (v.record) record_bytes += record_vars == 1 ? v.bytes : padded4(v.bytes);
+  for (const Variable& v : vars) {
+    uint64_t last = v.begin;
+    if (v.record && records > 0 &&
+        (__builtin_mul_overflow(records - 1, record_bytes, &last) || __builtin_add_overflow(last, v.begin, &last)))
+      c.fail("records larger than any file");
+    if (v.record && records == 0) continue;
+    end = std::max(end, last + v.bytes);
+  }
+  return end;
+}
+
+// "CDF" and version 1, 2 or 5: the classic formats (NetCDF-4 files are HDF5 files).
+bool is_classic_netcdf(const std::string& file) {
+  char magic[4] = {};
+  std::ifstream(file, std::ios::binary).read(magic, 4);
+  return magic[0] == 'C' && magic[1] == 'D' && magic[2] == 'F' && (magic[3] == 1 || magic[3] == 2 || magic[3] == 5);
+}
+
+// InputError unless `file`, a classic NetCDF file, holds all its variables' data.
+void check_classic_netcdf_size(const std::string& file) {
+  const uint64_t size = fs::file_size(file);
+  for (uint64_t prefix = std::min<uint64_t>(size, 1 << 20);; prefix = std::min(size, prefix * 8)) {
+    std::string head(prefix, '\0');
+    std::ifstream in(file, std::ios::binary);
+    in.read(head.data(), std::streamsize(prefix));
+    ParseCursor c(std::move(head), file);
+    try {
+      const uint64_t end = classic_netcdf_data_end(c);
+      input_check(
+          end <= size, file,
+          "truncated: its variables need " + std::to_string(end) + " bytes, the file has " + std::to_string(size));
+      return;
+    } catch (const InputError& e) {
+      const std::string why = e.what();
+      if (prefix < size) continue;  // the header goes on past the prefix read
+      throw InputError(file, why.starts_with("truncated") ? why : "truncated in its NetCDF header (" + why + ")");
+    }
+  }
 }
 
 }  // namespace
@@ -194,6 +310,8 @@ struct ExodusFile::Impl {
 
   void open(const fs::path& path) {
     file = path.string();
+    // A classic file's header is checked before the library reads it (see above).
+    if (is_classic_netcdf(file)) check_classic_netcdf_size(file);
     check(nc_open(file.c_str(), NC_NOWRITE, &ncid), "not a NetCDF file (Exodus II files are)");
     int f = 0;
     check(nc_inq_format(ncid, &f), "format");

@@ -139,9 +139,10 @@ def write_exodus(name, grid, steps, times, fmt, old_layout=False, shells=None, c
         v[:] = conn + 1
     nodal_names = list(steps(0)[0].keys())
     element_names = list(steps(0)[1].keys())
-    nc.createDimension("num_nod_var", len(nodal_names))
-    nc.createDimension("num_elem_var", len(element_names))
     for var, names in (("name_nod_var", nodal_names), ("name_elem_var", element_names)):
+        if not names:  # a dimension of length 0 would be the record dimension
+            continue
+        nc.createDimension(var.replace("name_", "num_"), len(names))
         v = nc.createVariable(var, "S1", (var.replace("name_", "num_"), "len_name"))
         v[:] = netCDF4.stringtochar(np.array(names, dtype="S33"))
     nc.createVariable("time_whole", "f8", ("time_step",))[:] = times
@@ -284,4 +285,5 @@ def main():
     check_with_vtk("exodus_quadratic.exo", quadratic, 0, *quadratic_steps(0))
 
 
-main()
+if __name__ == "__main__":
+    main()

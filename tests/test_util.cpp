@@ -195,4 +195,24 @@ int expect_probe_is_brute_force(const UMesh& mesh, const WorldTransform& transfo
   }
   return inside;
 }
+
+void expect_probes_alike(const MeshData& mesh_a, const std::string& a_field, const MeshData& mesh_b,
+                         const std::string& b_field, bool (*compared)(const vec3d&)) {
+  const WorldTransform xf = mesh_transform(mesh_a);
+  const UMesh a = make_umesh(mesh_a, xf, "a"), b = make_umesh(mesh_b, xf, "b");
+  std::vector<vec3f> points = points_around(b.vertices, 4000, 5);
+  if (compared) std::erase_if(points, [&](const vec3f& p) { return !compared(xf.to_world(vec3d(p))); });
+  const std::vector<float> fa = mesh_field(mesh_a, a_field), fb = mesh_field(mesh_b, b_field);
+  const std::vector<float> pa = UMeshRenderer(a, xf).probe(fa.data(), points),
+                           pb = UMeshRenderer(b, xf).probe(fb.data(), points);
+  int inside = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    ASSERT_EQ(std::isnan(pa[i]), std::isnan(pb[i])) << "point " << i;
+    if (std::isnan(pa[i])) continue;
+    ++inside;
+    EXPECT_NEAR(pa[i], pb[i], 1e-5 * std::max(1.0f, std::fabs(pa[i]))) << "point " << i;
+  }
+  EXPECT_GT(inside, int(points.size()) / 8);
+}
+
 }  // namespace vs::test

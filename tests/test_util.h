@@ -86,4 +86,9 @@ int expect_probe_is_brute_force(const UMesh& mesh, const WorldTransform& transfo
 // and the array `name` as read; std::runtime_error if there is none.
 std::vector<float> mesh_field(const MeshData& mesh, const std::string& name);
 const MeshArray& array_named(const std::vector<MeshArray>& arrays, const std::string& name);
+// Expects mesh `b`'s field `b_field` to probe as mesh `a`'s `a_field` at 4,000 points around b
+// (those `compared` holds, in world coordinates, if given): NaN at the same points, else within
+// relative 1e-5, and an eighth of them inside.
+void expect_probes_alike(const MeshData& a, const std::string& a_field, const MeshData& b, const std::string& b_field,
+                         bool (*compared)(const vec3d&) = nullptr);
 }  // namespace vs::test

@@ -190,6 +190,12 @@ if "$VS" convert "$EXO/exodus_mixed.exo" -o exo_mixed -q 2>exo_err.txt; then
   "$VS" probe exo_quadratic_vtu --field g --points ens_quad_points.txt >exo_quad_want.txt
   echo -n "Exodus HEX20, HEX27, TETRA10, WEDGE15, PYRAMID13: "
   compare_probes exo_quad.txt exo_quad_want.txt || fail "the Exodus quadratic elements probe otherwise than the .vtu's"
+  "$VS" convert "$EXO/exodus_mixed.exo.2.1" -o exo_ranks -q  # one rank file names its set
+  "$VS" probe exo_ranks --field g --step 1 --points exo_points.txt >exo_ranks_g.txt
+  echo -n "Exodus rank files joined against the whole file: "
+  compare_probes exo_ranks_g.txt exo_g.txt || fail "the joined rank files probe otherwise than the whole file"
+  cp "$EXO/exodus_mixed.exo.2.0" lonely.e.2.0
+  expect_bad_input "a rank file of a set missing" convert lonely.e.2.0 -o lonely
   head -c 9000 "$EXO/exodus_mixed.exo" >cut.exo
   expect_bad_input "truncated: its variables need 27404 bytes, the file has 9000" convert cut.exo -o cut_exo
 else

@@ -27,26 +27,7 @@ MeshData read_case(const fs::path& file, size_t step) {
   return read_ensight_step(c, read_ensight_geometry(ensight_step_file(c, c.geometry, step)), step);
 }
 
-// The case's field probes as the .vtu's at 4,000 points in the case's box (those of them that
-// `compared` holds, in world coordinates).
-void expect_probes_alike(const MeshData& vtu, const std::string& vtu_field, const MeshData& ens,
-                         const std::string& ens_field, bool (*compared)(const vec3d&) = nullptr) {
-  const WorldTransform xf = mesh_transform(vtu);
-  const UMesh a = make_umesh(vtu, xf, "vtu"), b = make_umesh(ens, xf, "ensight");
-  std::vector<vec3f> points = test::points_around(b.vertices, 4000, 5);
-  if (compared) std::erase_if(points, [&](const vec3f& p) { return !compared(xf.to_world(vec3d(p))); });
-  const std::vector<float> fa = test::mesh_field(vtu, vtu_field), fb = test::mesh_field(ens, ens_field);
-  const std::vector<float> pa = UMeshRenderer(a, xf).probe(fa.data(), points),
-                           pb = UMeshRenderer(b, xf).probe(fb.data(), points);
-  int inside = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    ASSERT_EQ(std::isnan(pa[i]), std::isnan(pb[i])) << "point " << i;
-    if (std::isnan(pa[i])) continue;
-    ++inside;
-    EXPECT_NEAR(pa[i], pb[i], 1e-5 * std::max(1.0f, std::fabs(pa[i]))) << "point " << i;
-  }
-  EXPECT_GT(inside, int(points.size()) / 8);
-}
+using test::expect_probes_alike;
 
 TEST(Ensight, VtksOwnCaseProbesAsTheVtuItWasWrittenFrom) {
   const MeshData vtu = read_vtu(kDir / "vtk" / "mixed.vtu"), ens = read_case(kDir / "vtk" / "mixed.0.case", 0);

@@ -13,6 +13,7 @@
 
 #include "test_util.h"
 #include "volstream/core/error.h"
+#include "volstream/io/mesh_convert.h"
 #include "volstream/io/vtu.h"
 #include "volstream/umesh/from_mesh_data.h"
 
@@ -83,6 +84,22 @@ TEST(Exodus, OldOneVariableLayoutsReadAsTheCurrentOnes) {
   EXPECT_EQ(a.connectivity, b.connectivity);
   for (const char* n : {"f", "g", "vel"})
     EXPECT_EQ(test::array_named(a.point_data, n).values, test::array_named(b.point_data, n).values) << n;
+}
+
+// A parallel run's two rank files (every other element of each block on each, on their own
+// nodes), from either of them: joined into the whole file's mesh, the shared nodes welded.
+TEST(Exodus, RankFilesJoinIntoTheWholeMesh) {
+  SKIP_WITHOUT_NETCDF();
+  const auto ranks = open_mesh_files({kDir / "exodus_mixed.exo.2.1"});
+  EXPECT_EQ(ranks->description(), "Exodus II exodus_mixed.exo.2.0 (2 rank files, 64-bit offset; 3 steps)");
+  ASSERT_EQ(ranks->step_count(), 3);
+  EXPECT_EQ(ranks->step_time(2), 1.25);
+  const MeshData joined = ranks->read_step(1), whole = ExodusFile(kDir / "exodus_mixed.exo").read_step(1);
+  EXPECT_EQ(joined.cell_count(), whole.cell_count());
+  EXPECT_EQ(joined.points.size(), whole.points.size()) << "every shared node welded";
+  test::expect_probes_alike(whole, "g", joined, "g");
+  test::expect_probes_alike(whole, "pressure", joined, "pressure");
+  EXPECT_THROW(open_mesh_files({kDir / "exodus_mixed.exo.2.1", kDir / "exodus_mixed.exo"}), UsageError);
 }
 
 // NetCDF-4 (HDF5, zlib): HEX20, HEX27, TETRA10, WEDGE15 and PYRAMID13 in Exodus's node orders,

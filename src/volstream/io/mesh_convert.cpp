@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <regex>
 
 #include "volstream/amr/ranges.h"
 #include "volstream/backend/parallel.h"
@@ -123,36 +124,91 @@ class EnsightSeries : public MeshSeries {
   std::optional<EnsightGeometry> geometry_;
 };
 
-// An Exodus II file: the mesh read once, each step's variables from the same file.
+bool has_exodus_extension(const std::string& name) {
+  static const char* const kExtensions[] = {".exo", ".e", ".ex2", ".exii", ".g", ".gen"};
+  const std::string lower = lower_case(name);
+  return std::any_of(std::begin(kExtensions), std::end(kExtensions), [&](const char* e) { return lower.ends_with(e); });
+}
+
+// Exodus files written one per rank, NAME.N.R for rank R (0 .. N-1, zero-padded to N's digits)
+// of N: what Sierra, MOOSE's Nemesis output and SEACAS's decomp leave, before epu joins them.
+struct ExodusRankFile {
+  std::string base;  // NAME, an Exodus file name
+  int ranks = 0, rank = 0;
+};
+std::optional<ExodusRankFile> exodus_rank_file(const fs::path& file) {
+  static const std::regex kPattern(R"((.+)\.([0-9]{1,6})\.([0-9]{1,6}))");
+  std::smatch m;
+  const std::string name = file.filename().string();
+  if (!std::regex_match(name, m, kPattern) || !has_exodus_extension(m[1].str())) return std::nullopt;
+  const int ranks = std::stoi(m[2].str()), rank = std::stoi(m[3].str());
+  if (ranks < 1 || rank >= ranks || m[3].str().size() != m[2].str().size()) return std::nullopt;
+  return ExodusRankFile{m[1].str(), ranks, rank};
+}
+
+bool is_exodus_file(const fs::path& file) {
+  return has_exodus_extension(file.filename().string()) || exodus_rank_file(file).has_value();
+}
+
+// Every rank file of the set `file` belongs to, in rank order (UsageError naming a missing one).
+std::vector<fs::path> exodus_rank_files(const fs::path& file) {
+  const ExodusRankFile set = *exodus_rank_file(file);
+  const int width = int(std::to_string(set.ranks).size());
+  std::vector<fs::path> files;
+  for (int r = 0; r < set.ranks; ++r) {
+    std::string rank = std::to_string(r);
+    rank.insert(0, size_t(width) - rank.size(), '0');
+    files.push_back(file.parent_path() / (set.base + "." + std::to_string(set.ranks) + "." + rank));
+    if (!fs::exists(files.back()))
+      throw UsageError("rank file " + files.back().string() + " of " + std::to_string(set.ranks) + " is missing");
+  }
+  return files;
+}
+
+// An Exodus II file, or the rank files of one: the mesh read once, each step's variables from the
+// same files; rank files' meshes joined (umesh/mesh_pieces.h: the nodes they share welded).
 class ExodusSeries : public MeshSeries {
  public:
-  ExodusSeries(const fs::path& file, std::vector<RawScalars> scalars)
-      : file_(file), exodus_(file), scalars_(std::move(scalars)) {}
-  int step_count() const override { return int(exodus_.step_count()); }
-  double step_time(int step) const override { return exodus_.step_time(size_t(step)); }
+  ExodusSeries(const std::vector<fs::path>& files, std::vector<RawScalars> scalars)
+      : files_(files), scalars_(std::move(scalars)) {
+    for (const fs::path& f : files_) {
+      pieces_.push_back(std::make_unique<ExodusFile>(f));
+      if (pieces_.size() > 1 && !same_times(*pieces_.front(), *pieces_.back()))
+        input_error(f.string(), "other time steps than " + files_.front().filename().string() + "'s");
+    }
+  }
+  int step_count() const override { return int(pieces_.front()->step_count()); }
+  double step_time(int step) const override { return pieces_.front()->step_time(size_t(step)); }
   MeshData read_step(int step) override {
-    MeshData m = exodus_.read_step(size_t(step));
+    std::vector<MeshData> meshes;
+    for (auto& p : pieces_) meshes.push_back(p->read_step(size_t(step)));  // one at a time: NetCDF is not thread-safe
+    MeshData m = meshes.size() == 1 ? std::move(meshes.front()) : join_pieces(std::move(meshes), origin(step));
+    if (pieces_.size() > 1) check_mesh(m, origin(step));
     for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
     return m;
   }
-  std::string origin(int) const override { return file_.string(); }
+  std::string origin(int) const override { return files_.front().string(); }
   std::string description() const override {
-    const size_t steps = exodus_.step_count();
-    return "Exodus II " + file_.filename().string() + " (" + exodus_.summary() +
+    const size_t steps = pieces_.front()->step_count();
+    const std::string what = pieces_.size() == 1
+                                 ? pieces_.front()->summary()
+                                 : std::to_string(pieces_.size()) + " rank files, " +
+                                       pieces_.front()->summary().substr(0, pieces_.front()->summary().find(':'));
+    return "Exodus II " + files_.front().filename().string() + " (" + what +
            (steps > 1 ? "; " + std::to_string(steps) + " steps)" : ")");
   }
 
  private:
-  fs::path file_;
-  ExodusFile exodus_;
+  static bool same_times(const ExodusFile& a, const ExodusFile& b) {
+    if (a.step_count() != b.step_count()) return false;
+    for (size_t s = 0; s < a.step_count(); ++s)
+      if (a.step_time(s) != b.step_time(s)) return false;
+    return true;
+  }
+  std::vector<fs::path> files_;
+  std::vector<std::unique_ptr<ExodusFile>> pieces_;
   std::vector<RawScalars> scalars_;
 };
-
-bool is_exodus_file(const fs::path& file) {
-  static const char* const kExtensions[] = {".exo", ".e", ".ex2", ".exii", ".g", ".gen"};
-  const std::string ext = lower_extension(file);
-  return std::any_of(std::begin(kExtensions), std::end(kExtensions), [&](const char* e) { return ext == e; });
-}
 
 std::string format_name(const fs::path& file) {
   const std::string ext = lower_extension(file);
@@ -189,9 +245,19 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
     if (files.size() > 1) throw UsageError("an EnSight .case file is converted on its own");
     return std::make_unique<EnsightSeries>(files.front(), scalars);
   }
+  if (exodus_rank_file(files.front())) {
+    // One rank file names its set; several must be the whole set.
+    const std::vector<fs::path> set = exodus_rank_files(files.front());
+    if (files.size() > 1 && files.size() != set.size())
+      throw UsageError("give one rank file of an Exodus set, or all " + std::to_string(set.size()) + " of them");
+    for (const fs::path& f : files)
+      if (std::find(set.begin(), set.end(), f) == set.end())
+        throw UsageError(f.string() + " is not a rank file of " + files.front().string() + "'s set");
+    return std::make_unique<ExodusSeries>(set, scalars);
+  }
   if (is_exodus_file(files.front())) {
     if (files.size() > 1) throw UsageError("an Exodus II file is converted on its own (it holds its time steps)");
-    return std::make_unique<ExodusSeries>(files.front(), scalars);
+    return std::make_unique<ExodusSeries>(files, scalars);
   }
   if (ext == ".pvd" || ext == ".series") {
     if (files.size() > 1) throw UsageError("a .pvd collection or .series file is converted on its own");

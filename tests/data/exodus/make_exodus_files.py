@@ -15,6 +15,8 @@ python3-netcdf4; the committed files come from VTK 9.1.0 and netCDF 4.9.0).
   pressure. exodus_mixed_1.vtu: its step 1.
 - exodus_quadratic.exo (NetCDF-4, zlib): the quadratic cells of ../vtu/vtk_quadratic.vtu that
   Exodus has (HEX20, HEX27, TETRA10, WEDGE15, PYRAMID13); exodus_quadratic.vtu the same.
+- exodus_mixed.exo.2.0 and .2.1: exodus_mixed as two ranks of a parallel run write it (every
+  other element of each block on each, on its own nodes: the ranks share nodes everywhere).
 - exodus_old.exo (classic): exodus_mixed's mesh as old writers wrote it (one `coord` variable,
   all nodal variables in one `vals_nod_var`), one step; its values are exodus_mixed's step 0.
 """
@@ -241,6 +243,30 @@ def check_with_vtk(name, grid, step, point_values, cell_values):
     print(f"{name}: VTK's Exodus reader sees the same {cell} elements and values at step {step}")
 
 
+def write_rank_file(grid, rank, ranks, steps, times):
+    """Rank `rank` of `ranks` as a parallel run writes it (exodus_mixed.exo.2.0, ...): every
+    ranks-th element of each block, on its own nodes (numbered in first use), so that the ranks
+    share nodes everywhere; its values are the whole mesh's."""
+    cells = vtk.vtkIdList()
+    for c in range(rank, grid.GetNumberOfCells(), ranks):
+        cells.InsertNextId(c)
+    extract = vtk.vtkExtractCells()
+    extract.SetInputData(grid)
+    extract.SetCellList(cells)
+    extract.Update()
+    piece = vtk.vtkUnstructuredGrid()
+    piece.DeepCopy(extract.GetOutput())
+    ids = [cells.GetId(k) for k in range(cells.GetNumberOfIds())]
+    name = f"exodus_mixed.exo.{ranks}.{rank}"
+
+    def piece_steps(s):
+        point_values, cell_values = nodal_values(piece, s), steps(s)[1]
+        return point_values, {n: v[ids] for n, v in cell_values.items()}
+    write_exodus(name, piece, piece_steps, times, "NETCDF3_64BIT_OFFSET")
+    for s in range(len(times)):
+        check_with_vtk(name, piece, s, *piece_steps(s))
+
+
 def main():
     mixed = mixed_grid()
     bottom = [c for c in range(mixed.GetNumberOfCells()) if mixed.GetCellType(c) == vtk.VTK_HEXAHEDRON][:4]
@@ -253,6 +279,9 @@ def main():
     for s in range(3):
         check_with_vtk("exodus_mixed.exo", mixed, s, *steps(s))
     check_with_vtk("exodus_old.exo", mixed, 0, *steps(0))
+    for rank in range(2):
+        write_rank_file(mixed, rank, 2, steps, times)
+
 
     source = vtk.vtkXMLUnstructuredGridReader()
     source.SetFileName("../vtu/vtk_quadratic.vtu")

@@ -208,6 +208,10 @@ TEST(Exodus, BadFilesAreRefusedWithOneLine) {
         << keep << ": " << why;
   }
 
+  const fs::path directory = test::scratch_dir("exodus") / "directory.exo";
+  fs::create_directories(directory);
+  EXPECT_NE(refusal(directory), "(read)");
+
   const fs::path text = test::scratch_dir("exodus") / "text.exo";
   std::ofstream(text) << "not netcdf\n";
   EXPECT_EQ(refusal(text).substr(0, 39), "not a NetCDF file (Exodus II files are)");

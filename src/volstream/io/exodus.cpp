@@ -188,7 +188,7 @@ bool is_classic_netcdf(const std::string& file) {
 
 // InputError unless `file`, a classic NetCDF file, holds all its variables' data.
 void check_classic_netcdf_size(const std::string& file) {
-  const uint64_t size = fs::file_size(file);
+  const uint64_t size = file_size_checked(file);
   for (uint64_t prefix = std::min<uint64_t>(size, 1 << 20);; prefix = std::min(size, prefix * 8)) {
     std::string head(prefix, '\0');
     std::ifstream in(file, std::ios::binary);
@@ -310,6 +310,7 @@ struct ExodusFile::Impl {
 
   void open(const fs::path& path) {
     file = path.string();
+    file_size_checked(path);  // a regular file (a FIFO would block the library's reads)
     // A classic file's header is checked before the library reads it (see above).
     if (is_classic_netcdf(file)) check_classic_netcdf_size(file);
     check(nc_open(file.c_str(), NC_NOWRITE, &ncid), "not a NetCDF file (Exodus II files are)");

@@ -233,6 +233,7 @@ struct ExodusFile::Impl {
   MeshData topology;  // points and kept cells, VTK order; no data
   std::vector<ArrayOfVariables> nodal, element;
   bool nodal_in_one_variable = false;  // old files: vals_nod_var[time][variable][node]
+  std::vector<std::string> left_out;   // element variables without values on some volume block
 
   ~Impl() {
     if (ncid >= 0) nc_close(ncid);
@@ -327,7 +328,29 @@ struct ExodusFile::Impl {
     read_times();
     nodal = arrays(names("name_nod_var", dimension("num_nod_var", 0)));
     element = arrays(names("name_elem_var", dimension("num_elem_var", 0)));
+    leave_out_partial_element_arrays();
     nodal_in_one_variable = !nodal.empty() && has_variable("vals_nod_var");
+  }
+
+  // The first kept block without values of element variable `v` (0-based), or null.
+  const Block* block_without(int v) const {
+    for (const Block& b : blocks)
+      if (b.kept && !has_variable("vals_elem_var" + std::to_string(v + 1) + "eb" + std::to_string(b.index))) return &b;
+    return nullptr;
+  }
+
+  // Solvers often write an element variable on some blocks only (a material's stress); a cell
+  // array needs a value on every element, so such a variable is left out, and the summary says so.
+  void leave_out_partial_element_arrays() {
+    if (dimension("time_step", 0) == 0) return;  // no values at all: nothing is read
+    std::erase_if(element, [&](const ArrayOfVariables& a) {
+      for (int c = 0; c < a.components; ++c)
+        if (const Block* b = block_without(a.first + c)) {
+          left_out.push_back(a.name + " left out (no values on " + block_name(*b) + ")");
+          return true;
+        }
+      return false;
+    });
   }
 
   void read_points() {
@@ -451,12 +474,11 @@ struct ExodusFile::Impl {
     return step_values("vals_nod_var" + std::to_string(variable_index + 1), step, n);
   }
 
-  std::vector<double> element_values(int variable_index, const std::string& array, size_t step) const {
+  std::vector<double> element_values(int variable_index, size_t step) const {
     std::vector<double> out;
     for (const Block& b : blocks) {
       if (!b.kept) continue;
       const std::string name = "vals_elem_var" + std::to_string(variable_index + 1) + "eb" + std::to_string(b.index);
-      input_check(has_variable(name), file, "element variable " + array + " has no values on " + block_name(b));
       const std::vector<double> v = step_values(name, step, b.count);
       out.insert(out.end(), v.begin(), v.end());
     }
@@ -485,17 +507,11 @@ struct ExodusFile::Impl {
     const bool has_steps = dimension("time_step", 0) > 0;
     if (has_steps) {
       m.point_data = interleaved(nodal, [&](int v) { return nodal_values(v, s); });
-      m.cell_data = interleaved(element, [&](int v) { return element_values(v, element_name(v), s); });
+      m.cell_data = interleaved(element, [&](int v) { return element_values(v, s); });
     }
     split_quadratic_cells(m, file);
     check_mesh(m, file);
     return m;
-  }
-
-  std::string element_name(int variable_index) const {
-    for (const ArrayOfVariables& a : element)
-      if (variable_index >= a.first && variable_index < a.first + a.components) return a.name;
-    return std::to_string(variable_index + 1);
   }
 
   std::string summary() const {
@@ -508,6 +524,7 @@ struct ExodusFile::Impl {
       s += sep + type + " x " + std::to_string(n);
       sep = ", ";
     }
+    for (const std::string& a : left_out) s += "; element variable " + a;
     return s;
   }
 };

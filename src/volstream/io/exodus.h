@@ -7,9 +7,9 @@
 // blocks of surface, line and point elements (SHELL, QUAD, TRI, BEAM, BAR, SPHERE, ...: what a
 // model keeps beside its volume) are left out; nodal variables as point data and element
 // variables as cell data, three consecutive variables NAME_x, NAME_y, NAME_z (or NAMEX, ...)
-// as one vector NAME. Refused with one line: 1D and 2D meshes, other element types (polyhedra,
-// other node counts), an element variable without values on a block of volume elements,
-// node indices out of range.
+// as one vector NAME; an element variable without values on some block of volume elements is
+// left out (summary() says so). Refused with one line: 1D and 2D meshes, other element types
+// (polyhedra, other node counts), node indices out of range, a classic file cut short.
 #pragma once
 #include <cstddef>
 #include <filesystem>

@@ -78,9 +78,15 @@ bool is_lower_dimensional(const std::string& type) {
   return std::any_of(std::begin(kFamilies), std::end(kFamilies), [&](const char* f) { return type.rfind(f, 0) == 0; });
 }
 
-std::string trimmed_upper(std::string s) {
+// A NetCDF text as written: up to its first NUL, without trailing blanks.
+std::string trimmed(std::string s) {
   s.erase(std::find(s.begin(), s.end(), '\0'), s.end());
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  return s;
+}
+
+std::string trimmed_upper(std::string s) {
+  s = trimmed(std::move(s));
   for (char& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
   return s;
 }
@@ -174,7 +180,8 @@ uint64_t classic_netcdf_data_end(ParseCursor& c) {
         (__builtin_mul_overflow(records - 1, record_bytes, &last) || __builtin_add_overflow(last, v.begin, &last)))
       c.fail("records larger than any file");
     if (v.record && records == 0) continue;
-    end = std::max(end, last + v.bytes);
+    if (__builtin_add_overflow(last, v.bytes, &last)) c.fail("a variable past the end of any file");
+    end = std::max(end, last);
   }
   return end;
 }
@@ -271,9 +278,15 @@ struct ExodusFile::Impl {
     for (int d : dims) {
       size_t length = 0;
       check(nc_inq_dimlen(ncid, d, &length), "variable shape");
-      size *= length;
+      size = product(size, length);
     }
     return size;
+  }
+  // a * b, refused where it overflows (dimensions of a damaged file).
+  size_t product(size_t a, size_t b) const {
+    size_t p = 0;
+    input_check(!__builtin_mul_overflow(a, b, &p), file, "a variable larger than any file");
+    return p;
   }
   std::vector<double> doubles(const std::string& name, size_t expected) const {
     const int var = variable(name);
@@ -300,12 +313,7 @@ struct ExodusFile::Impl {
     std::string all(size, '\0');
     check(nc_get_var_text(ncid, var, all.data()), "reading " + var_name);
     const size_t width = size / count;
-    for (size_t i = 0; i < count; ++i) {
-      std::string n = all.substr(i * width, width);
-      n.erase(std::find(n.begin(), n.end(), '\0'), n.end());
-      while (!n.empty() && std::isspace(static_cast<unsigned char>(n.back()))) n.pop_back();
-      out[i] = n;
-    }
+    for (size_t i = 0; i < count; ++i) out[i] = trimmed(all.substr(i * width, width));
     return out;
   }
 
@@ -404,10 +412,10 @@ struct ExodusFile::Impl {
     if (kind == kinds.end())
       input_error(file, block_name(block) + ": unsupported element type " + block.type + " with " +
                             std::to_string(nodes) + " nodes (TETRA4/10, HEX8/20/27, WEDGE6/15, PYRAMID5/13 are read)");
-    input_check(variable_size(var) == block.count * nodes, file,
+    input_check(variable_size(var) == product(block.count, nodes), file,
                 block_name(block) + ": connect" + suffix + " is not " + std::to_string(block.count) + " x " +
                     std::to_string(nodes) + " node indices");
-    std::vector<long long> connect(block.count * nodes);
+    std::vector<long long> connect(product(block.count, nodes));
     check(nc_get_var_longlong(ncid, var, connect.data()), "reading connect" + suffix);
     const long long points = (long long)topology.points.size();
     for (uint64_t e = 0; e < block.count; ++e) {
@@ -457,12 +465,13 @@ struct ExodusFile::Impl {
     const int var = variable(name);
     std::vector<double> v(count);
     if (row < 0) {
-      input_check(variable_size(var) == times.size() * count, file, name + " is not one value per step and entry");
+      input_check(variable_size(var) == product(times.size(), count), file,
+                  name + " is not one value per step and entry");
       const size_t start[2] = {step, 0}, extent[2] = {1, count};
       check(nc_get_vara_double(ncid, var, start, extent, v.data()), "reading " + name);
     } else {
       const size_t start[3] = {step, size_t(row), 0}, extent[3] = {1, 1, count};
-      input_check(variable_size(var) % (times.size() * count) == 0, file, name + " is not one value per node");
+      input_check(variable_size(var) % product(times.size(), count) == 0, file, name + " is not one value per node");
       check(nc_get_vara_double(ncid, var, start, extent, v.data()), "reading " + name);
     }
     return v;

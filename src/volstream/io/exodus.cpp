@@ -369,7 +369,7 @@ struct ExodusFile::Impl {
       const char* kNames[] = {"coordx", "coordy", "coordz"};
       for (int a = 0; a < 3; ++a) axes[size_t(a)] = doubles(kNames[a], n);
     } else {
-      const std::vector<double> all = doubles("coord", 3 * n);  // coord[dimension][node]
+      const std::vector<double> all = doubles("coord", product(3, n));  // coord[dimension][node]
       for (size_t a = 0; a < 3; ++a)
         axes[a].assign(all.begin() + ptrdiff_t(a * n), all.begin() + ptrdiff_t((a + 1) * n));
     }

@@ -13,7 +13,13 @@
 #include "volstream/umesh/quadratic.h"
 
 #ifdef VOLSTREAM_HAVE_NETCDF
+#include <fcntl.h>
 #include <netcdf.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
 #endif
 
 namespace vs {
@@ -215,6 +221,39 @@ void check_classic_netcdf_size(const std::string& file) {
   }
 }
 
+// Set in the child of read_in_child_first(), which must not fork again.
+bool g_in_reading_child = false;
+
+// NetCDF-4 files are HDF5 files, and HDF5 (1.10) reads some damaged ones unsafely: fuzzing found
+// it freeing an uninitialised pointer while listing a group in nc_open. So such a file is read
+// whole by `read` in a child process first, its stderr silenced; a child that dies or exits
+// otherwise than cleanly (an InputError there is clean: the parent meets it again and reports
+// it) means a file volstream will not read itself.
+template <class Read>
+void read_in_child_first(const std::string& file, Read read) {
+  std::fflush(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) return;  // no child to be had: read in place
+  if (pid == 0) {
+    const int null = open("/dev/null", O_WRONLY);
+    if (null >= 0) dup2(null, 2);
+    g_in_reading_child = true;
+    try {
+      read();
+    } catch (...) {
+    }
+    _exit(0);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
+  input_error(file, "a damaged NetCDF-4 file: the HDF5 library failed reading it (" +
+                        (WIFSIGNALED(status) ? "signal " + std::to_string(WTERMSIG(status))
+                                             : "exit status " + std::to_string(WEXITSTATUS(status))) +
+                        ")");
+}
+
 }  // namespace
 
 struct ExodusFile::Impl {
@@ -319,7 +358,6 @@ struct ExodusFile::Impl {
 
   void open(const fs::path& path) {
     file = path.string();
-    file_size_checked(path);  // a regular file (a FIFO would block the library's reads)
     // A classic file's header is checked before the library reads it (see above).
     if (is_classic_netcdf(file)) check_classic_netcdf_size(file);
     check(nc_open(file.c_str(), NC_NOWRITE, &ncid), "not a NetCDF file (Exodus II files are)");
@@ -510,14 +548,23 @@ struct ExodusFile::Impl {
     return out;
   }
 
+  // Step s's point and cell data into m.
+  void read_values(size_t s, MeshData& m) const {
+    if (dimension("time_step", 0) == 0) return;  // a mesh alone
+    m.point_data = interleaved(nodal, [&](int v) { return nodal_values(v, s); });
+    m.cell_data = interleaved(element, [&](int v) { return element_values(v, s); });
+  }
+
+  // Every read the steps make, and nothing else (read_in_child_first).
+  void read_all_values() const {
+    MeshData scratch;
+    for (size_t s = 0; s < times.size(); ++s) read_values(s, scratch);
+  }
+
   MeshData step(size_t s) const {
     input_check(s < times.size(), file, "no time step " + std::to_string(s));
     MeshData m = topology;
-    const bool has_steps = dimension("time_step", 0) > 0;
-    if (has_steps) {
-      m.point_data = interleaved(nodal, [&](int v) { return nodal_values(v, s); });
-      m.cell_data = interleaved(element, [&](int v) { return element_values(v, s); });
-    }
+    read_values(s, m);
     split_quadratic_cells(m, file);
     check_mesh(m, file);
     return m;
@@ -538,7 +585,16 @@ struct ExodusFile::Impl {
   }
 };
 
-ExodusFile::ExodusFile(const fs::path& file) : impl_(std::make_unique<Impl>()) { impl_->open(file); }
+ExodusFile::ExodusFile(const fs::path& file) : impl_(std::make_unique<Impl>()) {
+  file_size_checked(file);                                       // a regular file (a FIFO would block every read below)
+  if (!g_in_reading_child && !is_classic_netcdf(file.string()))  // classic files: read by NetCDF's own code
+    read_in_child_first(file.string(), [&] {
+      Impl first;
+      first.open(file);
+      first.read_all_values();
+    });
+  impl_->open(file);
+}
 ExodusFile::~ExodusFile() = default;
 size_t ExodusFile::step_count() const { return impl_->times.size(); }
 double ExodusFile::step_time(size_t step) const { return impl_->times.at(step); }

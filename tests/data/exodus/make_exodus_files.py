@@ -17,6 +17,9 @@ python3-netcdf4; the committed files come from VTK 9.1.0 and netCDF 4.9.0).
   Exodus has (HEX20, HEX27, TETRA10, WEDGE15, PYRAMID13); exodus_quadratic.vtu the same.
 - exodus_mixed.exo.2.0 and .2.1: exodus_mixed as two ranks of a parallel run write it (every
   other element of each block on each, on its own nodes: the ranks share nodes everywhere).
+- damaged_hdf5.exo is not written here: it is the committed exodus_quadratic.exo with byte 27151
+  set to '0' (a fuzzer's find, on which HDF5 frees an uninitialised pointer; HDF5 files are not
+  byte for byte the same when written again).
 - exodus_old.exo (classic): exodus_mixed's mesh as old writers wrote it (one `coord` variable,
   all nodal variables in one `vals_nod_var`), one step; its values are exodus_mixed's step 0.
 """

@@ -10,16 +10,11 @@
 #include "volstream/core/error.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/io/parse_cursor.h"
+#include "volstream/io/solver_files.h"
 #include "volstream/umesh/quadratic.h"
 
 #ifdef VOLSTREAM_HAVE_NETCDF
-#include <fcntl.h>
 #include <netcdf.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstdio>
 #endif
 
 namespace vs {
@@ -55,22 +50,23 @@ struct ElementKind {
   std::vector<int> vtk_from_exodus;  // empty: the same order
 };
 
-// Exodus orders a quadratic hexahedron's and wedge's mid-edge nodes bottom, vertical, top; VTK
-// bottom, top, vertical. A HEX27's centre is its node 20, then the faces -z, +z, -x, +x, -y, +y;
-// VTK has the faces -x, +x, -y, +y, -z, +z, then the centre. (SEACAS's Ioss element tables.)
-// Exodus's wedge has its first triangle facing the second, as EnSight's: VTK's faces away, so
-// the triangles' second and third nodes change places.
+// Exodus orders a quadratic hexahedron's and wedge's mid-edge nodes bottom, vertical, top; its
+// wedge's first triangle faces the second, as EnSight's (io/solver_files.h). A HEX27's centre is
+// its node 20, then the faces -z, +z, -x, +x, -y, +y; VTK has the faces -x, +x, -y, +y, -z, +z,
+// then the centre. (SEACAS's Ioss element tables.)
 const std::vector<ElementKind>& element_kinds() {
   static const std::vector<ElementKind> kinds = {
       {"TET", 4, 10, {}},
       {"TET", 10, uint8_t(QuadraticCell::tet10), {}},
       {"HEX", 8, 12, {}},
-      {"HEX", 20, uint8_t(QuadraticCell::hex20), {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,
-                                                  10, 11, 16, 17, 18, 19, 12, 13, 14, 15}},
+      {"HEX", 20, uint8_t(QuadraticCell::hex20), {kHex20BottomVerticalTop.begin(), kHex20BottomVerticalTop.end()}},
       {"HEX", 27, uint8_t(QuadraticCell::hex27), {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 16, 17,
                                                   18, 19, 12, 13, 14, 15, 23, 24, 25, 26, 21, 22, 20}},
-      {"WEDGE", 6, 13, {0, 2, 1, 3, 5, 4}},
-      {"WEDGE", 15, uint8_t(QuadraticCell::wedge15), {0, 2, 1, 3, 5, 4, 8, 7, 6, 14, 13, 12, 9, 11, 10}},
+      {"WEDGE", 6, 13, {kWedgeFacingInward.begin(), kWedgeFacingInward.end()}},
+      {"WEDGE",
+       15,
+       uint8_t(QuadraticCell::wedge15),
+       {kWedge15FacingInwardBottomVerticalTop.begin(), kWedge15FacingInwardBottomVerticalTop.end()}},
       {"PYRA", 5, 14, {}},
       {"PYRA", 13, uint8_t(QuadraticCell::pyramid13), {}},
   };
@@ -95,16 +91,6 @@ std::string trimmed_upper(std::string s) {
   s = trimmed(std::move(s));
   for (char& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
   return s;
-}
-
-// A variable named NAME_x, NAMEX, ... : NAME and the axis (0-2), or axis -1.
-std::pair<std::string, int> vector_component(const std::string& name) {
-  if (name.size() < 2) return {name, -1};
-  const char axis = char(std::tolower(static_cast<unsigned char>(name.back())));
-  if (axis < 'x' || axis > 'z') return {name, -1};
-  std::string base = name.substr(0, name.size() - 1);
-  if (base.size() > 1 && base.back() == '_') base.pop_back();
-  return {base, axis - 'x'};
 }
 
 uint64_t padded4(uint64_t n) { return (n + 3) / 4 * 4; }
@@ -221,39 +207,6 @@ void check_classic_netcdf_size(const std::string& file) {
   }
 }
 
-// Set in the child of read_in_child_first(), which must not fork again.
-bool g_in_reading_child = false;
-
-// NetCDF-4 files are HDF5 files, and HDF5 (1.10) reads some damaged ones unsafely: fuzzing found
-// it freeing an uninitialised pointer while listing a group in nc_open. So such a file is read
-// whole by `read` in a child process first, its stderr silenced; a child that dies or exits
-// otherwise than cleanly (an InputError there is clean: the parent meets it again and reports
-// it) means a file volstream will not read itself.
-template <class Read>
-void read_in_child_first(const std::string& file, Read read) {
-  std::fflush(nullptr);
-  const pid_t pid = fork();
-  if (pid < 0) return;  // no child to be had: read in place
-  if (pid == 0) {
-    const int null = open("/dev/null", O_WRONLY);
-    if (null >= 0) dup2(null, 2);
-    g_in_reading_child = true;
-    try {
-      read();
-    } catch (...) {
-    }
-    _exit(0);
-  }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
-  input_error(file, "a damaged NetCDF-4 file: the HDF5 library failed reading it (" +
-                        (WIFSIGNALED(status) ? "signal " + std::to_string(WTERMSIG(status))
-                                             : "exit status " + std::to_string(WEXITSTATUS(status))) +
-                        ")");
-}
-
 }  // namespace
 
 struct ExodusFile::Impl {
@@ -264,12 +217,7 @@ struct ExodusFile::Impl {
     uint64_t count = 0;
     bool kept = false;
   };
-  // Variables of one kind (nodal or element) as arrays: `first` of the file's variables
-  // (0-based), `components` of them.
-  struct ArrayOfVariables {
-    std::string name;
-    int first = 0, components = 1;
-  };
+  using ArrayOfVariables = VariableGroup;  // nodal or element variables as arrays
 
   std::string file;
   int ncid = -1;
@@ -372,8 +320,8 @@ struct ExodusFile::Impl {
     read_points();
     read_blocks();
     read_times();
-    nodal = arrays(names("name_nod_var", dimension("num_nod_var", 0)));
-    element = arrays(names("name_elem_var", dimension("num_elem_var", 0)));
+    nodal = group_vector_variables(names("name_nod_var", dimension("num_nod_var", 0)));
+    element = group_vector_variables(names("name_elem_var", dimension("num_elem_var", 0)));
     leave_out_partial_element_arrays();
     nodal_in_one_variable = !nodal.empty() && has_variable("vals_nod_var");
   }
@@ -481,22 +429,6 @@ struct ExodusFile::Impl {
     for (double t : times) input_check(std::isfinite(t), file, "a time step at a time that is not finite");
   }
 
-  // The variables as arrays: three consecutive NAME_x, NAME_y, NAME_z as one vector NAME.
-  std::vector<ArrayOfVariables> arrays(const std::vector<std::string>& names) const {
-    std::vector<ArrayOfVariables> out;
-    for (size_t i = 0; i < names.size(); ++i) {
-      const auto [base, axis] = vector_component(names[i]);
-      if (axis == 0 && i + 2 < names.size() && vector_component(names[i + 1]) == std::pair(base, 1) &&
-          vector_component(names[i + 2]) == std::pair(base, 2)) {
-        out.push_back({base, int(i), 3});
-        i += 2;
-      } else {
-        out.push_back({names[i].empty() ? "variable_" + std::to_string(i + 1) : names[i], int(i), 1});
-      }
-    }
-    return out;
-  }
-
   // Values of one variable at a step: [time_step][count] in `name`, or row `row` of
   // [time_step][rows][count].
   std::vector<double> step_values(const std::string& name, size_t step, size_t count, int row = -1) const {
@@ -586,9 +518,9 @@ struct ExodusFile::Impl {
 };
 
 ExodusFile::ExodusFile(const fs::path& file) : impl_(std::make_unique<Impl>()) {
-  file_size_checked(file);                                       // a regular file (a FIFO would block every read below)
-  if (!g_in_reading_child && !is_classic_netcdf(file.string()))  // classic files: read by NetCDF's own code
-    read_in_child_first(file.string(), [&] {
+  file_size_checked(file);                // a regular file (a FIFO would block every read below)
+  if (!is_classic_netcdf(file.string()))  // classic files are read by NetCDF's own code
+    read_in_child_first(file.string(), "NetCDF-4", [&] {
       Impl first;
       first.open(file);
       first.read_all_values();

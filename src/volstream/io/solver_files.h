@@ -1,0 +1,42 @@
+// What the readers of finite-element and CFD solvers' files (Exodus II: io/exodus.h; CGNS:
+// io/cgns.h) share: their node orders turned into VTK's, their scalar variables grouped into
+// vectors, and reading through an HDF5 library in a child process first.
+#pragma once
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace vs {
+
+// For each VTK node, the file's node (0-based) that is it, for orders both formats use:
+// - a wedge whose first triangle faces its second (VTK's faces away): the triangles' second and
+//   third nodes change places;
+// - a quadratic hexahedron and wedge whose mid-edge nodes come bottom, vertical, top (VTK: bottom,
+//   top, vertical), the wedge also turned as above.
+inline constexpr std::array<int, 6> kWedgeFacingInward = {0, 2, 1, 3, 5, 4};
+inline constexpr std::array<int, 20> kHex20BottomVerticalTop = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,
+                                                                10, 11, 16, 17, 18, 19, 12, 13, 14, 15};
+inline constexpr std::array<int, 15> kWedge15FacingInwardBottomVerticalTop = {0, 2,  1,  3,  5, 4,  8, 7,
+                                                                              6, 14, 13, 12, 9, 11, 10};
+
+// Solvers write a vector as three scalar variables NAME_x, NAME_y, NAME_z (Exodus) or NAMEX,
+// NAMEY, NAMEZ (CGNS's VelocityX ...). A group is one array of the file's variables: `first`
+// (0-based) and `components` (1, or 3 for such a triple, named NAME).
+struct VariableGroup {
+  std::string name;
+  int first = 0, components = 1;
+};
+// Unnamed variables are called "variable_<i>" (1-based).
+std::vector<VariableGroup> group_vector_variables(const std::vector<std::string>& names);
+
+// HDF5 (1.10) reads some damaged files unsafely (fuzzing found it freeing an uninitialised
+// pointer while opening one). So `read` (every read the real one will make) runs in a child
+// process first, its stderr silenced; if the child dies or exits otherwise than cleanly (an
+// exception there is clean: the parent meets it again and reports it), InputError naming `file`
+// ("a damaged FORMAT file: the HDF5 library failed reading it (signal 11)"). Inside the child
+// (reading_in_child() true) it runs nothing.
+void read_in_child_first(const std::string& file, const std::string& format, const std::function<void()>& read);
+bool reading_in_child();
+
+}  // namespace vs

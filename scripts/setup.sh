@@ -14,6 +14,7 @@ PACKAGES=(
   libpng-dev zlib1g-dev            # PNG output; zlib-compressed .vtu
   liblz4-dev liblzma-dev           # LZ4- and LZMA-compressed .vtu (VTK's other two compressors)
   libnetcdf-dev                    # Exodus II meshes (NetCDF files: io/exodus.h)
+  libcgns-dev                      # CGNS meshes and solutions (io/cgns.h)
   libgtest-dev libgmock-dev        # tests
   ffmpeg                           # video output
   python3 pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests

@@ -203,6 +203,31 @@ else
   echo "Exodus: skipped (built without NetCDF)"
 fi
 
+# CGNS (tests/data/cgns/make_cgns_files.py): an unstructured and a structured zone over three
+# steps probe as the .vtu VTK wrote of step 1; the quadratic sections as the .vtu's cells; a file
+# cut short is one line and exit 2. (Skipped in a build without the CGNS library.)
+CG="$DATA/../cgns"
+if "$VS" convert "$CG/cgns_mixed.cgns" -o cg_mixed -q 2>cg_err.txt; then
+  "$VS" info cg_mixed | grep -q "steps     3 (t = 0 .. 1.25)" || fail "CGNS: not 3 steps from 0 to 1.25"
+  "$VS" convert "$CG/cgns_mixed_1.vtu" -o cg_vtu -q
+  random_points cg_vtu 2000 11 >cg_points.txt
+  "$VS" probe cg_mixed --field g --step 1 --points cg_points.txt >cg_g.txt
+  "$VS" probe cg_vtu --field g --points cg_points.txt >cg_g_want.txt
+  echo -n "CGNS zones at step 1 against VTK's .vtu: "
+  compare_probes cg_g.txt cg_g_want.txt || fail "the CGNS file probes otherwise than the .vtu"
+  "$VS" convert "$CG/cgns_quadratic.cgns" -o cg_quadratic -q
+  "$VS" convert "$CG/cgns_quadratic.vtu" -o cg_quadratic_vtu -q
+  "$VS" probe cg_quadratic --field g --points ens_quad_points.txt >cg_quad.txt
+  "$VS" probe cg_quadratic_vtu --field g --points ens_quad_points.txt >cg_quad_want.txt
+  echo -n "CGNS TETRA_10, PYRA_13, PENTA_15, HEXA_20, HEXA_27: "
+  compare_probes cg_quad.txt cg_quad_want.txt || fail "the CGNS quadratic sections probe otherwise than the .vtu's"
+  head -c 40000 "$CG/cgns_mixed.cgns" >cut.cgns
+  expect_bad_input "a CGNS file cut short" convert cut.cgns -o cut_cgns
+else
+  grep -q "built without the CGNS library" cg_err.txt || fail "CGNS: $(cat cg_err.txt)"
+  echo "CGNS: skipped (built without CGNS)"
+fi
+
 # Bad input: a truncated file, a .pvd whose steps have different meshes, an unknown scalars spec.
 head -c 3000 m.vtu >trunc.vtu
 expect_bad_input "truncated .vtu" convert trunc.vtu -o bad1

@@ -111,6 +111,17 @@ def test_load_exodus_time_series():
         np.testing.assert_allclose(ds.probe(field, pts, step=1), vtu.probe(field, pts), rtol=1e-5, atol=1e-6)
 
 
+def test_load_cgns_zones_and_steps():
+    """A CGNS file (tests/data/cgns/cgns_mixed.cgns: an unstructured and a structured zone, three
+    steps) loads joined, and step 1 probes as the .vtu VTK wrote of that step."""
+    data = os.path.join(os.path.dirname(__file__), "..", "data", "cgns")
+    ds = vs.load(os.path.join(data, "cgns_mixed.cgns"))
+    assert (ds.element_count, list(ds.times)) == (144, [0.0, 0.5, 1.25])
+    vtu = vs.load(os.path.join(data, "cgns_mixed_1.vtu"))
+    pts = random_points(vtu)
+    np.testing.assert_allclose(ds.probe("g", pts, step=1), vtu.probe("g", pts), rtol=1e-5, atol=1e-6)
+
+
 def test_mesh_probe_equals_cli_and_brute_force(mesh_files, tmp_path):
     vtu, converted = mesh_files
     ds = vs.load(str(vtu))

@@ -11,6 +11,7 @@
 #include "volstream/core/stopwatch.h"
 #include "volstream/io/atomic_file.h"
 #include "volstream/io/binary_file.h"
+#include "volstream/io/cgns.h"
 #include "volstream/io/ensight.h"
 #include "volstream/io/exodus.h"
 #include "volstream/io/ugrid.h"
@@ -60,7 +61,7 @@ MeshData read_mesh_file(const fs::path& file) {
   if (ext == ".ugrid") return read_ugrid(file);
   input_error(file.string(),
               "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, or a .pvd or .series of them; or an EnSight .case "
-              "or an Exodus II .exo)");
+              "or an Exodus II .exo, or a .cgns)");
 }
 
 // A step's parts (a .pvd's entries of one time: a parallel run's pieces) as one mesh, read in
@@ -165,14 +166,16 @@ std::vector<fs::path> exodus_rank_files(const fs::path& file) {
   return files;
 }
 
-// An Exodus II file, or the rank files of one: the mesh read once, each step's variables from the
-// same files; rank files' meshes joined (umesh/mesh_pieces.h: the nodes they share welded).
-class ExodusSeries : public MeshSeries {
+// A solver's file holding its time steps (an Exodus II or CGNS file), or the rank files of one
+// (Exodus): the mesh read once, each step's values from the same files; rank files' meshes joined
+// (umesh/mesh_pieces.h: the nodes they share welded).
+template <class File>
+class SolverFileSeries : public MeshSeries {
  public:
-  ExodusSeries(const std::vector<fs::path>& files, std::vector<RawScalars> scalars)
-      : files_(files), scalars_(std::move(scalars)) {
+  SolverFileSeries(const std::vector<fs::path>& files, std::vector<RawScalars> scalars, std::string format)
+      : files_(files), scalars_(std::move(scalars)), format_(std::move(format)) {
     for (const fs::path& f : files_) {
-      pieces_.push_back(std::make_unique<ExodusFile>(f));
+      pieces_.push_back(std::make_unique<File>(f));
       if (pieces_.size() > 1 && !same_times(*pieces_.front(), *pieces_.back()))
         input_error(f.string(), "other time steps than " + files_.front().filename().string() + "'s");
     }
@@ -194,21 +197,27 @@ class ExodusSeries : public MeshSeries {
                                  ? pieces_.front()->summary()
                                  : std::to_string(pieces_.size()) + " rank files, " +
                                        pieces_.front()->summary().substr(0, pieces_.front()->summary().find(':'));
-    return "Exodus II " + files_.front().filename().string() + " (" + what +
+    return format_ + " " + files_.front().filename().string() + " (" + what +
            (steps > 1 ? "; " + std::to_string(steps) + " steps)" : ")");
   }
 
  private:
-  static bool same_times(const ExodusFile& a, const ExodusFile& b) {
+  static bool same_times(const File& a, const File& b) {
     if (a.step_count() != b.step_count()) return false;
     for (size_t s = 0; s < a.step_count(); ++s)
       if (a.step_time(s) != b.step_time(s)) return false;
     return true;
   }
   std::vector<fs::path> files_;
-  std::vector<std::unique_ptr<ExodusFile>> pieces_;
+  std::vector<std::unique_ptr<File>> pieces_;
   std::vector<RawScalars> scalars_;
+  std::string format_;
 };
+
+bool is_cgns_file(const fs::path& file) {
+  const std::string ext = lower_extension(file);
+  return ext == ".cgns" || ext == ".cgn";
+}
 
 std::string format_name(const fs::path& file) {
   const std::string ext = lower_extension(file);
@@ -226,7 +235,7 @@ std::string format_name(const fs::path& file) {
 bool is_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   return ext == ".vtu" || ext == ".pvtu" || ext == ".vtm" || ext == ".vtk" || ext == ".pvd" || ext == ".series" ||
-         ext == ".ugrid" || ext == ".case" || is_exodus_file(file);
+         ext == ".ugrid" || ext == ".case" || is_exodus_file(file) || is_cgns_file(file);
 }
 
 RawScalars parse_raw_scalars(const std::string& spec) {
@@ -253,11 +262,15 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
     for (const fs::path& f : files)
       if (std::find(set.begin(), set.end(), f) == set.end())
         throw UsageError(f.string() + " is not a rank file of " + files.front().string() + "'s set");
-    return std::make_unique<ExodusSeries>(set, scalars);
+    return std::make_unique<SolverFileSeries<ExodusFile>>(set, scalars, "Exodus II");
   }
   if (is_exodus_file(files.front())) {
     if (files.size() > 1) throw UsageError("an Exodus II file is converted on its own (it holds its time steps)");
-    return std::make_unique<ExodusSeries>(files, scalars);
+    return std::make_unique<SolverFileSeries<ExodusFile>>(files, scalars, "Exodus II");
+  }
+  if (is_cgns_file(files.front())) {
+    if (files.size() > 1) throw UsageError("a CGNS file is converted on its own (it holds its time steps)");
+    return std::make_unique<SolverFileSeries<CgnsFile>>(files, scalars, "CGNS");
   }
   if (ext == ".pvd" || ext == ".series") {
     if (files.size() > 1) throw UsageError("a .pvd collection or .series file is converted on its own");

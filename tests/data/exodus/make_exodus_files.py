@@ -24,11 +24,14 @@ python3-netcdf4; the committed files come from VTK 9.1.0 and netCDF 4.9.0).
   all nodal variables in one `vals_nod_var`), one step; its values are exodus_mixed's step 0.
 """
 import math
+import os
 
 import netCDF4
 import numpy as np
 import vtk
 from vtk.util import numpy_support
+
+HERE = os.path.dirname(os.path.abspath(__file__))
 
 # For each VTK type: the Exodus type and, for each Exodus node, the VTK node that is it.
 EXODUS = {
@@ -270,24 +273,10 @@ def write_rank_file(grid, rank, ranks, steps, times):
         check_with_vtk(name, piece, s, *piece_steps(s))
 
 
-def main():
-    mixed = mixed_grid()
-    bottom = [c for c in range(mixed.GetNumberOfCells()) if mixed.GetCellType(c) == vtk.VTK_HEXAHEDRON][:4]
-    shells = [[mixed.GetCell(c).GetPointId(k) for k in range(4)] for c in bottom]
-    times = [0.0, 0.5, 1.25]
-    steps = lambda s: (nodal_values(mixed, s), element_values(mixed, s))
-    write_exodus("exodus_mixed.exo", mixed, steps, times, "NETCDF3_64BIT_OFFSET", shells=shells)
-    write_vtu(with_values(mixed, *steps(1)), "exodus_mixed_1.vtu")
-    write_exodus("exodus_old.exo", mixed, steps, times[:1], "NETCDF3_CLASSIC", old_layout=True)
-    for s in range(3):
-        check_with_vtk("exodus_mixed.exo", mixed, s, *steps(s))
-    check_with_vtk("exodus_old.exo", mixed, 0, *steps(0))
-    for rank in range(2):
-        write_rank_file(mixed, rank, 2, steps, times)
-
-
+def quadratic_subset():
+    """The cells of ../vtu/vtk_quadratic.vtu that Exodus (and CGNS) have, with their f, g, cell_id."""
     source = vtk.vtkXMLUnstructuredGridReader()
-    source.SetFileName("../vtu/vtk_quadratic.vtu")
+    source.SetFileName(os.path.join(HERE, "..", "vtu", "vtk_quadratic.vtu"))
     source.Update()
     full = source.GetOutput()
     keep = vtk.vtkIdList()
@@ -307,6 +296,26 @@ def main():
     g = numpy_support.vtk_to_numpy(extract.GetOutput().GetPointData().GetArray("g")).astype(np.float64)
     f = numpy_support.vtk_to_numpy(extract.GetOutput().GetPointData().GetArray("f")).astype(np.float64)
     cell_id = numpy_support.vtk_to_numpy(extract.GetOutput().GetCellData().GetArray("cell_id")).astype(np.float64)
+    return quadratic, f, g, cell_id
+
+
+def main():
+    mixed = mixed_grid()
+    bottom = [c for c in range(mixed.GetNumberOfCells()) if mixed.GetCellType(c) == vtk.VTK_HEXAHEDRON][:4]
+    shells = [[mixed.GetCell(c).GetPointId(k) for k in range(4)] for c in bottom]
+    times = [0.0, 0.5, 1.25]
+    steps = lambda s: (nodal_values(mixed, s), element_values(mixed, s))
+    write_exodus("exodus_mixed.exo", mixed, steps, times, "NETCDF3_64BIT_OFFSET", shells=shells)
+    write_vtu(with_values(mixed, *steps(1)), "exodus_mixed_1.vtu")
+    write_exodus("exodus_old.exo", mixed, steps, times[:1], "NETCDF3_CLASSIC", old_layout=True)
+    for s in range(3):
+        check_with_vtk("exodus_mixed.exo", mixed, s, *steps(s))
+    check_with_vtk("exodus_old.exo", mixed, 0, *steps(0))
+    for rank in range(2):
+        write_rank_file(mixed, rank, 2, steps, times)
+
+
+    quadratic, f, g, cell_id = quadratic_subset()
     quadratic_steps = lambda s: ({"f": f, "g": g}, {"cell_id": cell_id})
     assert [b[0] for b in blocks_of(quadratic)] == sorted(set(quadratic.GetCellType(c) for c in
                                                                range(quadratic.GetNumberOfCells())),

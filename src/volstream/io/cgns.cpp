@@ -1,0 +1,468 @@
+#include "volstream/io/cgns.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <optional>
+
+#include "volstream/core/error.h"
+#include "volstream/io/binary_file.h"
+#include "volstream/io/solver_files.h"
+#include "volstream/umesh/mesh_pieces.h"
+#include "volstream/umesh/quadratic.h"
+
+#ifdef VOLSTREAM_HAVE_CGNS
+#include <cgnslib.h>
+#endif
+
+namespace vs {
+namespace fs = std::filesystem;
+
+#ifndef VOLSTREAM_HAVE_CGNS
+
+bool cgns_supported() { return false; }
+struct CgnsFile::Impl {};
+CgnsFile::CgnsFile(const fs::path& file) {
+  input_error(file.string(),
+              "this volstream was built without the CGNS library, which CGNS files need "
+              "(Debian: apt-get install libcgns-dev, then build again)");
+}
+CgnsFile::~CgnsFile() = default;
+size_t CgnsFile::step_count() const { return 0; }
+double CgnsFile::step_time(size_t) const { return 0; }
+MeshData CgnsFile::read_step(size_t) { return {}; }
+std::string CgnsFile::summary() const { return {}; }
+
+#else
+
+bool cgns_supported() { return true; }
+
+namespace {
+
+// A volume element type of CGNS and what it is in VTK: the cell type and, for each VTK node, the
+// CGNS node (0-based) that is it. CGNS's orders (the SIDS) are VTK's but for: the wedge, whose
+// first triangle faces its second; the quadratic hexahedron's and wedge's mid-edge nodes, bottom,
+// vertical, top (io/solver_files.h); and HEXA_27's face centres, -z, -y, +x, +y, -x, +z before
+// the body's (VTK: -x, +x, -y, +y, -z, +z).
+struct ElementKind {
+  CGNS_ENUMT(ElementType_t) type;
+  uint8_t vtk_type;
+  std::vector<int> vtk_from_cgns;  // empty: the same order
+};
+
+const std::vector<ElementKind>& element_kinds() {
+  static const std::vector<ElementKind> kinds = {
+      {CGNS_ENUMV(TETRA_4), 10, {}},
+      {CGNS_ENUMV(PYRA_5), 14, {}},
+      {CGNS_ENUMV(PENTA_6), 13, {kWedgeFacingInward.begin(), kWedgeFacingInward.end()}},
+      {CGNS_ENUMV(HEXA_8), 12, {}},
+      {CGNS_ENUMV(TETRA_10), uint8_t(QuadraticCell::tet10), {}},
+      {CGNS_ENUMV(PYRA_13), uint8_t(QuadraticCell::pyramid13), {}},
+      {CGNS_ENUMV(PENTA_15),
+       uint8_t(QuadraticCell::wedge15),
+       {kWedge15FacingInwardBottomVerticalTop.begin(), kWedge15FacingInwardBottomVerticalTop.end()}},
+      {CGNS_ENUMV(HEXA_20),
+       uint8_t(QuadraticCell::hex20),
+       {kHex20BottomVerticalTop.begin(), kHex20BottomVerticalTop.end()}},
+      {CGNS_ENUMV(HEXA_27), uint8_t(QuadraticCell::hex27), {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 16, 17,
+                                                            18, 19, 12, 13, 14, 15, 24, 22, 21, 23, 20, 25, 26}},
+  };
+  return kinds;
+}
+
+// Faces, edges and nodes (boundary sections): left out.
+bool is_lower_dimensional(int type) {
+  return (type >= 2 && type <= 9) || (type >= 24 && type <= 28) || (type >= 40 && type <= 44);
+}
+
+std::string type_name(int type) {
+  return type >= 0 && type < NofValidElementTypes ? ElementTypeName[type] : "element type " + std::to_string(type);
+}
+
+// An index range of a zone's vertices or cells: (1, ...) to the counts.
+struct Range {
+  std::array<cgsize_t, 3> min{1, 1, 1}, max{1, 1, 1};
+  size_t size() const { return size_t(max[0]) * size_t(max[1]) * size_t(max[2]); }
+};
+
+}  // namespace
+
+struct CgnsFile::Impl {
+  struct Zone {
+    int index = 0;
+    std::string name;
+    bool structured = false;
+    Range vertices, cells;
+    MeshData topology;                          // the zone's points and kept cells, VTK order; no data
+    std::vector<cgsize_t> cell_number;          // unstructured: each kept cell's element number
+    std::vector<std::string> solution_at_step;  // FlowSolutionPointers; empty: every solution, one step
+  };
+
+  std::string file;
+  int fn = -1, base = 0;
+  std::vector<Zone> zones;
+  std::vector<double> times{0.0};
+  std::map<std::string, uint64_t> element_counts;
+
+  ~Impl() {
+    if (fn >= 0) cg_close(fn);
+  }
+
+  void check(int status, const std::string& what) const {
+    if (status != CG_OK) input_error(file, what + ": " + cg_get_error());
+  }
+
+  void open(const fs::path& path) {
+    file = path.string();
+    check(cg_open(file.c_str(), CG_MODE_READ, &fn), "not a CGNS file");
+    find_3d_base();
+    int count = 0;
+    check(cg_nzones(fn, base, &count), "zones");
+    for (int z = 1; z <= count; ++z) zones.push_back(read_zone(z));
+    input_check(!zones.empty(), file, "a base without zones");
+    read_times();
+  }
+
+  void find_3d_base() {
+    int bases = 0;
+    check(cg_nbases(fn, &bases), "bases");
+    for (int b = 1; b <= bases && !base; ++b) {
+      char name[33] = {};
+      int cell_dim = 0, phys_dim = 0;
+      check(cg_base_read(fn, b, name, &cell_dim, &phys_dim), "base");
+      if (cell_dim == 3 && phys_dim == 3) base = b;
+    }
+    input_check(base > 0, file, "no base of cell dimension 3: volstream renders volumes");
+  }
+
+  Zone read_zone(int z) {
+    Zone zone;
+    zone.index = z;
+    char name[33] = {};
+    cgsize_t size[9] = {};
+    CGNS_ENUMT(ZoneType_t) type;
+    check(cg_zone_type(fn, base, z, &type), "zone type");
+    check(cg_zone_read(fn, base, z, name, size), "zone");
+    zone.name = name;
+    zone.structured = type == CGNS_ENUMV(Structured);
+    input_check(zone.structured || type == CGNS_ENUMV(Unstructured), file, "zone " + zone.name + " of unknown type");
+    for (int a = 0; a < (zone.structured ? 3 : 1); ++a) {
+      zone.vertices.max[size_t(a)] = size[a];
+      zone.cells.max[size_t(a)] = size[(zone.structured ? 3 : 1) + a];
+      input_check(size[a] >= (zone.structured ? 2 : 1) && zone.cells.max[size_t(a)] >= 1, file,
+                  "zone " + zone.name + ": no cells");
+    }
+    read_coordinates(zone);
+    if (zone.structured)
+      structured_cells(zone);
+    else
+      read_sections(zone);
+    read_solution_pointers(zone);
+    return zone;
+  }
+
+  // Field or coordinate `name` of zone z over `range`, as doubles.
+  std::vector<double> read_array(const Zone& zone, int solution, const std::string& name, const Range& range) const {
+    std::vector<double> v(range.size());
+    cgsize_t min[3], max[3];
+    std::copy(range.min.begin(), range.min.end(), min);
+    std::copy(range.max.begin(), range.max.end(), max);
+    if (solution == 0)
+      check(cg_coord_read(fn, base, zone.index, name.c_str(), CGNS_ENUMV(RealDouble), min, max, v.data()),
+            "zone " + zone.name + ": " + name);
+    else
+      check(cg_field_read(fn, base, zone.index, solution, name.c_str(), CGNS_ENUMV(RealDouble), min, max, v.data()),
+            "zone " + zone.name + ": field " + name);
+    return v;
+  }
+
+  void read_coordinates(Zone& zone) {
+    std::array<std::vector<double>, 3> axes;
+    const char* kNames[] = {"CoordinateX", "CoordinateY", "CoordinateZ"};
+    for (size_t a = 0; a < 3; ++a) axes[a] = read_array(zone, 0, kNames[a], zone.vertices);
+    zone.topology.points.resize(zone.vertices.size());
+    for (size_t i = 0; i < zone.topology.points.size(); ++i)
+      zone.topology.points[i] = vec3d(axes[0][i], axes[1][i], axes[2][i]);
+  }
+
+  // A structured zone's cells as hexahedra (i fastest), turned the right way round for VTK when
+  // its index axes are left-handed.
+  void structured_cells(Zone& zone) {
+    const auto [ni, nj, nk] = zone.vertices.max;
+    auto node = [&](cgsize_t i, cgsize_t j, cgsize_t k) { return uint64_t(i + ni * (j + nj * k)); };
+    const auto& p = zone.topology.points;
+    const vec3d di = p[node(1, 0, 0)] - p[0], dj = p[node(0, 1, 0)] - p[0], dk = p[node(0, 0, 1)] - p[0];
+    const bool left_handed = dot(cross(di, dj), dk) < 0;
+    MeshData& t = zone.topology;
+    t.cell_offsets = {0};
+    for (cgsize_t k = 0; k + 1 < nk; ++k)
+      for (cgsize_t j = 0; j + 1 < nj; ++j)
+        for (cgsize_t i = 0; i + 1 < ni; ++i) {
+          const cgsize_t lo = left_handed ? k + 1 : k, hi = left_handed ? k : k + 1;
+          for (cgsize_t kk : {lo, hi})
+            for (const auto& [a, b] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}})
+              t.connectivity.push_back(node(i + a, j + b, kk));
+          t.cell_types.push_back(12);
+          t.cell_offsets.push_back(t.connectivity.size());
+        }
+    element_counts["HEXA_8 (structured)"] += t.cell_count();
+  }
+
+  void read_sections(Zone& zone) {
+    int sections = 0;
+    check(cg_nsections(fn, base, zone.index, &sections), "zone " + zone.name + ": sections");
+    zone.topology.cell_offsets = {0};
+    for (int s = 1; s <= sections; ++s) read_section(zone, s);
+    input_check(zone.topology.cell_count() > 0, file, "zone " + zone.name + ": no volume elements");
+  }
+
+  void read_section(Zone& zone, int s) {
+    char name[33] = {};
+    CGNS_ENUMT(ElementType_t) type;
+    cgsize_t start = 0, end = 0;
+    int boundary = 0, parents = 0;
+    check(cg_section_read(fn, base, zone.index, s, name, &type, &start, &end, &boundary, &parents),
+          "zone " + zone.name + ": section");
+    const std::string where = "zone " + zone.name + ", section " + name;
+    if (is_lower_dimensional(type)) return;
+    input_check(type != CGNS_ENUMV(NGON_n) && type != CGNS_ENUMV(NFACE_n), file,
+                where + ": polyhedral sections (NGON_n, NFACE_n) are not read");
+    input_check(start >= 1 && end >= start, file, where + ": bad element range");
+    cgsize_t data_size = 0;
+    check(cg_ElementDataSize(fn, base, zone.index, s, &data_size), where);
+    input_check(data_size >= 0, file, where + ": bad element data size");
+    input_check(end - start < cgsize_t(1) << 30, file, where + ": too many elements");
+    std::vector<cgsize_t> data(static_cast<size_t>(data_size));
+    if (type == CGNS_ENUMV(MIXED)) {  // a stream of (type, nodes...), with each element's offset
+      std::vector<cgsize_t> offsets(size_t(end - start) + 2);
+      check(cg_poly_elements_read(fn, base, zone.index, s, data.data(), offsets.data(), nullptr), where);
+    } else {
+      check(cg_elements_read(fn, base, zone.index, s, data.data(), nullptr), where);
+    }
+    size_t at = 0;
+    for (cgsize_t e = start; e <= end; ++e) {
+      const int element_type = type == CGNS_ENUMV(MIXED) ? int(next(data, at, where)) : int(type);
+      int nodes = 0;
+      input_check(element_type >= 0 && element_type < NofValidElementTypes &&
+                      cg_npe(CGNS_ENUMT(ElementType_t)(element_type), &nodes) == CG_OK && nodes > 0,
+                  file, where + ": element " + std::to_string(e) + " of unknown type " + std::to_string(element_type));
+      input_check(at + size_t(nodes) <= data.size(), file, where + ": element data cut short");
+      if (!is_lower_dimensional(element_type)) add_element(zone, element_type, data.data() + at, e, where);
+      at += size_t(nodes);
+    }
+  }
+
+  cgsize_t next(const std::vector<cgsize_t>& data, size_t& at, const std::string& where) const {
+    input_check(at < data.size(), file, where + ": element data cut short");
+    return data[at++];
+  }
+
+  void add_element(Zone& zone, int type, const cgsize_t* nodes, cgsize_t number, const std::string& where) {
+    const auto& kinds = element_kinds();
+    const auto kind =
+        std::find_if(kinds.begin(), kinds.end(), [&](const ElementKind& k) { return int(k.type) == type; });
+    if (kind == kinds.end())
+      input_error(file, where + ": unsupported element type " + type_name(type) +
+                            " (TETRA_4/10, PYRA_5/13, PENTA_6/15, HEXA_8/20/27 are read)");
+    int count = 0;
+    cg_npe(kind->type, &count);
+    MeshData& t = zone.topology;
+    const cgsize_t vertices = cgsize_t(zone.vertices.size());
+    for (int k = 0; k < count; ++k) {
+      const cgsize_t v = nodes[kind->vtk_from_cgns.empty() ? k : kind->vtk_from_cgns[size_t(k)]];
+      input_check(v >= 1 && v <= vertices, file,
+                  where + ", element " + std::to_string(number) + ": node " + std::to_string(v) + " out of range 1.." +
+                      std::to_string(vertices));
+      t.connectivity.push_back(uint64_t(v - 1));
+    }
+    t.cell_types.push_back(kind->vtk_type);
+    t.cell_offsets.push_back(t.connectivity.size());
+    zone.cell_number.push_back(number);
+    element_counts[type_name(type)] += 1;
+  }
+
+  // The character array `name` of the node cg_goto() went to, as rows of 32 characters.
+  std::vector<std::string> string_rows(const std::string& name) const {
+    int arrays = 0;
+    if (cg_narrays(&arrays) != CG_OK) return {};
+    for (int a = 1; a <= arrays; ++a) {
+      char array_name[33] = {};
+      CGNS_ENUMT(DataType_t) type;
+      int dims = 0;
+      cgsize_t extent[12] = {};
+      check(cg_array_info(a, array_name, &type, &dims, extent), "array");
+      if (array_name != name) continue;
+      input_check(type == CGNS_ENUMV(Character) && dims == 2 && extent[0] > 0 && extent[1] >= 0, file,
+                  name + " is not an array of names");
+      std::string all(size_t(extent[0]) * size_t(extent[1]), '\0');
+      check(cg_array_read(a, all.data()), name);
+      std::vector<std::string> rows;
+      for (cgsize_t r = 0; r < extent[1]; ++r) {
+        std::string row = all.substr(size_t(r * extent[0]), size_t(extent[0]));
+        row.erase(std::find(row.begin(), row.end(), '\0'), row.end());
+        while (!row.empty() && row.back() == ' ') row.pop_back();
+        rows.push_back(row);
+      }
+      return rows;
+    }
+    return {};
+  }
+
+  void read_solution_pointers(Zone& zone) {
+    char name[33] = {};
+    if (cg_ziter_read(fn, base, zone.index, name) != CG_OK) return;
+    if (cg_goto(fn, base, "Zone_t", zone.index, "ZoneIterativeData_t", 1, "end") != CG_OK) return;
+    zone.solution_at_step = string_rows("FlowSolutionPointers");
+  }
+
+  void read_times() {
+    char name[33] = {};
+    int steps = 0;
+    if (cg_biter_read(fn, base, name, &steps) != CG_OK || steps < 1) return;
+    check(cg_goto(fn, base, "BaseIterativeData_t", 1, "end"), "BaseIterativeData");
+    int arrays = 0;
+    check(cg_narrays(&arrays), "BaseIterativeData");
+    for (int a = 1; a <= arrays; ++a) {
+      char array_name[33] = {};
+      CGNS_ENUMT(DataType_t) type;
+      int dims = 0;
+      cgsize_t extent[12] = {};
+      check(cg_array_info(a, array_name, &type, &dims, extent), "BaseIterativeData");
+      if (std::string(array_name) != "TimeValues") continue;
+      input_check(dims == 1 && extent[0] == steps, file, "TimeValues is not one time per step");
+      times.assign(size_t(steps), 0.0);
+      check(cg_array_read_as(a, CGNS_ENUMV(RealDouble), times.data()), "TimeValues");
+    }
+    if (times.size() != size_t(steps)) {  // steps without times: at 0, 1, ...
+      times.resize(size_t(steps));
+      for (int s = 0; s < steps; ++s) times[size_t(s)] = s;
+    }
+    for (double t : times) input_check(std::isfinite(t), file, "a time step at a time that is not finite");
+    for (const Zone& z : zones)
+      input_check(z.solution_at_step.empty() || z.solution_at_step.size() == times.size(), file,
+                  "zone " + z.name + ": FlowSolutionPointers is not one solution per step");
+  }
+
+  // The solutions (1-based) zone z uses at step s: the one its FlowSolutionPointers names, or
+  // every one.
+  std::vector<int> solutions_at(const Zone& zone, size_t s) const {
+    int count = 0;
+    check(cg_nsols(fn, base, zone.index, &count), "zone " + zone.name + ": solutions");
+    std::vector<int> out;
+    for (int i = 1; i <= count; ++i) {
+      char name[33] = {};
+      CGNS_ENUMT(GridLocation_t) location;
+      check(cg_sol_info(fn, base, zone.index, i, name, &location), "zone " + zone.name + ": solution");
+      if (zone.solution_at_step.empty() || zone.solution_at_step[s] == name) out.push_back(i);
+    }
+    input_check(
+        zone.solution_at_step.empty() || out.size() == 1, file,
+        "zone " + zone.name + ": no solution " + (zone.solution_at_step.empty() ? "" : zone.solution_at_step[s]));
+    return out;
+  }
+
+  // A solution's fields into m's point or cell data.
+  void read_solution(const Zone& zone, int solution, MeshData& m) const {
+    char name[33] = {};
+    CGNS_ENUMT(GridLocation_t) location;
+    check(cg_sol_info(fn, base, zone.index, solution, name, &location), "zone " + zone.name + ": solution");
+    const std::string where = "zone " + zone.name + ", solution " + name;
+    const bool at_cells = location == CGNS_ENUMV(CellCenter);
+    input_check(at_cells || location == CGNS_ENUMV(Vertex), file,
+                where + ": values at " + GridLocationName[location] + " (Vertex and CellCenter are read)");
+    int rind[6] = {};
+    if (cg_goto(fn, base, "Zone_t", zone.index, "FlowSolution_t", solution, "end") == CG_OK &&
+        cg_rind_read(rind) == CG_OK)
+      input_check(std::all_of(rind, rind + 6, [](int r) { return r == 0; }), file,
+                  where + ": rind planes are not read");
+    int fields = 0;
+    check(cg_nfields(fn, base, zone.index, solution, &fields), where);
+    std::vector<std::string> names;
+    for (int f = 1; f <= fields; ++f) {
+      char field[33] = {};
+      CGNS_ENUMT(DataType_t) type;
+      check(cg_field_info(fn, base, zone.index, solution, f, &type, field), where);
+      names.push_back(field);
+    }
+    const Range& range = at_cells ? zone.cells : zone.vertices;
+    for (const VariableGroup& g : group_vector_variables(names)) {
+      MeshArray a{g.name, g.components, {}};
+      for (int c = 0; c < g.components; ++c) {
+        const std::vector<double> v =
+            per_kept_cell(zone, at_cells, read_array(zone, solution, names[size_t(g.first + c)], range), where);
+        a.values.resize(v.size() * size_t(g.components));
+        for (size_t i = 0; i < v.size(); ++i) a.values[i * size_t(g.components) + size_t(c)] = v[i];
+      }
+      (at_cells ? m.cell_data : m.point_data).push_back(std::move(a));
+    }
+  }
+
+  // Cell values of an unstructured zone are by element number; the kept cells' in their order.
+  std::vector<double> per_kept_cell(const Zone& zone, bool at_cells, std::vector<double> v,
+                                    const std::string& where) const {
+    if (!at_cells || zone.structured) return v;
+    std::vector<double> out;
+    out.reserve(zone.cell_number.size());
+    for (cgsize_t n : zone.cell_number) {
+      input_check(size_t(n) <= v.size(), file,
+                  where + ": element " + std::to_string(n) + " is numbered past the zone's " +
+                      std::to_string(v.size()) + " cells, so it has no cell value");
+      out.push_back(v[size_t(n - 1)]);
+    }
+    return out;
+  }
+
+  MeshData zone_step(const Zone& zone, size_t s) const {
+    MeshData m = zone.topology;
+    for (int solution : solutions_at(zone, s)) read_solution(zone, solution, m);
+    return m;
+  }
+
+  // Every read the steps make, and nothing else (read_in_child_first).
+  void read_all_values() const {
+    for (size_t s = 0; s < times.size(); ++s)
+      for (const Zone& z : zones) zone_step(z, s);
+  }
+
+  MeshData step(size_t s) const {
+    input_check(s < times.size(), file, "no time step " + std::to_string(s));
+    std::vector<MeshData> pieces;
+    for (const Zone& z : zones) pieces.push_back(zone_step(z, s));
+    MeshData m = pieces.size() == 1 ? std::move(pieces.front()) : join_pieces(std::move(pieces), file);
+    split_quadratic_cells(m, file);
+    check_mesh(m, file);
+    return m;
+  }
+
+  std::string summary() const {
+    const auto structured = std::count_if(zones.begin(), zones.end(), [](const Zone& z) { return z.structured; });
+    std::string s = std::to_string(zones.size()) + (zones.size() == 1 ? " zone" : " zones");
+    if (structured) s += ", " + std::to_string(structured) + " structured";
+    const char* sep = ": ";
+    for (const auto& [type, n] : element_counts) {
+      s += sep + type + " x " + std::to_string(n);
+      sep = ", ";
+    }
+    return s;
+  }
+};
+
+CgnsFile::CgnsFile(const fs::path& file) : impl_(std::make_unique<Impl>()) {
+  file_size_checked(file);  // a regular file (a FIFO would block every read below)
+  read_in_child_first(file.string(), "CGNS", [&] {
+    Impl first;
+    first.open(file);
+    first.read_all_values();
+  });
+  impl_->open(file);
+}
+CgnsFile::~CgnsFile() = default;
+size_t CgnsFile::step_count() const { return impl_->times.size(); }
+double CgnsFile::step_time(size_t step) const { return impl_->times.at(step); }
+MeshData CgnsFile::read_step(size_t step) { return impl_->step(step); }
+std::string CgnsFile::summary() const { return impl_->summary(); }
+
+#endif
+
+}  // namespace vs

@@ -1,0 +1,133 @@
+// CGNS: files written from the standard's description (tests/data/cgns/make_cgns_files.py, whose
+// node orders VTK's own CGNS reader confirms) read as the .vtu files VTK wrote of the same meshes
+// and values: an unstructured zone of one MIXED section and a structured zone with a left-handed
+// index space, over three time steps; quadratic sections with Vertex and CellCenter solutions;
+// and bad files, written here with the CGNS library, refused with one line.
+#include "volstream/io/cgns.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <iterator>
+
+#include "test_util.h"
+#include "volstream/core/error.h"
+#include "volstream/io/vtu.h"
+#include "volstream/umesh/from_mesh_data.h"
+
+#ifdef VOLSTREAM_HAVE_CGNS
+#include <cgnslib.h>
+#endif
+
+namespace vs {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kDir = fs::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "cgns";
+
+#define SKIP_WITHOUT_CGNS() \
+  if (!cgns_supported()) GTEST_SKIP() << "built without CGNS"
+
+TEST(Cgns, ZonesAndStepsAreTheVtuVtkWrote) {
+  SKIP_WITHOUT_CGNS();
+  CgnsFile cgns(kDir / "cgns_mixed.cgns");
+  ASSERT_EQ(cgns.step_count(), 3u);
+  EXPECT_EQ(cgns.step_time(1), 0.5);
+  EXPECT_EQ(cgns.step_time(2), 1.25);
+  EXPECT_EQ(cgns.summary(),
+            "2 zones, 1 structured: HEXA_8 x 8, HEXA_8 (structured) x 24, PENTA_6 x 16, PYRA_5 x 48, TETRA_4 x 48");
+  const MeshData step = cgns.read_step(1), vtu = read_vtu(kDir / "cgns_mixed_1.vtu");
+  EXPECT_EQ(step.cell_count(), vtu.cell_count());
+  EXPECT_EQ(step.points.size(), vtu.points.size());
+  EXPECT_EQ(test::array_named(step.point_data, "Velocity").components, 3);
+  test::expect_probes_alike(vtu, "g", step, "g");
+  test::expect_probes_alike(vtu, "VelocityY", step, "Velocity_y");
+  // Every element the right way round (make_umesh refuses elements turned against most others):
+  // the structured zone's, whose k axis runs downwards, and the wedges.
+  EXPECT_NO_THROW(make_umesh(step, mesh_transform(step), "cgns"));
+}
+
+TEST(Cgns, QuadraticSectionsAndCellCentredValues) {
+  SKIP_WITHOUT_CGNS();
+  CgnsFile cgns(kDir / "cgns_quadratic.cgns");
+  EXPECT_EQ(cgns.step_count(), 1u);
+  EXPECT_EQ(cgns.summary(), "1 zone: HEXA_20 x 2, HEXA_27 x 1, PENTA_15 x 1, PYRA_13 x 1, TETRA_10 x 1");
+  const MeshData m = cgns.read_step(0), vtu = read_vtu(kDir / "cgns_quadratic.vtu");
+  EXPECT_EQ(m.cell_count(), vtu.cell_count());
+  EXPECT_EQ(m.connectivity, vtu.connectivity);
+  EXPECT_EQ(test::array_named(m.cell_data, "cell_id").values, test::array_named(vtu.cell_data, "cell_id").values);
+  test::expect_probes_alike(vtu, "g", m, "g");
+}
+
+#ifdef VOLSTREAM_HAVE_CGNS
+// A small CGNS file written here: one unstructured zone of the unit cube's 8 nodes in a base of
+// `cell_dim`, with one section of `type` holding `elements`.
+struct BadFile {
+  int cell_dim = 3;
+  CGNS_ENUMT(ElementType_t) type = CGNS_ENUMV(HEXA_8);
+  std::vector<cgsize_t> elements = {1, 2, 3, 4, 5, 6, 7, 8};
+  std::vector<cgsize_t> offsets{};  // for NGON_n
+};
+
+fs::path write_cgns(const BadFile& b, const std::string& name) {
+  const fs::path path = test::scratch_dir("cgns") / name;
+  int fn = 0, base = 0, zone = 0, section = 0, coord = 0;
+  auto ok = [](int status) { ASSERT_EQ(status, CG_OK) << cg_get_error(); };
+  ok(cg_open(path.c_str(), CG_MODE_WRITE, &fn));
+  ok(cg_base_write(fn, "Base", b.cell_dim, 3, &base));
+  cgsize_t size[3] = {8, 1, 0};
+  ok(cg_zone_write(fn, base, "cube", size, CGNS_ENUMV(Unstructured), &zone));
+  const double cube[3][8] = {{0, 1, 1, 0, 0, 1, 1, 0}, {0, 0, 1, 1, 0, 0, 1, 1}, {0, 0, 0, 0, 1, 1, 1, 1}};
+  const char* names[] = {"CoordinateX", "CoordinateY", "CoordinateZ"};
+  for (int a = 0; a < 3; ++a) ok(cg_coord_write(fn, base, zone, CGNS_ENUMV(RealDouble), names[a], cube[a], &coord));
+  if (b.offsets.empty())
+    ok(cg_section_write(fn, base, zone, "cells", b.type, 1, 1, 0, b.elements.data(), &section));
+  else
+    ok(cg_poly_section_write(fn, base, zone, "cells", b.type, 1, 1, 0, b.elements.data(), b.offsets.data(), &section));
+  ok(cg_close(fn));
+  return path;
+}
+
+std::string refusal(const fs::path& file) {
+  try {
+    CgnsFile cgns(file);
+    const MeshData m = cgns.read_step(0);
+    make_umesh(m, mesh_transform(m), file.string());
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(read)";
+}
+
+TEST(Cgns, BadFilesAreRefusedWithOneLine) {
+  EXPECT_EQ(refusal(write_cgns({}, "good.cgns")), "(read)");  // the cube, no solution: a mesh alone
+  EXPECT_EQ(refusal(write_cgns({.cell_dim = 2}, "flat.cgns")),
+            "no base of cell dimension 3: volstream renders volumes");
+  BadFile out_of_range;
+  out_of_range.elements.back() = 9;
+  EXPECT_EQ(refusal(write_cgns(out_of_range, "range.cgns")),
+            "zone cube, section cells, element 1: node 9 out of range 1..8");
+  EXPECT_EQ(refusal(write_cgns({.type = CGNS_ENUMV(NGON_n), .elements = {1, 2, 3, 4}, .offsets = {0, 4}}, "ngon.cgns")),
+            "zone cube, section cells: polyhedral sections (NGON_n, NFACE_n) are not read");
+  EXPECT_EQ(refusal(write_cgns({.type = CGNS_ENUMV(TETRA_16), .elements = std::vector<cgsize_t>(16, 1)}, "tet16.cgns")),
+            "zone cube, section cells: unsupported element type TETRA_16 (TETRA_4/10, PYRA_5/13, PENTA_6/15, "
+            "HEXA_8/20/27 are read)");
+  EXPECT_EQ(refusal(write_cgns({.type = CGNS_ENUMV(QUAD_4), .elements = {1, 2, 3, 4}}, "faces.cgns")),
+            "zone cube: no volume elements");
+
+  // A file cut short, and one that is not CGNS: refused, whichever part of the library notices.
+  const fs::path whole = kDir / "cgns_mixed.cgns", cut = test::scratch_dir("cgns") / "cut.cgns";
+  std::ifstream in(whole, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (size_t keep : {size_t(100), size_t(5000), bytes.size() / 2, bytes.size() - 100}) {
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(keep));
+    EXPECT_NE(refusal(cut), "(read)") << keep;
+  }
+  const fs::path text = test::scratch_dir("cgns") / "text.cgns";
+  std::ofstream(text) << "not cgns\n";
+  EXPECT_EQ(refusal(text).substr(0, 16), "not a CGNS file:");
+}
+#endif
+
+}  // namespace
+}  // namespace vs

@@ -18,16 +18,12 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import make_exodus_files  # noqa: E402
 
 
-def main():
-    if len(sys.argv) < 3:
-        sys.exit(__doc__)
-    steps = int(sys.argv[3]) if len(sys.argv) > 3 else 8
-    fmt = sys.argv[4] if len(sys.argv) > 4 else "NETCDF3_64BIT_OFFSET"
+def sorted_by_type(vtu):
+    """The .vtu's mesh with its cells sorted by type (one Exodus block, or CGNS section, each)."""
     reader = vtk.vtkXMLUnstructuredGridReader()
-    reader.SetFileName(sys.argv[1])
+    reader.SetFileName(vtu)
     reader.Update()
     grid = reader.GetOutput()
-    # One block per cell type: cells sorted by type, as an Exodus file holds them.
     types = numpy_support.vtk_to_numpy(grid.GetCellTypesArray())
     order = np.argsort(types, kind="stable")
     if np.any(order != np.arange(len(order))):
@@ -38,6 +34,15 @@ def main():
         for c in order:
             sorted_grid.InsertNextCell(grid.GetCellType(int(c)), grid.GetCell(int(c)).GetPointIds())
         grid = sorted_grid
+    return grid
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    steps = int(sys.argv[3]) if len(sys.argv) > 3 else 8
+    fmt = sys.argv[4] if len(sys.argv) > 4 else "NETCDF3_64BIT_OFFSET"
+    grid = sorted_by_type(sys.argv[1])
     data = grid.GetPointData()
     arrays = {data.GetArrayName(i): numpy_support.vtk_to_numpy(data.GetArray(i)).astype(np.float64)
               for i in range(data.GetNumberOfArrays()) if data.GetArray(i).GetNumberOfComponents() == 1}
@@ -46,4 +51,5 @@ def main():
                                    compress=fmt == "NETCDF4")
 
 
-main()
+if __name__ == "__main__":
+    main()

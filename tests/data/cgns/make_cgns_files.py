@@ -87,6 +87,40 @@ def write_names(name, rows):
     ok(cg.cg_array_write(name.encode(), Character, 2, dims, chars.ctypes.data_as(ctypes.c_void_p)))
 
 
+def write_steps(fn, base, zones, times):
+    """BaseIterativeData's TimeValues, and each zone's FlowSolutionPointers: Solution0, ..."""
+    ok(cg.cg_biter_write(fn, base, b"TimeIterValues", len(times)))
+    ok(cg.cg_goto(fn, base, b"BaseIterativeData_t", 1, b"end"))
+    ok(cg.cg_array_write(b"TimeValues", RealDouble, 1, (cgsize * 1)(len(times)), doubles(times)))
+    for z in zones:
+        ok(cg.cg_ziter_write(fn, base, z, b"ZoneIterativeData"))
+        ok(cg.cg_goto(fn, base, b"Zone_t", z, b"ZoneIterativeData_t", 1, b"end"))
+        write_names("FlowSolutionPointers", [f"Solution{s}" for s in range(len(times))])
+
+
+def write_time_series(name, grid, point_values_at, times):
+    """`grid` (cells sorted by type) as one unstructured zone, a section per type, and a Vertex
+    solution per step (`point_values_at(step)`: name -> values): bench/vtu_to_cgns.py's files."""
+    xyz = numpy_support.vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
+    fn, base, zone = ctypes.c_int(), ctypes.c_int(), ctypes.c_int()
+    ok(cg.cg_open(name.encode(), 1, ctypes.byref(fn)))
+    ok(cg.cg_base_write(fn, b"Base", 3, 3, ctypes.byref(base)))
+    fn, base = fn.value, base.value
+    ok(cg.cg_simulation_type_write(fn, base, 2))
+    ok(cg.cg_zone_write(fn, base, b"mesh", (cgsize * 3)(len(xyz), grid.GetNumberOfCells(), 0), Unstructured,
+                        ctypes.byref(zone)))
+    write_coordinates(fn, base, zone.value, xyz)
+    for cell_type, cells in exo.blocks_of(grid):
+        section = ctypes.c_int()
+        kept, data = ints([cgns_nodes(grid, c) for c in cells])
+        ok(cg.cg_section_write(fn, base, zone.value, f"Type{cell_type}".encode(), CGNS_TYPE[cell_type], cells[0] + 1,
+                               cells[-1] + 1, 0, data, ctypes.byref(section)))
+    for s in range(len(times)):
+        write_solution(fn, base, zone.value, f"Solution{s}", Vertex, point_values_at(s))
+    write_steps(fn, base, (zone.value,), times)
+    ok(cg.cg_close(fn))
+
+
 def nodal(xyz, step):
     x, y, z = xyz[:, 0], xyz[:, 1], xyz[:, 2]
     return {"g": (1 + step) * (x * y + z * z) + step, "f": 1 + 2 * x + 3 * y + 4 * z,
@@ -151,13 +185,7 @@ def write_mixed():
     for z, points in ((zone.value, xyz), (block_zone.value, block)):
         for s in range(len(times)):
             write_solution(fn, base, z, f"Solution{s}", Vertex, nodal(points, s))
-    ok(cg.cg_biter_write(fn, base, b"TimeIterValues", len(times)))
-    ok(cg.cg_goto(fn, base, b"BaseIterativeData_t", 1, b"end"))
-    ok(cg.cg_array_write(b"TimeValues", RealDouble, 1, (cgsize * 1)(len(times)), doubles(times)))
-    for z in (zone.value, block_zone.value):
-        ok(cg.cg_ziter_write(fn, base, z, b"ZoneIterativeData"))
-        ok(cg.cg_goto(fn, base, b"Zone_t", z, b"ZoneIterativeData_t", 1, b"end"))
-        write_names("FlowSolutionPointers", [f"Solution{s}" for s in range(len(times))])
+    write_steps(fn, base, (zone.value, block_zone.value), times)
     ok(cg.cg_close(fn))
 
     both = vtk.vtkAppendFilter()
@@ -225,5 +253,6 @@ def check_with_vtk(name, grid, step, point_values):
     print(f"{name}: VTK's CGNS reader sees the same {grid.GetNumberOfCells()} elements of zone 1 and values")
 
 
-write_mixed()
-write_quadratic()
+if __name__ == "__main__":
+    write_mixed()
+    write_quadratic()

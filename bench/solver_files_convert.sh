@@ -1,20 +1,21 @@
 #!/usr/bin/env bash
-# Exodus II files: how long `volstream convert` takes for a time series in one Exodus file, beside
-# VTK's own vtkExodusIIReader (what ParaView opens them with) reading the same steps, and beside
-# `volstream convert` of the same mesh as a .vtu (one step), all in one run.
+# Solvers' files (Exodus II, CGNS): how long `volstream convert` takes for a time series in one
+# file, beside VTK's own reader (vtkExodusIIReader, vtkCGNSReader: what ParaView opens them with)
+# reading the same steps, and beside `volstream convert` of the same mesh as a .vtu (one step), all
+# in one run. (Until commit b0308b3 this was bench/exodus_convert.sh, Exodus only.)
 #
 # For each demo mesh (tets with TETS elements, mixed with MIXED; 0 skips one):
 #   1. volstream demo NAME --elements N --steps 1 --write-mesh NAME_N.vtu (once, reused)
-#   2. bench/vtu_to_exodus.py: NAME_N.exo (64-bit offset) and NAME_N_nc4.exo (NetCDF-4, zlib),
-#      STEPS steps of the .vtu's point arrays
-#   3. REPEATS rounds, in turn: volstream convert of the .vtu, of the .exo, of the _nc4.exo
-#      (whole command, the dataset removed first), and VTK's reader reading every step of each
-#      .exo (bench/vtk_exodus_read.py: one Update per step, all nodal variables on); "of which
+#   2. bench/vtu_to_exodus.py: NAME_N.exo (64-bit offset) and NAME_N_nc4.exo (NetCDF-4, zlib);
+#      bench/vtu_to_cgns.py: NAME_N.cgns (HDF5); STEPS steps of the .vtu's point arrays
+#   3. REPEATS rounds, in turn: volstream convert of the .vtu, of the .exo, of the _nc4.exo, of
+#      the .cgns (whole command, the dataset removed first), and VTK's reader reading every step
+#      of each (bench/vtk_solver_read.py: one update per step, all arrays on); "of which
 #      reading" is the read stage convert prints (all steps' files, the split, the checks)
 # Prints median [min..max] of every figure and a markdown table (OUT/table.md); the summary goes to
-# LOGS/exodus_convert_<date>.log.
+# LOGS/solver_files_convert_<date>.log.
 #
-# usage: bench/exodus_convert.sh OUT_DIR [TETS=1e6] [MIXED=5e5]
+# usage: bench/solver_files_convert.sh OUT_DIR [TETS=1e6] [MIXED=5e5]
 #        VS=build/volstream REPEATS=3 STEPS=8 LOGS=bench/logs
 # Installs python3-vtk9 and python3-netcdf4 with apt-get when they are missing.
 set -euo pipefail
@@ -42,14 +43,14 @@ fi
 
 mkdir -p "$OUT" "$LOGS"
 OUT="$(realpath "$OUT")"
-exec > >(tee -a "$LOGS/exodus_convert_$(date -u +%Y-%m-%d).log") 2>&1
+exec > >(tee -a "$LOGS/solver_files_convert_$(date -u +%Y-%m-%d).log") 2>&1
 stats() { tr ' ' '\n' | grep -v '^$' | sort -g | awk '{ v[NR] = $1 } END {
   m = (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2
   printf "%.3f [%.3f..%.3f]", m, v[1], v[NR] }'; }
 now() { date +%s.%N; }
 elapsed() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.4f", b - a }'; }
 
-echo "# $(date -u +%FT%TZ) exodus_convert: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'),"\
+echo "# $(date -u +%FT%TZ) solver_files_convert: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'),"\
   "load average $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "# commit $(git -C "$REPO" rev-parse --short HEAD), binary $VS (sha256 $(sha256sum "$VS" | cut -c1-12)),"\
   "VTK $("$PY" -c 'import vtk; print(vtk.vtkVersion.GetVTKVersion())'), steps $STEPS, repeats $REPEATS"
@@ -62,21 +63,22 @@ run_mesh() {
   [ -f "$base.vtu" ] || { "$VS" demo "$name" --elements "$n" --steps 1 -o "$base.demo" --write-mesh "$base.vtu" -q; rm -rf "$base.demo"; }
   [ -f "$base.exo" ] || "$PY" "$HERE/vtu_to_exodus.py" "$base.vtu" "$base.exo" "$STEPS" NETCDF3_64BIT_OFFSET
   [ -f "${base}_nc4.exo" ] || "$PY" "$HERE/vtu_to_exodus.py" "$base.vtu" "${base}_nc4.exo" "$STEPS" NETCDF4
+  [ -f "$base.cgns" ] || "$PY" "$HERE/vtu_to_cgns.py" "$base.vtu" "$base.cgns" "$STEPS"
   local elements
   elements=$("$VS" convert "$base.vtu" -o "$base.vs" 2>&1 | grep -o '[0-9]* elements' | head -1)
   declare -A vs_t vtk_t read_t
   for ((i = 1; i <= REPEATS; ++i)); do
-    for f in "$base.vtu" "$base.exo" "${base}_nc4.exo"; do
+    for f in "$base.vtu" "$base.exo" "${base}_nc4.exo" "$base.cgns"; do
       rm -rf "$base.vs"
       local t0 t1
       t0=$(now); "$VS" convert "$f" -o "$base.vs" -q >"$base.convert.log"; t1=$(now)
       vs_t[$f]+=" $(elapsed "$t0" "$t1")"
       read_t[$f]+=" $(grep -o '(read [0-9.]*s' "$base.convert.log" | grep -o '[0-9.]*')"
       [ "${f%.vtu}" != "$f" ] && continue
-      vtk_t[$f]+=" $("$PY" "$HERE/vtk_exodus_read.py" "$f")"
+      vtk_t[$f]+=" $("$PY" "$HERE/vtk_solver_read.py" "$f")"
     done
   done
-  for f in "$base.vtu" "$base.exo" "${base}_nc4.exo"; do
+  for f in "$base.vtu" "$base.exo" "${base}_nc4.exo" "$base.cgns"; do
     local v k ratio="-" steps="$STEPS"
     [ "${f%.vtu}" != "$f" ] && steps=1
     v=$(echo "${vs_t[$f]}" | stats)

@@ -189,7 +189,7 @@ struct CgnsFile::Impl {
   // A structured zone's cells as hexahedra (i fastest), turned the right way round for VTK when
   // its index axes are left-handed.
   void structured_cells(Zone& zone) {
-    const auto [ni, nj, nk] = zone.vertices.max;
+    const cgsize_t ni = zone.vertices.max[0], nj = zone.vertices.max[1], nk = zone.vertices.max[2];
     auto node = [&](cgsize_t i, cgsize_t j, cgsize_t k) { return uint64_t(i + ni * (j + nj * k)); };
     const auto& p = zone.topology.points;
     const vec3d di = p[node(1, 0, 0)] - p[0], dj = p[node(0, 1, 0)] - p[0], dk = p[node(0, 0, 1)] - p[0];

@@ -19,5 +19,6 @@ if [ "${VOLSTREAM_SKIP_SANITIZE:-0}" != 1 ]; then
     -DVOLSTREAM_PYTHON=OFF -DVOLSTREAM_MPI=OFF >/dev/null
   ninja -C build-asan
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    LSAN_OPTIONS="suppressions=$PWD/scripts/lsan_third_party.supp" \
     ctest --test-dir build-asan --output-on-failure -j2 --timeout 1800
 fi

@@ -7,6 +7,8 @@
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
+#include <new>
+#include <stdexcept>
 #include <utility>
 
 #include "volstream/core/error.h"
@@ -26,6 +28,14 @@ std::pair<std::string, int> vector_component(const std::string& name) {
 }
 
 bool g_in_reading_child = false;
+constexpr int kChildRefused = 3;  // the child's read threw; its message follows on the pipe
+
+ssize_t read_retrying(int fd, char* buffer, size_t size) {
+  ssize_t n;
+  while ((n = ::read(fd, buffer, size)) < 0 && errno == EINTR) {
+  }
+  return n;
+}
 
 }  // namespace
 
@@ -48,23 +58,43 @@ bool reading_in_child() { return g_in_reading_child; }
 
 void read_in_child_first(const std::string& file, const std::string& format, const std::function<void()>& read) {
   if (g_in_reading_child) return;
+  int channel[2];
+  if (pipe(channel) != 0) return;  // no child to be had: read in place
   std::fflush(nullptr);
   const pid_t pid = fork();
-  if (pid < 0) return;  // no child to be had: read in place
+  if (pid < 0) {
+    close(channel[0]);
+    close(channel[1]);
+    return;
+  }
   if (pid == 0) {
+    close(channel[0]);
     const int null = open("/dev/null", O_WRONLY);
     if (null >= 0) dup2(null, 2);
     g_in_reading_child = true;
+    std::string error;
     try {
       read();
-    } catch (...) {
+    } catch (const std::bad_alloc&) {
+      error = "out of memory";
+    } catch (const std::exception& e) {
+      error = e.what();
     }
-    _exit(0);
+    if (!error.empty() && write(channel[1], error.data(), error.size()) < 0) error = "unreadable";
+    _exit(error.empty() ? 0 : kChildRefused);  // no exit handlers: the library's would run on a bad state
   }
+  close(channel[1]);
+  std::string error;
+  char buffer[512];
+  for (ssize_t n; (n = read_retrying(channel[0], buffer, sizeof buffer)) > 0;) error.append(buffer, size_t(n));
+  close(channel[0]);
   int status = 0;
   while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
+  // The child's refusal is the file's; the parent never opens the file, so the library's state
+  // stays clean (a failed open can leave HDF5 objects behind that it complains of at exit).
+  if (WIFEXITED(status) && WEXITSTATUS(status) == kChildRefused && !error.empty()) input_error(file, error);
   input_error(file, "a damaged " + format + " file: the HDF5 library failed reading it (" +
                         (WIFSIGNALED(status) ? "signal " + std::to_string(WTERMSIG(status))
                                              : "exit status " + std::to_string(WEXITSTATUS(status))) +

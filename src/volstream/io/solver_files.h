@@ -31,11 +31,12 @@ struct VariableGroup {
 std::vector<VariableGroup> group_vector_variables(const std::vector<std::string>& names);
 
 // HDF5 (1.10) reads some damaged files unsafely (fuzzing found it freeing an uninitialised
-// pointer while opening one). So `read` (every read the real one will make) runs in a child
-// process first, its stderr silenced; if the child dies or exits otherwise than cleanly (an
-// exception there is clean: the parent meets it again and reports it), InputError naming `file`
-// ("a damaged FORMAT file: the HDF5 library failed reading it (signal 11)"). Inside the child
-// (reading_in_child() true) it runs nothing.
+// pointer while opening one), and a failed open can leave its objects behind, which it complains
+// of on stderr at exit. So `read` (every read the real one will make) runs in a child process
+// first, its stderr silenced, ended without exit handlers. An exception there becomes the
+// parent's InputError naming `file`, with the child's message, before the parent opens the file
+// at all; a child that dies, InputError "a damaged FORMAT file: the HDF5 library failed reading it
+// (signal 11)". Inside the child (reading_in_child() true) it runs nothing.
 void read_in_child_first(const std::string& file, const std::string& format, const std::function<void()>& read);
 bool reading_in_child();
 

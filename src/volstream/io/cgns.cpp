@@ -83,7 +83,13 @@ std::string type_name(int type) {
 // An index range of a zone's vertices or cells: (1, ...) to the counts.
 struct Range {
   std::array<cgsize_t, 3> min{1, 1, 1}, max{1, 1, 1};
-  size_t size() const { return size_t(max[0]) * size_t(max[1]) * size_t(max[2]); }
+  // Values in the range; 0 where a damaged file's counts multiply past any file.
+  size_t size() const {
+    size_t n = 1;
+    for (cgsize_t m : max)
+      if (m < 1 || __builtin_mul_overflow(n, size_t(m), &n) || n > (size_t(1) << 40)) return 0;
+    return n;
+  }
 };
 
 }  // namespace
@@ -153,6 +159,8 @@ struct CgnsFile::Impl {
       input_check(size[a] >= (zone.structured ? 2 : 1) && zone.cells.max[size_t(a)] >= 1, file,
                   "zone " + zone.name + ": no cells");
     }
+    input_check(zone.vertices.size() > 0 && zone.cells.size() > 0, file,
+                "zone " + zone.name + ": more nodes or cells than any file holds");
     read_coordinates(zone);
     if (zone.structured)
       structured_cells(zone);

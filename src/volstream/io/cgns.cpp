@@ -290,31 +290,38 @@ struct CgnsFile::Impl {
     element_counts[type_name(type)] += 1;
   }
 
-  // The character array `name` of the node cg_goto() went to, as rows of 32 characters.
-  std::vector<std::string> string_rows(const std::string& name) const {
+  // The data array `name` of the node cg_goto() went to: its index, type and extents.
+  struct ArrayInfo {
+    int index = 0;
+    CGNS_ENUMT(DataType_t) type;
+    int dims = 0;
+    cgsize_t extent[12] = {};
+  };
+  std::optional<ArrayInfo> array_named(const std::string& name) const {
     int arrays = 0;
-    if (cg_narrays(&arrays) != CG_OK) return {};
+    if (cg_narrays(&arrays) != CG_OK) return std::nullopt;
     for (int a = 1; a <= arrays; ++a) {
       char array_name[33] = {};
-      CGNS_ENUMT(DataType_t) type;
-      int dims = 0;
-      cgsize_t extent[12] = {};
-      check(cg_array_info(a, array_name, &type, &dims, extent), "array");
-      if (array_name != name) continue;
-      input_check(type == CGNS_ENUMV(Character) && dims == 2 && extent[0] > 0 && extent[1] >= 0, file,
-                  name + " is not an array of names");
-      std::string all(size_t(extent[0]) * size_t(extent[1]), '\0');
-      check(cg_array_read(a, all.data()), name);
-      std::vector<std::string> rows;
-      for (cgsize_t r = 0; r < extent[1]; ++r) {
-        std::string row = all.substr(size_t(r * extent[0]), size_t(extent[0]));
-        row.erase(std::find(row.begin(), row.end(), '\0'), row.end());
-        while (!row.empty() && row.back() == ' ') row.pop_back();
-        rows.push_back(row);
-      }
-      return rows;
+      ArrayInfo info;
+      info.index = a;
+      check(cg_array_info(a, array_name, &info.type, &info.dims, info.extent), "array");
+      if (array_name == name) return info;
     }
-    return {};
+    return std::nullopt;
+  }
+
+  // The character array `name` of the node cg_goto() went to, as rows of 32 characters.
+  std::vector<std::string> string_rows(const std::string& name) const {
+    const std::optional<ArrayInfo> a = array_named(name);
+    if (!a) return {};
+    input_check(a->type == CGNS_ENUMV(Character) && a->dims == 2 && a->extent[0] > 0 && a->extent[1] >= 0, file,
+                name + " is not an array of names");
+    std::string all(size_t(a->extent[0]) * size_t(a->extent[1]), '\0');
+    check(cg_array_read(a->index, all.data()), name);
+    std::vector<std::string> rows;
+    for (cgsize_t r = 0; r < a->extent[1]; ++r)
+      rows.push_back(trimmed_name(all.substr(size_t(r * a->extent[0]), size_t(a->extent[0]))));
+    return rows;
   }
 
   void read_solution_pointers(Zone& zone) {
@@ -329,18 +336,10 @@ struct CgnsFile::Impl {
     int steps = 0;
     if (cg_biter_read(fn, base, name, &steps) != CG_OK || steps < 1) return;
     check(cg_goto(fn, base, "BaseIterativeData_t", 1, "end"), "BaseIterativeData");
-    int arrays = 0;
-    check(cg_narrays(&arrays), "BaseIterativeData");
-    for (int a = 1; a <= arrays; ++a) {
-      char array_name[33] = {};
-      CGNS_ENUMT(DataType_t) type;
-      int dims = 0;
-      cgsize_t extent[12] = {};
-      check(cg_array_info(a, array_name, &type, &dims, extent), "BaseIterativeData");
-      if (std::string(array_name) != "TimeValues") continue;
-      input_check(dims == 1 && extent[0] == steps, file, "TimeValues is not one time per step");
+    if (const std::optional<ArrayInfo> a = array_named("TimeValues")) {
+      input_check(a->dims == 1 && a->extent[0] == steps, file, "TimeValues is not one time per step");
       times.assign(size_t(steps), 0.0);
-      check(cg_array_read_as(a, CGNS_ENUMV(RealDouble), times.data()), "TimeValues");
+      check(cg_array_read_as(a->index, CGNS_ENUMV(RealDouble), times.data()), "TimeValues");
     }
     if (times.size() != size_t(steps)) {  // steps without times: at 0, 1, ...
       times.resize(size_t(steps));

@@ -80,15 +80,8 @@ bool is_lower_dimensional(const std::string& type) {
   return std::any_of(std::begin(kFamilies), std::end(kFamilies), [&](const char* f) { return type.rfind(f, 0) == 0; });
 }
 
-// A NetCDF text as written: up to its first NUL, without trailing blanks.
-std::string trimmed(std::string s) {
-  s.erase(std::find(s.begin(), s.end(), '\0'), s.end());
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
-  return s;
-}
-
 std::string trimmed_upper(std::string s) {
-  s = trimmed(std::move(s));
+  s = trimmed_name(std::move(s));
   for (char& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
   return s;
 }
@@ -300,7 +293,7 @@ struct ExodusFile::Impl {
     std::string all(size, '\0');
     check(nc_get_var_text(ncid, var, all.data()), "reading " + var_name);
     const size_t width = size / count;
-    for (size_t i = 0; i < count; ++i) out[i] = trimmed(all.substr(i * width, width));
+    for (size_t i = 0; i < count; ++i) out[i] = trimmed_name(all.substr(i * width, width));
     return out;
   }
 

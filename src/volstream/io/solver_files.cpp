@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
@@ -52,6 +53,12 @@ std::vector<VariableGroup> group_vector_variables(const std::vector<std::string>
     }
   }
   return out;
+}
+
+std::string trimmed_name(std::string s) {
+  s.erase(std::find(s.begin(), s.end(), '\0'), s.end());
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  return s;
 }
 
 bool reading_in_child() { return g_in_reading_child; }

@@ -20,6 +20,10 @@ inline constexpr std::array<int, 20> kHex20BottomVerticalTop = {0,  1,  2,  3,  
 inline constexpr std::array<int, 15> kWedge15FacingInwardBottomVerticalTop = {0, 2,  1,  3,  5, 4,  8, 7,
                                                                               6, 14, 13, 12, 9, 11, 10};
 
+// A name as these files store it, in a fixed-width field: up to its first NUL, without trailing
+// blanks.
+std::string trimmed_name(std::string s);
+
 // Solvers write a vector as three scalar variables NAME_x, NAME_y, NAME_z (Exodus) or NAMEX,
 // NAMEY, NAMEZ (CGNS's VelocityX ...). A group is one array of the file's variables: `first`
 // (0-based) and `components` (1, or 3 for such a triple, named NAME).

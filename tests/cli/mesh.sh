@@ -204,8 +204,9 @@ else
 fi
 
 # CGNS (tests/data/cgns/make_cgns_files.py): an unstructured and a structured zone over three
-# steps probe as the .vtu VTK wrote of step 1; the quadratic sections as the .vtu's cells; a file
-# cut short is one line and exit 2. (Skipped in a build without the CGNS library.)
+# steps probe as the .vtu VTK wrote of step 1; the quadratic sections as the .vtu's cells; the
+# polyhedral zone (NGON_n, NFACE_n) as VTK's polyhedra above; a file cut short is one line and
+# exit 2. (Skipped in a build without the CGNS library.)
 CG="$DATA/../cgns"
 if "$VS" convert "$CG/cgns_mixed.cgns" -o cg_mixed -q 2>cg_err.txt; then
   "$VS" info cg_mixed | grep -q "steps     3 (t = 0 .. 1.25)" || fail "CGNS: not 3 steps from 0 to 1.25"
@@ -221,6 +222,10 @@ if "$VS" convert "$CG/cgns_mixed.cgns" -o cg_mixed -q 2>cg_err.txt; then
   "$VS" probe cg_quadratic_vtu --field g --points ens_quad_points.txt >cg_quad_want.txt
   echo -n "CGNS TETRA_10, PYRA_13, PENTA_15, HEXA_20, HEXA_27: "
   compare_probes cg_quad.txt cg_quad_want.txt || fail "the CGNS quadratic sections probe otherwise than the .vtu's"
+  "$VS" convert "$CG/cgns_polyhedra.cgns" -o cg_polyhedra -q
+  "$VS" probe cg_polyhedra --field f --points poly_points.txt >cg_poly.txt
+  echo -n "CGNS NGON_n and NFACE_n: "
+  compare_probes cg_poly.txt poly_want.txt || fail "the CGNS polyhedra do not reproduce the linear field"
   head -c 40000 "$CG/cgns_mixed.cgns" >cut.cgns
   expect_bad_input "a CGNS file cut short" convert cut.cgns -o cut_cgns
 else

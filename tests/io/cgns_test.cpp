@@ -59,6 +59,22 @@ TEST(Cgns, QuadraticSectionsAndCellCentredValues) {
   test::expect_probes_alike(vtu, "g", m, "g");
 }
 
+// A polyhedral zone (NGON_n faces in two sections, after the NFACE_n cells in the file but numbered
+// before them) reads as the same polyhedra of VTK's file, split the same way, with the same
+// values; the cell values by the cells' rank among the volume elements, not by their numbers.
+TEST(Cgns, PolyhedralZoneIsTheVtuVtkWrote) {
+  SKIP_WITHOUT_CGNS();
+  CgnsFile cgns(kDir / "cgns_polyhedra.cgns");
+  EXPECT_EQ(cgns.summary(), "1 zone: NFACE_n x 11");
+  const MeshData m = cgns.read_step(0), vtu = read_vtu(kDir / ".." / "vtu" / "vtk_polyhedra.vtu");
+  EXPECT_EQ(m.cell_count(), vtu.cell_count());
+  EXPECT_EQ(m.points.size(), vtu.points.size());
+  EXPECT_EQ(m.cell_types, vtu.cell_types);
+  EXPECT_EQ(test::array_named(m.cell_data, "cell_id").values, test::array_named(vtu.cell_data, "cell_id").values);
+  test::expect_probes_alike(vtu, "g", m, "g");
+  test::expect_probes_alike(vtu, "f", m, "f");
+}
+
 #ifdef VOLSTREAM_HAVE_CGNS
 // A small CGNS file written here: one unstructured zone of the unit cube's 8 nodes in a base of
 // `cell_dim`, with one section of `type` holding `elements`.
@@ -66,7 +82,9 @@ struct BadFile {
   int cell_dim = 3;
   CGNS_ENUMT(ElementType_t) type = CGNS_ENUMV(HEXA_8);
   std::vector<cgsize_t> elements = {1, 2, 3, 4, 5, 6, 7, 8};
-  std::vector<cgsize_t> offsets{};  // for NGON_n
+  std::vector<cgsize_t> offsets{};  // for NGON_n, NFACE_n
+  cgsize_t zone_cells = 1;
+  bool cell_values = false;  // a CellCenter solution of zone_cells values
 };
 
 fs::path write_cgns(const BadFile& b, const std::string& name) {
@@ -75,7 +93,7 @@ fs::path write_cgns(const BadFile& b, const std::string& name) {
   auto ok = [](int status) { ASSERT_EQ(status, CG_OK) << cg_get_error(); };
   ok(cg_open(path.c_str(), CG_MODE_WRITE, &fn));
   ok(cg_base_write(fn, "Base", b.cell_dim, 3, &base));
-  cgsize_t size[3] = {8, 1, 0};
+  cgsize_t size[3] = {8, b.zone_cells, 0};
   ok(cg_zone_write(fn, base, "cube", size, CGNS_ENUMV(Unstructured), &zone));
   const double cube[3][8] = {{0, 1, 1, 0, 0, 1, 1, 0}, {0, 0, 1, 1, 0, 0, 1, 1}, {0, 0, 0, 0, 1, 1, 1, 1}};
   const char* names[] = {"CoordinateX", "CoordinateY", "CoordinateZ"};
@@ -84,6 +102,12 @@ fs::path write_cgns(const BadFile& b, const std::string& name) {
     ok(cg_section_write(fn, base, zone, "cells", b.type, 1, 1, 0, b.elements.data(), &section));
   else
     ok(cg_poly_section_write(fn, base, zone, "cells", b.type, 1, 1, 0, b.elements.data(), b.offsets.data(), &section));
+  if (b.cell_values) {
+    int solution = 0, field = 0;
+    const std::vector<double> values(size_t(b.zone_cells), 1.0);
+    ok(cg_sol_write(fn, base, zone, "values", CGNS_ENUMV(CellCenter), &solution));
+    ok(cg_field_write(fn, base, zone, solution, CGNS_ENUMV(RealDouble), "v", values.data(), &field));
+  }
   ok(cg_close(fn));
   return path;
 }
@@ -108,7 +132,14 @@ TEST(Cgns, BadFilesAreRefusedWithOneLine) {
   EXPECT_EQ(refusal(write_cgns(out_of_range, "range.cgns")),
             "zone cube, section cells, element 1: node 9 out of range 1..8");
   EXPECT_EQ(refusal(write_cgns({.type = CGNS_ENUMV(NGON_n), .elements = {1, 2, 3, 4}, .offsets = {0, 4}}, "ngon.cgns")),
-            "zone cube, section cells: polyhedral sections (NGON_n, NFACE_n) are not read");
+            "zone cube: NGON_n faces without an NFACE_n section (cells given only by the faces' ParentElements are "
+            "not read)");
+  EXPECT_EQ(
+      refusal(write_cgns({.type = CGNS_ENUMV(NFACE_n), .elements = {5, 6, 7, 8}, .offsets = {0, 4}}, "nface.cgns")),
+      "zone cube, section cells, cell 1: face 5 is in no NGON_n section");
+  EXPECT_EQ(refusal(write_cgns({.zone_cells = 2, .cell_values = true}, "values.cgns")),
+            "zone cube, solution values: 2 cell values for 1 volume elements");
+  EXPECT_EQ(refusal(write_cgns({.cell_values = true}, "one_value.cgns")), "(read)");
   EXPECT_EQ(refusal(write_cgns({.type = CGNS_ENUMV(TETRA_16), .elements = std::vector<cgsize_t>(16, 1)}, "tet16.cgns")),
             "zone cube, section cells: unsupported element type TETRA_16 (TETRA_4/10, PYRA_5/13, PENTA_6/15, "
             "HEXA_8/20/27 are read)");

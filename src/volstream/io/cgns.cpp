@@ -5,11 +5,13 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <span>
 
 #include "volstream/core/error.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/io/solver_files.h"
 #include "volstream/umesh/mesh_pieces.h"
+#include "volstream/umesh/polyhedra.h"
 #include "volstream/umesh/quadratic.h"
 
 #ifdef VOLSTREAM_HAVE_CGNS
@@ -95,6 +97,11 @@ struct Range {
 }  // namespace
 
 struct CgnsFile::Impl {
+  // An NGON_n section: the faces numbered first .. last are faces first_face, ... of the zone.
+  struct FaceSection {
+    cgsize_t first = 0, last = 0;
+    uint64_t first_face = 0;
+  };
   struct Zone {
     int index = 0;
     std::string name;
@@ -102,6 +109,8 @@ struct CgnsFile::Impl {
     Range vertices, cells;
     MeshData topology;                          // the zone's points and kept cells, VTK order; no data
     std::vector<cgsize_t> cell_number;          // unstructured: each kept cell's element number
+    PolyhedronFaces faces;                      // the faces of its NFACE_n cells (kVtkPolyhedron)
+    std::vector<FaceSection> face_sections;     // where faces.face_offsets has each NGON_n section
     std::vector<std::string> solution_at_step;  // FlowSolutionPointers; empty: every solution, one step
   };
 
@@ -217,15 +226,24 @@ struct CgnsFile::Impl {
     element_counts["HEXA_8 (structured)"] += t.cell_count();
   }
 
+  // The faces of NGON_n sections first, because an NFACE_n section's cells may name faces of a
+  // section after it.
   void read_sections(Zone& zone) {
     int sections = 0;
     check(cg_nsections(fn, base, zone.index, &sections), "zone " + zone.name + ": sections");
     zone.topology.cell_offsets = {0};
-    for (int s = 1; s <= sections; ++s) read_section(zone, s);
+    for (bool faces : {true, false})
+      for (int s = 1; s <= sections; ++s) read_section(zone, s, faces);
+    input_check(zone.topology.cell_count() > 0 || zone.face_sections.empty(), file,
+                "zone " + zone.name +
+                    ": NGON_n faces without an NFACE_n section (cells given only by the faces' "
+                    "ParentElements are not read)");
     input_check(zone.topology.cell_count() > 0, file, "zone " + zone.name + ": no volume elements");
   }
 
-  void read_section(Zone& zone, int s) {
+  // Section s's elements, if it holds faces (NGON_n) and `faces` is set, or holds others and it
+  // is not.
+  void read_section(Zone& zone, int s, bool faces) {
     char name[33] = {};
     CGNS_ENUMT(ElementType_t) type;
     cgsize_t start = 0, end = 0;
@@ -233,24 +251,32 @@ struct CgnsFile::Impl {
     check(cg_section_read(fn, base, zone.index, s, name, &type, &start, &end, &boundary, &parents),
           "zone " + zone.name + ": section");
     const std::string where = "zone " + zone.name + ", section " + name;
-    if (is_lower_dimensional(type)) return;
-    input_check(type != CGNS_ENUMV(NGON_n) && type != CGNS_ENUMV(NFACE_n), file,
-                where + ": polyhedral sections (NGON_n, NFACE_n) are not read");
+    if (is_lower_dimensional(type) || faces != (type == CGNS_ENUMV(NGON_n))) return;
     input_check(start >= 1 && end >= start, file, where + ": bad element range");
     cgsize_t data_size = 0;
     check(cg_ElementDataSize(fn, base, zone.index, s, &data_size), where);
     input_check(data_size >= 0, file, where + ": bad element data size");
     input_check(end - start < cgsize_t(1) << 30, file, where + ": too many elements");
     std::vector<cgsize_t> data(static_cast<size_t>(data_size));
-    if (type == CGNS_ENUMV(MIXED)) {  // a stream of (type, nodes...), with each element's offset
+    if (type == CGNS_ENUMV(MIXED) || type == CGNS_ENUMV(NGON_n) || type == CGNS_ENUMV(NFACE_n)) {
       std::vector<cgsize_t> offsets(size_t(end - start) + 2);
       check(cg_poly_elements_read(fn, base, zone.index, s, data.data(), offsets.data(), nullptr), where);
-    } else {
-      check(cg_elements_read(fn, base, zone.index, s, data.data(), nullptr), where);
+      if (type == CGNS_ENUMV(MIXED))
+        add_fixed_elements(zone, type, data, start, end, where);
+      else
+        add_polyhedral_elements(zone, type, data, offsets, start, where);
+      return;
     }
+    check(cg_elements_read(fn, base, zone.index, s, data.data(), nullptr), where);
+    add_fixed_elements(zone, type, data, start, end, where);
+  }
+
+  // A section of one type, or MIXED (each element's type before its nodes).
+  void add_fixed_elements(Zone& zone, int type, const std::vector<cgsize_t>& data, cgsize_t start, cgsize_t end,
+                          const std::string& where) {
     size_t at = 0;
     for (cgsize_t e = start; e <= end; ++e) {
-      const int element_type = type == CGNS_ENUMV(MIXED) ? int(next(data, at, where)) : int(type);
+      const int element_type = type == CGNS_ENUMV(MIXED) ? int(next(data, at, where)) : type;
       int nodes = 0;
       input_check(element_type >= 0 && element_type < NofValidElementTypes &&
                       cg_npe(CGNS_ENUMT(ElementType_t)(element_type), &nodes) == CG_OK && nodes > 0,
@@ -259,6 +285,54 @@ struct CgnsFile::Impl {
       if (!is_lower_dimensional(element_type)) add_element(zone, element_type, data.data() + at, e, where);
       at += size_t(nodes);
     }
+  }
+
+  // NGON_n: faces, each its nodes in order around it; NFACE_n: polyhedra, each its faces' element
+  // numbers (negative where the face's normal points into the cell, which the split does not
+  // need: it orients each piece itself).
+  void add_polyhedral_elements(Zone& zone, int type, const std::vector<cgsize_t>& data,
+                               const std::vector<cgsize_t>& offsets, cgsize_t start, const std::string& where) {
+    const uint64_t first_face = zone.faces.face_offsets.size() - 1;
+    for (size_t e = 0; e + 1 < offsets.size(); ++e) {
+      const cgsize_t begin = offsets[e], end = offsets[e + 1], number = start + cgsize_t(e);
+      input_check(begin >= 0 && begin <= end && size_t(end) <= data.size(), file,
+                  where + ": element " + std::to_string(number) + ": offsets outside the section's data");
+      const std::span<const cgsize_t> values(data.data() + begin, size_t(end - begin));
+      if (type == CGNS_ENUMV(NGON_n))
+        add_face(zone, values, number, where);
+      else
+        add_polyhedron(zone, values, number, where);
+    }
+    if (type == CGNS_ENUMV(NGON_n))
+      zone.face_sections.push_back({start, start + cgsize_t(offsets.size()) - 2, first_face});
+  }
+
+  void add_face(Zone& zone, std::span<const cgsize_t> nodes, cgsize_t number, const std::string& where) {
+    const cgsize_t vertices = cgsize_t(zone.vertices.size());
+    for (cgsize_t v : nodes) {
+      input_check(v >= 1 && v <= vertices, file,
+                  where + ", face " + std::to_string(number) + ": node " + std::to_string(v) + " out of range 1.." +
+                      std::to_string(vertices));
+      zone.faces.face_vertices.push_back(uint64_t(v - 1));
+    }
+    zone.faces.face_offsets.push_back(zone.faces.face_vertices.size());
+  }
+
+  void add_polyhedron(Zone& zone, std::span<const cgsize_t> faces, cgsize_t number, const std::string& where) {
+    for (cgsize_t f : faces) zone.faces.cell_faces.push_back(face_index(zone, f < 0 ? -f : f, number, where));
+    zone.faces.cell_face_offsets.push_back(zone.faces.cell_faces.size());
+    MeshData& t = zone.topology;
+    t.cell_types.push_back(kVtkPolyhedron);
+    t.cell_offsets.push_back(t.connectivity.size());
+    zone.cell_number.push_back(number);
+    element_counts["NFACE_n"] += 1;
+  }
+
+  uint64_t face_index(const Zone& zone, cgsize_t face, cgsize_t cell, const std::string& where) const {
+    for (const FaceSection& s : zone.face_sections)
+      if (face >= s.first && face <= s.last) return s.first_face + uint64_t(face - s.first);
+    input_error(
+        file, where + ", cell " + std::to_string(cell) + ": face " + std::to_string(face) + " is in no NGON_n section");
   }
 
   cgsize_t next(const std::vector<cgsize_t>& data, size_t& at, const std::string& where) const {
@@ -286,6 +360,7 @@ struct CgnsFile::Impl {
     }
     t.cell_types.push_back(kind->vtk_type);
     t.cell_offsets.push_back(t.connectivity.size());
+    zone.faces.add_other_cell();
     zone.cell_number.push_back(number);
     element_counts[type_name(type)] += 1;
   }
@@ -405,18 +480,21 @@ struct CgnsFile::Impl {
     }
   }
 
-  // Cell values of an unstructured zone are by element number; the kept cells' in their order.
+  // Cell values of an unstructured zone are its volume elements', in the order of their numbers
+  // (boundary elements, and an NGON_n section's faces, may be numbered before them); the kept
+  // cells' in their order.
   std::vector<double> per_kept_cell(const Zone& zone, bool at_cells, std::vector<double> v,
                                     const std::string& where) const {
     if (!at_cells || zone.structured) return v;
+    std::vector<cgsize_t> numbers = zone.cell_number;
+    std::sort(numbers.begin(), numbers.end());
+    input_check(numbers.size() == v.size(), file,
+                where + ": " + std::to_string(v.size()) + " cell values for " + std::to_string(numbers.size()) +
+                    " volume elements");
     std::vector<double> out;
-    out.reserve(zone.cell_number.size());
-    for (cgsize_t n : zone.cell_number) {
-      input_check(size_t(n) <= v.size(), file,
-                  where + ": element " + std::to_string(n) + " is numbered past the zone's " +
-                      std::to_string(v.size()) + " cells, so it has no cell value");
-      out.push_back(v[size_t(n - 1)]);
-    }
+    out.reserve(numbers.size());
+    for (cgsize_t n : zone.cell_number)
+      out.push_back(v[size_t(std::lower_bound(numbers.begin(), numbers.end(), n) - numbers.begin())]);
     return out;
   }
 
@@ -435,7 +513,10 @@ struct CgnsFile::Impl {
   MeshData step(size_t s) const {
     input_check(s < times.size(), file, "no time step " + std::to_string(s));
     std::vector<MeshData> pieces;
-    for (const Zone& z : zones) pieces.push_back(zone_step(z, s));
+    for (const Zone& z : zones) {
+      pieces.push_back(zone_step(z, s));
+      split_polyhedra(pieces.back(), z.faces, file);
+    }
     MeshData m = pieces.size() == 1 ? std::move(pieces.front()) : join_pieces(std::move(pieces), file);
     split_quadratic_cells(m, file);
     check_mesh(m, file);

@@ -3,12 +3,13 @@
 // base of zones with their grids and flow solutions. Read here: the first base of cell dimension
 // 3; its zones, unstructured (sections of TETRA_4, PYRA_5, PENTA_6, HEXA_8, the quadratic
 // TETRA_10, PYRA_13, PENTA_15, HEXA_20, HEXA_27, and MIXED sections of them, turned into VTK's
-// node orders; boundary sections of faces, edges and nodes left out) and structured (each cell a
+// node orders; polyhedra, NFACE_n cells of NGON_n faces, split as VTK's (umesh/polyhedra.h);
+// boundary sections of faces, edges and nodes left out) and structured (each cell a
 // hexahedron), joined into one mesh (umesh/mesh_pieces.h: nodes the zones share welded);
 // FlowSolution nodes at Vertex (point data) and CellCenter (cell data), three fields NAMEX,
 // NAMEY, NAMEZ as one vector NAME; time steps from BaseIterativeData's TimeValues and each
 // zone's FlowSolutionPointers, else one step holding every solution. Refused with one line:
-// polyhedral sections (NGON_n, NFACE_n), other element types, rind planes, solutions at other
+// NGON_n faces without NFACE_n cells, other element types, rind planes, solutions at other
 // locations, a file without a 3D base.
 #pragma once
 #include <cstddef>

@@ -16,6 +16,13 @@ the Exodus generator's meshes, libcgns-dev; the committed files come from VTK 9.
   CellCenter one (cell_id), no time steps; cgns_quadratic.vtu the same. VTK 9.1's CGNS reader
   reads PYRA_13 as an empty cell, so that element's node order (the SIDS's, VTK's own) is the one
   VTK does not check here.
+- cgns_polyhedra.cgns: ../vtu/vtk_polyhedra.vtu (polyhedra at a 2:1 refinement step, hexes, a
+  pyramid and a hexagonal prism) as a polyhedral zone, every cell an NFACE_n polyhedron, as
+  Fluent, STAR-CCM+ and foamToCGNS write them: faces in two NGON_n sections (shared ones, then
+  the boundary's) numbered 1.., the cells after them, each face signed by whether its normal
+  points out of the cell; the cells' section written first. A Vertex solution (f, g) and a
+  CellCenter one (cell_id), as the .vtu has them. VTK's CGNS reader reads it as the same
+  polyhedra (point sets) and values.
 """
 import ctypes
 import os
@@ -34,7 +41,7 @@ cgsize = ctypes.c_int  # cgnstypes.h: CG_BUILD_64BIT 0
 RealDouble, Character, Integer = 4, 5, 2
 Vertex, CellCenter = 2, 3
 Structured, Unstructured = 2, 3
-MIXED, QUAD_4 = 20, 7
+MIXED, QUAD_4, NGON_n, NFACE_n = 20, 7, 22, 23
 CGNS_TYPE = {vtk.VTK_TETRA: 10, vtk.VTK_PYRAMID: 12, vtk.VTK_WEDGE: 14, vtk.VTK_HEXAHEDRON: 17,
              vtk.VTK_QUADRATIC_TETRA: 11, vtk.VTK_QUADRATIC_PYRAMID: 21, vtk.VTK_QUADRATIC_WEDGE: 15,
              vtk.VTK_QUADRATIC_HEXAHEDRON: 18, vtk.VTK_TRIQUADRATIC_HEXAHEDRON: 19}
@@ -219,6 +226,112 @@ def write_quadratic():
     check_with_vtk("cgns_quadratic.cgns", quadratic, 0, {"g": g})
 
 
+def read_vtu(path):
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(path)
+    reader.Update()
+    return reader.GetOutput()
+
+
+def cell_faces(grid, c):
+    """Cell c's faces, each its point ids in order around it."""
+    cell = grid.GetCell(c)
+    return [[cell.GetFace(k).GetPointId(n) for n in range(cell.GetFace(k).GetNumberOfPoints())]
+            for k in range(cell.GetNumberOfFaces())]
+
+
+def outward(xyz, face, cell_centre):
+    """Whether the face's normal (right hand, in its node order) points away from the centre."""
+    p = xyz[face]
+    normal = sum(np.cross(p[n], p[(n + 1) % len(p)]) for n in range(len(p)))
+    return np.dot(normal, p.mean(axis=0) - cell_centre) > 0
+
+
+def polyhedral_sections(grid, xyz):
+    """NGON_n faces (shared ones first) and the NFACE_n cells' signed face numbers."""
+    faces, owners, cells = {}, {}, []
+    for c in range(grid.GetNumberOfCells()):
+        for face in cell_faces(grid, c):
+            key = tuple(sorted(face))
+            faces.setdefault(key, face)
+            owners.setdefault(key, []).append(c)
+    shared = [k for k in faces if len(owners[k]) == 2]
+    order = shared + [k for k in faces if len(owners[k]) == 1]
+    number = {k: n + 1 for n, k in enumerate(order)}
+    for c in range(grid.GetNumberOfCells()):
+        ids = sorted({i for face in cell_faces(grid, c) for i in face})
+        centre = xyz[ids].mean(axis=0)
+        cells.append([number[k] * (1 if outward(xyz, faces[k], centre) else -1)
+                      for k in (tuple(sorted(f)) for f in cell_faces(grid, c))])
+    return [faces[k] for k in order], len(shared), cells
+
+
+def write_poly_section(fn, base, zone, name, kind, first, rows):
+    stream, offsets = [], [0]
+    for row in rows:
+        stream += row
+        offsets.append(len(stream))
+    section = ctypes.c_int()
+    kept, data = ints(stream)
+    kept_offsets, offset_data = ints(offsets)
+    ok(cg.cg_poly_section_write(fn, base, zone, name, kind, first, first + len(rows) - 1, 0, data, offset_data,
+                                ctypes.byref(section)))
+
+
+def write_polyhedra():
+    grid = read_vtu(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "vtu", "vtk_polyhedra.vtu"))
+    xyz = numpy_support.vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
+    faces, shared, cells = polyhedral_sections(grid, xyz)
+    fn, base, zone = ctypes.c_int(), ctypes.c_int(), ctypes.c_int()
+    ok(cg.cg_open(b"cgns_polyhedra.cgns", 1, ctypes.byref(fn)))
+    ok(cg.cg_base_write(fn, b"Base", 3, 3, ctypes.byref(base)))
+    fn, base = fn.value, base.value
+    ok(cg.cg_zone_write(fn, base, b"polyhedra", (cgsize * 3)(len(xyz), len(cells), 0), Unstructured,
+                        ctypes.byref(zone)))
+    zone = zone.value
+    write_coordinates(fn, base, zone, xyz)
+    write_poly_section(fn, base, zone, b"Cells", NFACE_n, len(faces) + 1, cells)
+    one_based = [[i + 1 for i in face] for face in faces]
+    write_poly_section(fn, base, zone, b"SharedFaces", NGON_n, 1, one_based[:shared])
+    write_poly_section(fn, base, zone, b"BoundaryFaces", NGON_n, shared + 1, one_based[shared:])
+    array = lambda name, data: numpy_support.vtk_to_numpy(data.GetArray(name)).astype(np.float64)
+    write_solution(fn, base, zone, "FlowSolution", Vertex, {n: array(n, grid.GetPointData()) for n in ("f", "g")})
+    write_solution(fn, base, zone, "CellSolution", CellCenter, {"cell_id": array("cell_id", grid.GetCellData())})
+    ok(cg.cg_close(fn))
+    check_polyhedra_with_vtk("cgns_polyhedra.cgns", grid)
+
+
+def check_polyhedra_with_vtk(name, grid):
+    """VTK's CGNS reader must see each cell of `grid` as a polyhedron on the same points, and the
+    same point and cell values."""
+    reader = vtk.vtkCGNSReader()
+    reader.SetFileName(name)
+    reader.UpdateInformation()
+    reader.EnableAllPointArrays()
+    reader.EnableAllCellArrays()
+    reader.Update()
+    theirs = reader.GetOutput().GetBlock(0).GetBlock(0)
+    assert theirs.GetNumberOfCells() == grid.GetNumberOfCells(), (name, theirs.GetNumberOfCells())
+    place = lambda g, c: sorted(tuple(np.round(g.GetPoint(i), 9)) for i in
+                                (g.GetCell(c).GetPointId(k) for k in range(g.GetCell(c).GetNumberOfPoints())))
+    for c in range(grid.GetNumberOfCells()):
+        assert theirs.GetCellType(c) == vtk.VTK_POLYHEDRON, (name, c, theirs.GetCellType(c))
+        assert place(grid, c) == place(theirs, c), (name, "cell", c)
+        assert theirs.GetCell(c).GetNumberOfFaces() == grid.GetCell(c).GetNumberOfFaces(), (name, "faces of", c)
+    for data, mine, field in ((theirs.GetPointData(), grid.GetPointData(), "f"),
+                              (theirs.GetPointData(), grid.GetPointData(), "g"),
+                              (theirs.GetCellData(), grid.GetCellData(), "cell_id")):
+        got = numpy_support.vtk_to_numpy(data.GetArray(field))
+        if data is theirs.GetPointData():  # VTK may renumber points: compare by place
+            at = {tuple(np.round(theirs.GetPoint(i), 9)): got[i] for i in range(theirs.GetNumberOfPoints())}
+            want = numpy_support.vtk_to_numpy(mine.GetArray(field))
+            assert all(abs(at[tuple(np.round(grid.GetPoint(i), 9))] - want[i]) < 1e-12
+                       for i in range(grid.GetNumberOfPoints())), (name, field)
+        else:
+            assert np.allclose(got, numpy_support.vtk_to_numpy(mine.GetArray(field))), (name, field)
+    print(f"{name}: VTK's CGNS reader sees the same {grid.GetNumberOfCells()} polyhedra and values")
+
+
 def check_with_vtk(name, grid, step, point_values):
     """VTK's CGNS reader must see `grid`'s elements (node places, in VTK's order; wedges up to
     their mirror image) and point values in the first zone at `step`."""
@@ -256,3 +369,4 @@ def check_with_vtk(name, grid, step, point_values):
 if __name__ == "__main__":
     write_mixed()
     write_quadratic()
+    write_polyhedra()

@@ -15,11 +15,14 @@
 # Prints median [min..max] of every figure and a markdown table (OUT/table.md); the summary goes to
 # LOGS/solver_files_convert_<date>.log.
 #
+# With POLYHEDRA=FILE.vtu, also that mesh's .vtu against a CGNS file of its cells as NFACE_n
+# polyhedra (bench/vtu_to_cgns.py --polyhedra).
+#
 # usage: bench/solver_files_convert.sh OUT_DIR [TETS=1e6] [MIXED=5e5]
-#        VS=build/volstream REPEATS=3 STEPS=8 LOGS=bench/logs
+#        VS=build/volstream REPEATS=3 STEPS=8 LOGS=bench/logs POLYHEDRA=
 # Installs python3-vtk9 and python3-netcdf4 with apt-get when they are missing.
 set -euo pipefail
-[ $# -ge 1 ] || { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 HERE="$(cd "$(dirname "$0")" && pwd)"
 REPO="$(cd "$HERE/.." && pwd)"
 OUT="$1"
@@ -58,27 +61,25 @@ TABLE="$OUT/table.md"
 echo "| mesh | elements | file | MiB | volstream convert s | of which reading s | VTK reads all steps s | VTK read / volstream convert |" >"$TABLE"
 echo "|---|---|---|---|---|---|---|---|" >>"$TABLE"
 
-run_mesh() {
-  local name="$1" n="$2" base="$OUT/$1_$2"
-  [ -f "$base.vtu" ] || { "$VS" demo "$name" --elements "$n" --steps 1 -o "$base.demo" --write-mesh "$base.vtu" -q; rm -rf "$base.demo"; }
-  [ -f "$base.exo" ] || "$PY" "$HERE/vtu_to_exodus.py" "$base.vtu" "$base.exo" "$STEPS" NETCDF3_64BIT_OFFSET
-  [ -f "${base}_nc4.exo" ] || "$PY" "$HERE/vtu_to_exodus.py" "$base.vtu" "${base}_nc4.exo" "$STEPS" NETCDF4
-  [ -f "$base.cgns" ] || "$PY" "$HERE/vtu_to_cgns.py" "$base.vtu" "$base.cgns" "$STEPS"
+# Times `volstream convert` of each file and VTK's reader on each but the .vtu; one table row each.
+time_files() {  # NAME FILE...
+  local name="$1"
+  shift
   local elements
-  elements=$("$VS" convert "$base.vtu" -o "$base.vs" 2>&1 | grep -o '[0-9]* elements' | head -1)
+  elements=$("$VS" convert "$1" -o "$OUT/$name.vs" 2>&1 | grep -o '[0-9]* elements' | head -1)
   declare -A vs_t vtk_t read_t
   for ((i = 1; i <= REPEATS; ++i)); do
-    for f in "$base.vtu" "$base.exo" "${base}_nc4.exo" "$base.cgns"; do
-      rm -rf "$base.vs"
+    for f in "$@"; do
+      rm -rf "$OUT/$name.vs"
       local t0 t1
-      t0=$(now); "$VS" convert "$f" -o "$base.vs" -q >"$base.convert.log"; t1=$(now)
+      t0=$(now); "$VS" convert "$f" -o "$OUT/$name.vs" -q >"$OUT/$name.convert.log"; t1=$(now)
       vs_t[$f]+=" $(elapsed "$t0" "$t1")"
-      read_t[$f]+=" $(grep -o '(read [0-9.]*s' "$base.convert.log" | grep -o '[0-9.]*')"
+      read_t[$f]+=" $(grep -o '(read [0-9.]*s' "$OUT/$name.convert.log" | grep -o '[0-9.]*')"
       [ "${f%.vtu}" != "$f" ] && continue
       vtk_t[$f]+=" $("$PY" "$HERE/vtk_solver_read.py" "$f")"
     done
   done
-  for f in "$base.vtu" "$base.exo" "${base}_nc4.exo" "$base.cgns"; do
+  for f in "$@"; do
     local v k ratio="-" steps="$STEPS"
     [ "${f%.vtu}" != "$f" ] && steps=1
     v=$(echo "${vs_t[$f]}" | stats)
@@ -90,6 +91,25 @@ run_mesh() {
     echo "| $name | $elements | $(basename "$f") ($steps steps) | $(du -m "$f" | cut -f1) | $v | $(echo "${read_t[$f]}" | stats) | $k | $ratio |" | tee -a "$TABLE"
   done
 }
+
+run_mesh() {
+  local name="$1" n="$2" base="$OUT/$1_$2"
+  [ -f "$base.vtu" ] || { "$VS" demo "$name" --elements "$n" --steps 1 -o "$base.demo" --write-mesh "$base.vtu" -q; rm -rf "$base.demo"; }
+  [ -f "$base.exo" ] || "$PY" "$HERE/vtu_to_exodus.py" "$base.vtu" "$base.exo" "$STEPS" NETCDF3_64BIT_OFFSET
+  [ -f "${base}_nc4.exo" ] || "$PY" "$HERE/vtu_to_exodus.py" "$base.vtu" "${base}_nc4.exo" "$STEPS" NETCDF4
+  [ -f "$base.cgns" ] || "$PY" "$HERE/vtu_to_cgns.py" "$base.vtu" "$base.cgns" "$STEPS"
+  time_files "$1_$2" "$base.vtu" "$base.exo" "${base}_nc4.exo" "$base.cgns"
+}
+
+# A polyhedral mesh (POLYHEDRA=FILE.vtu, e.g. bench/make_refined_polyhedra.py's): its .vtu, and
+# the same cells as a CGNS file of NFACE_n polyhedra and NGON_n faces over STEPS steps.
+run_polyhedra() {
+  local name
+  name=$(basename "$1" .vtu)
+  [ -f "$OUT/$name.cgns" ] || "$PY" "$HERE/vtu_to_cgns.py" "$1" "$OUT/$name.cgns" "$STEPS" --polyhedra
+  time_files "$name" "$1" "$OUT/$name.cgns"
+}
 [ "$TETS" = 0 ] || run_mesh tets "$TETS"
 [ "$MIXED" = 0 ] || run_mesh mixed "$MIXED"
+[ -z "${POLYHEDRA:-}" ] || run_polyhedra "$(realpath "$POLYHEDRA")"
 cat "$TABLE"

@@ -105,26 +105,31 @@ def write_steps(fn, base, zones, times):
         write_names("FlowSolutionPointers", [f"Solution{s}" for s in range(len(times))])
 
 
-def write_time_series(name, grid, point_values_at, times):
-    """`grid` (cells sorted by type) as one unstructured zone, a section per type, and a Vertex
-    solution per step (`point_values_at(step)`: name -> values): bench/vtu_to_cgns.py's files."""
+def write_time_series(name, grid, point_values_at, times, polyhedra=False):
+    """`grid` (cells sorted by type) as one unstructured zone, a section per type (or, with
+    `polyhedra`, every cell an NFACE_n polyhedron of NGON_n faces), and a Vertex solution per step
+    (`point_values_at(step)`: name -> values): bench/vtu_to_cgns.py's files."""
     xyz = numpy_support.vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
     fn, base, zone = ctypes.c_int(), ctypes.c_int(), ctypes.c_int()
     ok(cg.cg_open(name.encode(), 1, ctypes.byref(fn)))
     ok(cg.cg_base_write(fn, b"Base", 3, 3, ctypes.byref(base)))
     fn, base = fn.value, base.value
     ok(cg.cg_simulation_type_write(fn, base, 2))
-    ok(cg.cg_zone_write(fn, base, b"mesh", (cgsize * 3)(len(xyz), grid.GetNumberOfCells(), 0), Unstructured,
-                        ctypes.byref(zone)))
-    write_coordinates(fn, base, zone.value, xyz)
-    for cell_type, cells in exo.blocks_of(grid):
-        section = ctypes.c_int()
-        kept, data = ints([cgns_nodes(grid, c) for c in cells])
-        ok(cg.cg_section_write(fn, base, zone.value, f"Type{cell_type}".encode(), CGNS_TYPE[cell_type], cells[0] + 1,
-                               cells[-1] + 1, 0, data, ctypes.byref(section)))
+    if polyhedra:
+        zone = write_polyhedral_zone(fn, base, b"mesh", grid)
+    else:
+        ok(cg.cg_zone_write(fn, base, b"mesh", (cgsize * 3)(len(xyz), grid.GetNumberOfCells(), 0), Unstructured,
+                            ctypes.byref(zone)))
+        zone = zone.value
+        write_coordinates(fn, base, zone, xyz)
+        for cell_type, cells in exo.blocks_of(grid):
+            section = ctypes.c_int()
+            kept, data = ints([cgns_nodes(grid, c) for c in cells])
+            ok(cg.cg_section_write(fn, base, zone, f"Type{cell_type}".encode(), CGNS_TYPE[cell_type], cells[0] + 1,
+                                   cells[-1] + 1, 0, data, ctypes.byref(section)))
     for s in range(len(times)):
-        write_solution(fn, base, zone.value, f"Solution{s}", Vertex, point_values_at(s))
-    write_steps(fn, base, (zone.value,), times)
+        write_solution(fn, base, zone, f"Solution{s}", Vertex, point_values_at(s))
+    write_steps(fn, base, (zone,), times)
     ok(cg.cg_close(fn))
 
 
@@ -278,22 +283,29 @@ def write_poly_section(fn, base, zone, name, kind, first, rows):
                                 ctypes.byref(section)))
 
 
-def write_polyhedra():
-    grid = read_vtu(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "vtu", "vtk_polyhedra.vtu"))
+def write_polyhedral_zone(fn, base, name, grid):
+    """`grid`'s cells as NFACE_n polyhedra (their section first in the file, numbered after the
+    faces) of NGON_n faces in two sections, the shared ones then the boundary's; returns the zone."""
     xyz = numpy_support.vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
     faces, shared, cells = polyhedral_sections(grid, xyz)
-    fn, base, zone = ctypes.c_int(), ctypes.c_int(), ctypes.c_int()
-    ok(cg.cg_open(b"cgns_polyhedra.cgns", 1, ctypes.byref(fn)))
-    ok(cg.cg_base_write(fn, b"Base", 3, 3, ctypes.byref(base)))
-    fn, base = fn.value, base.value
-    ok(cg.cg_zone_write(fn, base, b"polyhedra", (cgsize * 3)(len(xyz), len(cells), 0), Unstructured,
-                        ctypes.byref(zone)))
+    zone = ctypes.c_int()
+    ok(cg.cg_zone_write(fn, base, name, (cgsize * 3)(len(xyz), len(cells), 0), Unstructured, ctypes.byref(zone)))
     zone = zone.value
     write_coordinates(fn, base, zone, xyz)
     write_poly_section(fn, base, zone, b"Cells", NFACE_n, len(faces) + 1, cells)
     one_based = [[i + 1 for i in face] for face in faces]
     write_poly_section(fn, base, zone, b"SharedFaces", NGON_n, 1, one_based[:shared])
     write_poly_section(fn, base, zone, b"BoundaryFaces", NGON_n, shared + 1, one_based[shared:])
+    return zone
+
+
+def write_polyhedra():
+    grid = read_vtu(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "vtu", "vtk_polyhedra.vtu"))
+    fn, base = ctypes.c_int(), ctypes.c_int()
+    ok(cg.cg_open(b"cgns_polyhedra.cgns", 1, ctypes.byref(fn)))
+    ok(cg.cg_base_write(fn, b"Base", 3, 3, ctypes.byref(base)))
+    fn, base = fn.value, base.value
+    zone = write_polyhedral_zone(fn, base, b"polyhedra", grid)
     array = lambda name, data: numpy_support.vtk_to_numpy(data.GetArray(name)).astype(np.float64)
     write_solution(fn, base, zone, "FlowSolution", Vertex, {n: array(n, grid.GetPointData()) for n in ("f", "g")})
     write_solution(fn, base, zone, "CellSolution", CellCenter, {"cell_id": array("cell_id", grid.GetCellData())})

@@ -111,6 +111,7 @@ struct CgnsFile::Impl {
     std::vector<cgsize_t> cell_number;          // unstructured: each kept cell's element number
     PolyhedronFaces faces;                      // the faces of its NFACE_n cells (kVtkPolyhedron)
     std::vector<FaceSection> face_sections;     // where faces.face_offsets has each NGON_n section
+    mutable SplitMemo polyhedra_split;          // the last step's, for the next
     std::vector<std::string> solution_at_step;  // FlowSolutionPointers; empty: every solution, one step
   };
 
@@ -119,6 +120,7 @@ struct CgnsFile::Impl {
   std::vector<Zone> zones;
   std::vector<double> times{0.0};
   std::map<std::string, uint64_t> element_counts;
+  mutable SplitMemo quadratic_split;  // the last step's, for the next
 
   ~Impl() {
     if (fn >= 0) cg_close(fn);
@@ -515,10 +517,10 @@ struct CgnsFile::Impl {
     std::vector<MeshData> pieces;
     for (const Zone& z : zones) {
       pieces.push_back(zone_step(z, s));
-      split_polyhedra(pieces.back(), z.faces, file);
+      split_polyhedra(pieces.back(), z.faces, file, &z.polyhedra_split);
     }
     MeshData m = pieces.size() == 1 ? std::move(pieces.front()) : join_pieces(std::move(pieces), file);
-    split_quadratic_cells(m, file);
+    split_quadratic_cells(m, file, &quadratic_split);
     check_mesh(m, file);
     return m;
   }

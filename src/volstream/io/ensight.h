@@ -55,14 +55,17 @@ struct EnsightGeometry {
     MeshData mesh;
     PolyhedronFaces faces;
     std::vector<Block> blocks;
+    mutable SplitMemo polyhedra_split;  // for the next step on this geometry
   };
   std::vector<Part> parts;
   bool binary = false, big_endian = false;
+  mutable SplitMemo quadratic_split;
 };
 EnsightGeometry read_ensight_geometry(const std::filesystem::path& file);
 
 // A step: the geometry's parts with the step's variables (point and cell data), polyhedra split,
-// parts joined into one mesh (umesh/mesh_pieces.h: the nodes they share welded), checked.
+// parts joined into one mesh (umesh/mesh_pieces.h: the nodes they share welded), checked. The
+// splits are remembered in `geometry`, so the next step's reuse them.
 MeshData read_ensight_step(const EnsightCase& c, const EnsightGeometry& geometry, size_t step);
 
 }  // namespace vs

@@ -203,6 +203,7 @@ void check_classic_netcdf_size(const std::string& file) {
 }  // namespace
 
 struct ExodusFile::Impl {
+  mutable SplitMemo quadratic_split;  // the last step's, for the next
   struct Block {
     int index = 0;  // 1-based, as in the variable names (connect3, vals_elem_var2eb3)
     int64_t id = 0;
@@ -490,7 +491,7 @@ struct ExodusFile::Impl {
     input_check(s < times.size(), file, "no time step " + std::to_string(s));
     MeshData m = topology;
     read_values(s, m);
-    split_quadratic_cells(m, file);
+    split_quadratic_cells(m, file, &quadratic_split);
     check_mesh(m, file);
     return m;
   }

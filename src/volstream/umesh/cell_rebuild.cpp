@@ -20,18 +20,14 @@ void check_rebuild_input(const MeshData& m, const char* what, const std::string&
               std::string(what) + ": a data array does not match the points or cells");
 }
 
-uint64_t add_combined_point(MeshData& m, std::span<const uint64_t> vertices, std::span<const double> weights) {
+uint64_t CellRebuild::add_point(MeshData& m, std::span<const uint64_t> vertices, std::span<const double> weights) {
+  if (added_vertices_.empty()) first_added_ = m.points.size();
   vec3d sum(0.0);
   for (size_t i = 0; i < vertices.size(); ++i) sum = sum + m.points[vertices[i]] * weights[i];
   m.points.push_back(sum);
-  for (MeshArray& a : m.point_data) {
-    const auto components = size_t(a.components);
-    for (size_t k = 0; k < components; ++k) {
-      double total = 0.0;
-      for (size_t i = 0; i < vertices.size(); ++i) total += weights[i] * a.values[vertices[i] * components + k];
-      a.values.push_back(total);
-    }
-  }
+  added_vertices_.insert(added_vertices_.end(), vertices.begin(), vertices.end());
+  added_weights_.insert(added_weights_.end(), weights.begin(), weights.end());
+  added_offsets_.push_back(added_vertices_.size());
   return m.points.size() - 1;
 }
 
@@ -47,10 +43,27 @@ void CellRebuild::keep(const MeshData& m, uint64_t cell) {
   add(m.cell_types[cell], std::span(m.connectivity).subspan(begin, m.cell_offsets[cell + 1] - begin), cell);
 }
 
-void CellRebuild::finish(MeshData& m) {
-  m.cell_types = std::move(types_);
-  m.cell_offsets = std::move(offsets_);
-  m.connectivity = std::move(connectivity_);
+// In order, so that a point combined from points added before it finds their data.
+void CellRebuild::add_point_data(MeshData& m) const {
+  if (added_vertices_.empty()) return;
+  for (MeshArray& a : m.point_data) {
+    const auto components = size_t(a.components);
+    a.values.resize(first_added_ * components);
+    for (size_t p = 0; p + 1 < added_offsets_.size(); ++p)
+      for (size_t k = 0; k < components; ++k) {
+        double total = 0.0;
+        for (uint64_t i = added_offsets_[p]; i < added_offsets_[p + 1]; ++i)
+          total += added_weights_[i] * a.values[added_vertices_[i] * components + k];
+        a.values.push_back(total);
+      }
+  }
+}
+
+void CellRebuild::finish(MeshData& m) const {
+  m.cell_types = types_;
+  m.cell_offsets = offsets_;
+  m.connectivity = connectivity_;
+  add_point_data(m);
   for (MeshArray& a : m.cell_data) {
     const auto components = size_t(a.components);
     std::vector<double> values;
@@ -60,6 +73,54 @@ void CellRebuild::finish(MeshData& m) {
                     a.values.begin() + int64_t((c + 1) * components));
     a.values = std::move(values);
   }
+}
+
+namespace {
+
+MeshData topology_of(const MeshData& m) {
+  MeshData t;
+  t.points = m.points;
+  t.cell_types = m.cell_types;
+  t.cell_offsets = m.cell_offsets;
+  t.connectivity = m.connectivity;
+  return t;
+}
+
+bool same_topology(const MeshData& a, const MeshData& b) {
+  return a.cell_types == b.cell_types && a.cell_offsets == b.cell_offsets && a.connectivity == b.connectivity &&
+         a.points.size() == b.points.size() &&
+         std::equal(a.points.begin(), a.points.end(), b.points.begin(),
+                    [](const vec3d& p, const vec3d& q) { return p.x == q.x && p.y == q.y && p.z == q.z; });
+}
+
+}  // namespace
+
+bool SplitMemo::reuse(MeshData& m, std::initializer_list<std::span<const uint64_t>> key,
+                      const std::string& file) const {
+  if (!remembered_ || key.size() != key_.size() || !same_topology(m, source_)) return false;
+  size_t i = 0;
+  for (std::span<const uint64_t> k : key)
+    if (!std::equal(k.begin(), k.end(), key_[i].begin(), key_[i].end()))
+      return false;
+    else
+      ++i;
+  check_rebuild_input(m, "a step split as the one before", file);
+  m.points = split_points_;
+  rebuild_.finish(m);
+  return true;
+}
+
+void SplitMemo::split_begins(const MeshData& source, std::initializer_list<std::span<const uint64_t>> key) {
+  remembered_ = false;
+  source_ = topology_of(source);
+  key_.clear();
+  for (std::span<const uint64_t> k : key) key_.emplace_back(k.begin(), k.end());
+}
+
+void SplitMemo::split_ends(CellRebuild rebuild, const std::vector<vec3d>& points) {
+  rebuild_ = std::move(rebuild);
+  split_points_ = points;
+  remembered_ = true;
 }
 
 }  // namespace vs

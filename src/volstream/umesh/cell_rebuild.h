@@ -3,6 +3,7 @@
 // ghost cells dropped).
 #pragma once
 #include <cstdint>
+#include <initializer_list>
 #include <span>
 #include <string>
 #include <vector>
@@ -16,21 +17,49 @@ namespace vs {
 // by them before check_mesh runs.
 void check_rebuild_input(const MeshData& mesh, const char* what, const std::string& file);
 
-// A new point of `mesh` at sum(weights[i] * points[vertices[i]]), its data the same sum of the
-// vertices' data; returns its index.
-uint64_t add_combined_point(MeshData& mesh, std::span<const uint64_t> vertices, std::span<const double> weights);
-
-// The new cells of a mesh, collected in order; finish() puts them in the mesh's place, each with
-// the cell data of the cell it came from.
+// The new cells of a mesh, and the points they add, collected in order; finish() puts them in
+// the mesh's place, each cell with the cell data of the cell it came from, each added point's data
+// the same sum of its vertices' data as its place. finish() leaves the rebuild as it was, so a
+// SplitMemo can apply it again to the next step of a series.
 class CellRebuild {
  public:
+  // A new point of `mesh` at sum(weights[i] * points[vertices[i]]), at its place now (the
+  // splits look at it) and with its data at finish(); returns its index.
+  uint64_t add_point(MeshData& mesh, std::span<const uint64_t> vertices, std::span<const double> weights);
   void add(uint8_t type, std::span<const uint64_t> vertices, uint64_t from_cell);
   void keep(const MeshData& mesh, uint64_t cell);  // cell as it is
-  void finish(MeshData& mesh);
+  void finish(MeshData& mesh) const;
 
  private:
+  void add_point_data(MeshData& mesh) const;
+
   std::vector<uint8_t> types_;
   std::vector<uint64_t> offsets_{0}, connectivity_, source_;
+  uint64_t first_added_ = 0;  // the index of the first added point
+  std::vector<uint64_t> added_offsets_{0}, added_vertices_;
+  std::vector<double> added_weights_;
+};
+
+// The last split (polyhedra.h, quadratic.h) of a reader's series, kept for its next step: a time
+// series' steps mostly have the same points and cells, and then the split need not run again;
+// only the step's data is combined, as the split combined the first's.
+class SplitMemo {
+ public:
+  // True, with `mesh` split as the remembered one was, when its points, cell types, offsets and
+  // connectivity, and `key` (what else the split read: polyhedron faces), are that one's.
+  // InputError naming `file` when its data arrays do not match its points or cells.
+  bool reuse(MeshData& mesh, std::initializer_list<std::span<const uint64_t>> key, const std::string& file) const;
+  // A split remembered in two halves: the mesh and key before it, then the rebuild and the
+  // points after it (when it did not throw).
+  void split_begins(const MeshData& source, std::initializer_list<std::span<const uint64_t>> key);
+  void split_ends(CellRebuild rebuild, const std::vector<vec3d>& points);
+
+ private:
+  MeshData source_;  // points and cells only
+  std::vector<vec3d> split_points_;
+  std::vector<std::vector<uint64_t>> key_;
+  CellRebuild rebuild_;
+  bool remembered_ = false;
 };
 
 }  // namespace vs

@@ -79,17 +79,17 @@ void check_faces(const PolyhedronFaces& f, uint64_t cells, uint64_t points, cons
 
 // The mean of `vertices` as a new point of `m`, its data the mean of theirs (so that a field
 // linear in space stays exact); returns its index.
-uint64_t add_mean_point(MeshData& m, std::span<const uint64_t> vertices) {
+uint64_t add_mean_point(MeshData& m, CellRebuild& cells, std::span<const uint64_t> vertices) {
   const std::vector<double> weights(vertices.size(), 1.0 / double(vertices.size()));
-  return add_combined_point(m, vertices, weights);
+  return cells.add_point(m, vertices, weights);
 }
 
 // Splits one polyhedron at a time, adding its centroid and the centres of its faces of more
 // than four vertices to the mesh's points; buffers are reused from one polyhedron to the next.
 class PolyhedronSplitter {
  public:
-  PolyhedronSplitter(MeshData& mesh, const PolyhedronFaces& faces, const std::string& file)
-      : mesh_(mesh), faces_(faces), file_(file) {}
+  PolyhedronSplitter(MeshData& mesh, CellRebuild& cells, const PolyhedronFaces& faces, const std::string& file)
+      : mesh_(mesh), cells_(cells), faces_(faces), file_(file) {}
 
   // Cell c's pieces, each in VTK's orientation.
   const std::vector<Piece>& split(uint64_t c) {
@@ -100,7 +100,7 @@ class PolyhedronSplitter {
     check_closed();
     pieces_.clear();
     if (as_element(first, end)) return pieces_;
-    const uint64_t centroid = add_mean_point(mesh_, vertices_);
+    const uint64_t centroid = add_mean_point(mesh_, cells_, vertices_);
     for (uint64_t i = first; i < end; ++i) add_pieces(face(faces_.cell_faces[i]), centroid);
     orient();
     return pieces_;
@@ -241,7 +241,7 @@ class PolyhedronSplitter {
     key_.assign(v.begin(), v.end());
     std::sort(key_.begin(), key_.end());
     const auto [at, added] = face_centres_.try_emplace(key_, 0);
-    if (added) at->second = add_mean_point(mesh_, key_);
+    if (added) at->second = add_mean_point(mesh_, cells_, key_);
     return at->second;
   }
 
@@ -268,6 +268,7 @@ class PolyhedronSplitter {
     bool operator<(const Edge& o) const { return std::tie(a, b, forward) < std::tie(o.a, o.b, o.forward); }
   };
   MeshData& mesh_;
+  CellRebuild& cells_;
   const PolyhedronFaces& faces_;
   const std::string& file_;
   uint64_t cell_ = 0;
@@ -312,12 +313,16 @@ PolyhedronFaces faces_in_connectivity(const MeshData& m, const std::string& file
   return faces;
 }
 
-void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::string& file) {
+void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::string& file, SplitMemo* memo) {
   if (std::find(m.cell_types.begin(), m.cell_types.end(), kVtkPolyhedron) == m.cell_types.end()) return;
+  const auto key = {std::span<const uint64_t>(faces.cell_face_offsets), std::span<const uint64_t>(faces.cell_faces),
+                    std::span<const uint64_t>(faces.face_offsets), std::span<const uint64_t>(faces.face_vertices)};
+  if (memo && memo->reuse(m, key, file)) return;
   check_faces(faces, m.cell_count(), m.points.size(), file);
   check_rebuild_input(m, "polyhedra", file);
+  if (memo) memo->split_begins(m, key);
   CellRebuild cells;
-  PolyhedronSplitter splitter(m, faces, file);
+  PolyhedronSplitter splitter(m, cells, faces, file);
   for (uint64_t c = 0; c < m.cell_count(); ++c) {
     if (m.cell_types[c] != kVtkPolyhedron) {
       cells.keep(m, c);
@@ -326,6 +331,7 @@ void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::strin
     for (const Piece& p : splitter.split(c)) cells.add(uint8_t(type_of(p)), std::span(p.v.data(), size_t(p.count)), c);
   }
   cells.finish(m);
+  if (memo) memo->split_ends(std::move(cells), m.points);
 }
 
 }  // namespace vs

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "volstream/umesh/cell_rebuild.h"
 #include "volstream/umesh/mesh_data.h"
 
 namespace vs {
@@ -46,7 +47,9 @@ PolyhedronFaces faces_in_connectivity(const MeshData& mesh, const std::string& f
 // faces or indices out of range, a face of fewer than 3 vertices, a polyhedron of fewer than 4
 // faces, one that is not closed (an edge not in exactly two of its faces), or one that is not
 // star-shaped about its vertex centroid (a flat element, or, where the faces are oriented
-// alike, elements seen from the centroid the wrong way round).
-void split_polyhedra(MeshData& mesh, const PolyhedronFaces& faces, const std::string& file);
+// alike, elements seen from the centroid the wrong way round). With a `memo` (a reader's, for
+// its series), a mesh with the points, cells and faces of the one split last is split as that
+// one was, only its data combined.
+void split_polyhedra(MeshData& mesh, const PolyhedronFaces& faces, const std::string& file, SplitMemo* memo = nullptr);
 
 }  // namespace vs

@@ -237,12 +237,12 @@ class QuadraticSplitter {
       vertices_.push_back(nodes_[centre.mid[size_t(k)]]);
       weights_.push_back(centre.mid_weight);
     }
-    if (!centre.on_face) return add_combined_point(mesh_, vertices_, weights_);
+    if (!centre.on_face) return cells_.add_point(mesh_, vertices_, weights_);
     std::array<uint64_t, 8> key;
     std::copy_n(vertices_.begin(), 8, key.begin());
     std::sort(key.begin(), key.end());
     const auto [at, added] = face_centres_.try_emplace(key, 0);
-    if (added) at->second = add_combined_point(mesh_, vertices_, weights_);
+    if (added) at->second = cells_.add_point(mesh_, vertices_, weights_);
     return at->second;
   }
 
@@ -413,10 +413,12 @@ int quadratic_node_count(uint32_t vtk_type) {
   }
 }
 
-void split_quadratic_cells(MeshData& m, const std::string& file) {
+void split_quadratic_cells(MeshData& m, const std::string& file, SplitMemo* memo) {
   if (std::none_of(m.cell_types.begin(), m.cell_types.end(), [](uint8_t t) { return split_here(t) || is_lagrange(t); }))
     return;
+  if (memo && memo->reuse(m, {}, file)) return;
   check_rebuild_input(m, "quadratic cells", file);
+  if (memo) memo->split_begins(m, {});
   lagrange_to_fixed_types(m, file);
   check_quadratic_cells(m, file);
   CellRebuild cells;
@@ -427,6 +429,7 @@ void split_quadratic_cells(MeshData& m, const std::string& file) {
     else
       cells.keep(m, c);
   cells.finish(m);
+  if (memo) memo->split_ends(std::move(cells), m.points);
 }
 
 }  // namespace vs

@@ -6,6 +6,7 @@
 #pragma once
 #include <string>
 
+#include "volstream/umesh/cell_rebuild.h"
 #include "volstream/umesh/mesh_data.h"
 
 namespace vs {
@@ -53,7 +54,9 @@ void lagrange_hexahedra_from_pre_vtk91_order(MeshData& mesh);
 // everywhere for a field linear in space; a curved cell's faces become flat or bilinear pieces
 // through its nodes. Lagrange cells are read as lagrange_as_fixed_type() says first. Other cells
 // are left as they are. InputError naming `file` for a quadratic cell with the wrong number of
-// vertices or a vertex index out of range, and a Lagrange cell of another order.
-void split_quadratic_cells(MeshData& mesh, const std::string& file);
+// vertices or a vertex index out of range, and a Lagrange cell of another order. With a `memo`
+// (a reader's, for its series), a mesh with the points and cells of the one split last is split
+// as that one was, only its data combined.
+void split_quadratic_cells(MeshData& mesh, const std::string& file, SplitMemo* memo = nullptr);
 
 }  // namespace vs

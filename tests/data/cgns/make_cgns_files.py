@@ -238,37 +238,59 @@ def read_vtu(path):
     return reader.GetOutput()
 
 
-def cell_faces(grid, c):
-    """Cell c's faces, each its point ids in order around it."""
-    cell = grid.GetCell(c)
-    return [[cell.GetFace(k).GetPointId(n) for n in range(cell.GetFace(k).GetNumberOfPoints())]
-            for k in range(cell.GetNumberOfFaces())]
+def cell_faces(grid):
+    """Each cell's faces, each its point ids in order around it: a polyhedron's from the grid's
+    face streams (quick), another cell's from VTK's cell."""
+    locations = grid.GetFaceLocations()
+    locations = numpy_support.vtk_to_numpy(locations) if locations else np.full(grid.GetNumberOfCells(), -1)
+    stream = numpy_support.vtk_to_numpy(grid.GetFaces()).tolist() if grid.GetFaces() else []
+    out = []
+    for c, at in enumerate(locations.tolist()):
+        if at < 0:
+            cell = grid.GetCell(c)
+            out.append([[cell.GetFace(k).GetPointId(n) for n in range(cell.GetFace(k).GetNumberOfPoints())]
+                        for k in range(cell.GetNumberOfFaces())])
+            continue
+        faces, count, at = [], stream[at], at + 1
+        for _ in range(count):
+            faces.append(stream[at + 1:at + 1 + stream[at]])
+            at += 1 + stream[at]
+        out.append(faces)
+    return out
 
 
-def outward(xyz, face, cell_centre):
-    """Whether the face's normal (right hand, in its node order) points away from the centre."""
-    p = xyz[face]
-    normal = sum(np.cross(p[n], p[(n + 1) % len(p)]) for n in range(len(p)))
-    return np.dot(normal, p.mean(axis=0) - cell_centre) > 0
+def normals_and_centres(xyz, faces):
+    """Each face's right-hand normal (Newell's sum, in its node order) and vertex mean."""
+    normals, centres = np.zeros((len(faces), 3)), np.zeros((len(faces), 3))
+    for size in {len(f) for f in faces}:
+        which = [i for i, f in enumerate(faces) if len(f) == size]
+        p = xyz[np.array([faces[i] for i in which])]
+        normals[which] = sum(np.cross(p[:, n], p[:, (n + 1) % size]) for n in range(size))
+        centres[which] = p.mean(axis=1)
+    return normals, centres
 
 
 def polyhedral_sections(grid, xyz):
-    """NGON_n faces (shared ones first) and the NFACE_n cells' signed face numbers."""
-    faces, owners, cells = {}, {}, []
-    for c in range(grid.GetNumberOfCells()):
-        for face in cell_faces(grid, c):
+    """NGON_n faces (shared ones first) and the NFACE_n cells' face numbers, each signed by
+    whether the face's normal points out of the cell (away from its vertex mean)."""
+    per_cell = cell_faces(grid)
+    faces, owners = {}, {}
+    for cell in per_cell:
+        for face in cell:
             key = tuple(sorted(face))
             faces.setdefault(key, face)
-            owners.setdefault(key, []).append(c)
-    shared = [k for k in faces if len(owners[k]) == 2]
-    order = shared + [k for k in faces if len(owners[k]) == 1]
+            owners[key] = owners.get(key, 0) + 1
+    order = [k for k in faces if owners[k] == 2] + [k for k in faces if owners[k] == 1]
     number = {k: n + 1 for n, k in enumerate(order)}
-    for c in range(grid.GetNumberOfCells()):
-        ids = sorted({i for face in cell_faces(grid, c) for i in face})
-        centre = xyz[ids].mean(axis=0)
-        cells.append([number[k] * (1 if outward(xyz, faces[k], centre) else -1)
-                      for k in (tuple(sorted(f)) for f in cell_faces(grid, c))])
-    return [faces[k] for k in order], len(shared), cells
+    ordered = [faces[k] for k in order]
+    normals, centres = normals_and_centres(xyz, ordered)
+    cells = []
+    for cell in per_cell:
+        ids = np.array([number[tuple(sorted(f))] for f in cell])
+        centre = xyz[sorted({i for f in cell for i in f})].mean(axis=0)
+        out = np.einsum("ij,ij->i", normals[ids - 1], centres[ids - 1] - centre) > 0
+        cells.append([int(n) if o else -int(n) for n, o in zip(ids, out)])
+    return ordered, sum(1 for k in order if owners[k] == 2), cells
 
 
 def write_poly_section(fn, base, zone, name, kind, first, rows):

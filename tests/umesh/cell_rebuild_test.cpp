@@ -1,0 +1,133 @@
+// SplitMemo (umesh/cell_rebuild.h): a series' next step on the same points and cells reuses the
+// split of the step before, and gives exactly the mesh and values its own split gives; a step on
+// other points, cells or faces is split anew. Checked for polyhedra (a cube whose top is two
+// triangles: a centroid added) and a quadratic hexahedron (face and body centres added).
+#include "volstream/umesh/cell_rebuild.h"
+
+#include <gtest/gtest.h>
+
+#include "volstream/core/error.h"
+#include "volstream/umesh/polyhedra.h"
+#include "volstream/umesh/quadratic.h"
+
+namespace vs {
+namespace {
+
+void expect_same_arrays(const std::vector<MeshArray>& a, const std::vector<MeshArray>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].name, b[i].name);
+    EXPECT_EQ(a[i].components, b[i].components);
+    EXPECT_EQ(a[i].values, b[i].values) << a[i].name;
+  }
+}
+
+void expect_same_mesh(const MeshData& a, const MeshData& b) {
+  ASSERT_EQ(a.points.size(), b.points.size());
+  for (size_t i = 0; i < a.points.size(); ++i) {
+    EXPECT_EQ(a.points[i].x, b.points[i].x) << i;
+    EXPECT_EQ(a.points[i].y, b.points[i].y) << i;
+    EXPECT_EQ(a.points[i].z, b.points[i].z) << i;
+  }
+  EXPECT_EQ(a.cell_types, b.cell_types);
+  EXPECT_EQ(a.cell_offsets, b.cell_offsets);
+  EXPECT_EQ(a.connectivity, b.connectivity);
+  expect_same_arrays(a.point_data, b.point_data);
+  expect_same_arrays(a.cell_data, b.cell_data);
+}
+
+// Step `step`'s values on m: a point array (two components) and a cell array.
+MeshData with_step_values(MeshData m, int step) {
+  MeshArray f{"f", 2, {}}, c{"c", 1, {}};
+  for (const vec3d& p : m.points) f.values.insert(f.values.end(), {p.x * p.y + step, p.z - 3.0 * step});
+  for (uint64_t i = 0; i < m.cell_count(); ++i) c.values.push_back(double(10 * step + int(i)));
+  m.point_data = {f};
+  m.cell_data = {c};
+  return m;
+}
+
+// A unit cube (a warped corner) whose top is two triangles, as one polyhedron, and a tet beside it.
+MeshData cube_and_tet(PolyhedronFaces& faces) {
+  MeshData m;
+  m.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1.1, 1.2, 1.1}, {0, 1, 1}, {2, 0, 0}};
+  m.cell_types = {kVtkPolyhedron, 10};
+  m.cell_offsets = {0, 0, 4};
+  m.connectivity = {1, 8, 2, 5};
+  const std::vector<std::vector<uint64_t>> cube = {{0, 3, 2, 1}, {4, 5, 6},    {4, 6, 7},   {0, 1, 5, 4},
+                                                   {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  std::vector<uint64_t> stream{cube.size()};
+  for (const auto& f : cube) {
+    stream.push_back(f.size());
+    stream.insert(stream.end(), f.begin(), f.end());
+  }
+  faces.add_face_stream(stream, 0, "cube");
+  faces.add_other_cell();
+  return m;
+}
+
+TEST(SplitMemo, PolyhedraOfTheNextStepAreSplitAsItsOwnSplitWould) {
+  PolyhedronFaces faces;
+  const MeshData mesh = cube_and_tet(faces);
+  SplitMemo memo;
+  MeshData first = with_step_values(mesh, 0);
+  split_polyhedra(first, faces, "step 0", &memo);
+  ASSERT_GT(first.points.size(), mesh.points.size());  // the cube's centroid
+
+  for (int step : {1, 2}) {
+    MeshData reused = with_step_values(mesh, step), own = reused;
+    const auto key = {std::span<const uint64_t>(faces.cell_face_offsets), std::span<const uint64_t>(faces.cell_faces),
+                      std::span<const uint64_t>(faces.face_offsets), std::span<const uint64_t>(faces.face_vertices)};
+    EXPECT_TRUE(memo.reuse(reused, key, "step"));
+    split_polyhedra(own, faces, "step");
+    expect_same_mesh(reused, own);
+  }
+
+  // A moved point, or other faces: not the remembered mesh, so split anew (and remembered).
+  MeshData moved = with_step_values(mesh, 3);
+  moved.points[6].z = 1.3;
+  MeshData moved_own = moved;
+  split_polyhedra(moved, faces, "moved", &memo);
+  split_polyhedra(moved_own, faces, "moved");
+  expect_same_mesh(moved, moved_own);
+  PolyhedronFaces turned = faces;
+  std::swap(turned.face_vertices[0], turned.face_vertices[1]);
+  MeshData other = with_step_values(mesh, 4);
+  const auto turned_key = {std::span<const uint64_t>(turned.cell_face_offsets),
+                           std::span<const uint64_t>(turned.cell_faces), std::span<const uint64_t>(turned.face_offsets),
+                           std::span<const uint64_t>(turned.face_vertices)};
+  EXPECT_FALSE(memo.reuse(other, turned_key, "other"));
+}
+
+// A quadratic hexahedron on the 3x3x3 grid of the cube [0, 1]^3 (VTK's node order), one node
+// moved off its edge so that the cell is curved.
+MeshData curved_hex20() {
+  MeshData m;
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) m.points.push_back(vec3d(i, j, k) * 0.5);
+  m.points[1].y = -0.1;
+  m.cell_types = {25};
+  m.connectivity = {0, 2, 8, 6, 18, 20, 26, 24, 1, 5, 7, 3, 19, 23, 25, 21, 9, 11, 17, 15};
+  m.cell_offsets = {0, 20};
+  return m;
+}
+
+TEST(SplitMemo, QuadraticCellsOfTheNextStepAreSplitAsTheirOwnSplitWould) {
+  const MeshData mesh = curved_hex20();
+  SplitMemo memo;
+  MeshData first = with_step_values(mesh, 0);
+  split_quadratic_cells(first, "step 0", &memo);
+  ASSERT_GT(first.points.size(), mesh.points.size());  // face and body centres
+  MeshData reused = with_step_values(mesh, 1), own = reused;
+  EXPECT_TRUE(memo.reuse(reused, {}, "step 1"));
+  split_quadratic_cells(own, "step 1");
+  expect_same_mesh(reused, own);
+
+  // Data that does not match the points is refused, as the split itself refuses it.
+  MeshData short_data = with_step_values(mesh, 2);
+  short_data.point_data[0].values.pop_back();
+  EXPECT_THROW(memo.reuse(short_data, {}, "short"), InputError);
+}
+
+}  // namespace
+}  // namespace vs

@@ -119,7 +119,8 @@ struct CgnsFile::Impl {
   int fn = -1, base = 0;
   std::vector<Zone> zones;
   std::vector<double> times{0.0};
-  std::map<std::string, uint64_t> element_counts;
+  std::map<std::string, uint64_t> element_counts;  // of structured zones' hexahedra
+  std::vector<uint64_t> elements_of_type = std::vector<uint64_t>(NofValidElementTypes);
   mutable SplitMemo quadratic_split;  // the last step's, for the next
 
   ~Impl() {
@@ -280,9 +281,11 @@ struct CgnsFile::Impl {
     for (cgsize_t e = start; e <= end; ++e) {
       const int element_type = type == CGNS_ENUMV(MIXED) ? int(next(data, at, where)) : type;
       int nodes = 0;
-      input_check(element_type >= 0 && element_type < NofValidElementTypes &&
-                      cg_npe(CGNS_ENUMT(ElementType_t)(element_type), &nodes) == CG_OK && nodes > 0,
-                  file, where + ": element " + std::to_string(e) + " of unknown type " + std::to_string(element_type));
+      const bool known = element_type >= 0 && element_type < NofValidElementTypes &&
+                         cg_npe(CGNS_ENUMT(ElementType_t)(element_type), &nodes) == CG_OK && nodes > 0;
+      if (!known)
+        input_error(file,
+                    where + ": element " + std::to_string(e) + " of unknown type " + std::to_string(element_type));
       input_check(at + size_t(nodes) <= data.size(), file, where + ": element data cut short");
       if (!is_lower_dimensional(element_type)) add_element(zone, element_type, data.data() + at, e, where);
       at += size_t(nodes);
@@ -297,8 +300,8 @@ struct CgnsFile::Impl {
     const uint64_t first_face = zone.faces.face_offsets.size() - 1;
     for (size_t e = 0; e + 1 < offsets.size(); ++e) {
       const cgsize_t begin = offsets[e], end = offsets[e + 1], number = start + cgsize_t(e);
-      input_check(begin >= 0 && begin <= end && size_t(end) <= data.size(), file,
-                  where + ": element " + std::to_string(number) + ": offsets outside the section's data");
+      if (!(begin >= 0 && begin <= end && size_t(end) <= data.size()))
+        input_error(file, where + ": element " + std::to_string(number) + ": offsets outside the section's data");
       const std::span<const cgsize_t> values(data.data() + begin, size_t(end - begin));
       if (type == CGNS_ENUMV(NGON_n))
         add_face(zone, values, number, where);
@@ -312,9 +315,9 @@ struct CgnsFile::Impl {
   void add_face(Zone& zone, std::span<const cgsize_t> nodes, cgsize_t number, const std::string& where) {
     const cgsize_t vertices = cgsize_t(zone.vertices.size());
     for (cgsize_t v : nodes) {
-      input_check(v >= 1 && v <= vertices, file,
-                  where + ", face " + std::to_string(number) + ": node " + std::to_string(v) + " out of range 1.." +
-                      std::to_string(vertices));
+      if (!(v >= 1 && v <= vertices))
+        input_error(file, where + ", face " + std::to_string(number) + ": node " + std::to_string(v) +
+                              " out of range 1.." + std::to_string(vertices));
       zone.faces.face_vertices.push_back(uint64_t(v - 1));
     }
     zone.faces.face_offsets.push_back(zone.faces.face_vertices.size());
@@ -327,7 +330,7 @@ struct CgnsFile::Impl {
     t.cell_types.push_back(kVtkPolyhedron);
     t.cell_offsets.push_back(t.connectivity.size());
     zone.cell_number.push_back(number);
-    element_counts["NFACE_n"] += 1;
+    ++elements_of_type[CGNS_ENUMV(NFACE_n)];
   }
 
   uint64_t face_index(const Zone& zone, cgsize_t face, cgsize_t cell, const std::string& where) const {
@@ -355,16 +358,16 @@ struct CgnsFile::Impl {
     const cgsize_t vertices = cgsize_t(zone.vertices.size());
     for (int k = 0; k < count; ++k) {
       const cgsize_t v = nodes[kind->vtk_from_cgns.empty() ? k : kind->vtk_from_cgns[size_t(k)]];
-      input_check(v >= 1 && v <= vertices, file,
-                  where + ", element " + std::to_string(number) + ": node " + std::to_string(v) + " out of range 1.." +
-                      std::to_string(vertices));
+      if (!(v >= 1 && v <= vertices))
+        input_error(file, where + ", element " + std::to_string(number) + ": node " + std::to_string(v) +
+                              " out of range 1.." + std::to_string(vertices));
       t.connectivity.push_back(uint64_t(v - 1));
     }
     t.cell_types.push_back(kind->vtk_type);
     t.cell_offsets.push_back(t.connectivity.size());
     zone.faces.add_other_cell();
     zone.cell_number.push_back(number);
-    element_counts[type_name(type)] += 1;
+    ++elements_of_type[size_t(type)];
   }
 
   // The data array `name` of the node cg_goto() went to: its index, type and extents.
@@ -530,7 +533,10 @@ struct CgnsFile::Impl {
     std::string s = std::to_string(zones.size()) + (zones.size() == 1 ? " zone" : " zones");
     if (structured) s += ", " + std::to_string(structured) + " structured";
     const char* sep = ": ";
-    for (const auto& [type, n] : element_counts) {
+    std::map<std::string, uint64_t> counts = element_counts;
+    for (size_t type = 0; type < elements_of_type.size(); ++type)
+      if (elements_of_type[type]) counts[type_name(int(type))] = elements_of_type[type];
+    for (const auto& [type, n] : counts) {
       s += sep + type + " x " + std::to_string(n);
       sep = ", ";
     }

@@ -402,9 +402,9 @@ struct ExodusFile::Impl {
       const long long* nodes_of_e = connect.data() + e * nodes;
       for (size_t k = 0; k < nodes; ++k) {
         const long long node = nodes_of_e[kind->vtk_from_exodus.empty() ? k : size_t(kind->vtk_from_exodus[k])];
-        input_check(node >= 1 && node <= points, file,
-                    block_name(block) + ", element " + std::to_string(e + 1) + ": node " + std::to_string(node) +
-                        " out of range 1.." + std::to_string(points));
+        if (!(node >= 1 && node <= points))
+          input_error(file, block_name(block) + ", element " + std::to_string(e + 1) + ": node " +
+                                std::to_string(node) + " out of range 1.." + std::to_string(points));
         topology.connectivity.push_back(uint64_t(node - 1));
       }
       topology.cell_types.push_back(kind->vtk_type);

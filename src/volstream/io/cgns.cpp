@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 #include <span>
@@ -286,7 +287,7 @@ struct CgnsFile::Impl {
       if (!known)
         input_error(file,
                     where + ": element " + std::to_string(e) + " of unknown type " + std::to_string(element_type));
-      input_check(at + size_t(nodes) <= data.size(), file, where + ": element data cut short");
+      if (at + size_t(nodes) > data.size()) input_error(file, where + ": element data cut short");
       if (!is_lower_dimensional(element_type)) add_element(zone, element_type, data.data() + at, e, where);
       at += size_t(nodes);
     }
@@ -324,7 +325,10 @@ struct CgnsFile::Impl {
   }
 
   void add_polyhedron(Zone& zone, std::span<const cgsize_t> faces, cgsize_t number, const std::string& where) {
-    for (cgsize_t f : faces) zone.faces.cell_faces.push_back(face_index(zone, f < 0 ? -f : f, number, where));
+    for (cgsize_t f : faces) {
+      const cgsize_t face = f == std::numeric_limits<cgsize_t>::min() ? 0 : f < 0 ? -f : f;  // 0: in no section
+      zone.faces.cell_faces.push_back(face_index(zone, face, number, where));
+    }
     zone.faces.cell_face_offsets.push_back(zone.faces.cell_faces.size());
     MeshData& t = zone.topology;
     t.cell_types.push_back(kVtkPolyhedron);
@@ -341,7 +345,7 @@ struct CgnsFile::Impl {
   }
 
   cgsize_t next(const std::vector<cgsize_t>& data, size_t& at, const std::string& where) const {
-    input_check(at < data.size(), file, where + ": element data cut short");
+    if (at >= data.size()) input_error(file, where + ": element data cut short");
     return data[at++];
   }
 

@@ -65,7 +65,7 @@ void check_faces(const PolyhedronFaces& f, uint64_t cells, uint64_t points, cons
     input_check(offsets.size() == rows + 1 && offsets.front() == 0 && offsets.back() == entries, file,
                 std::string("polyhedra: the ") + what + " offsets do not span their array");
     for (uint64_t i = 1; i < offsets.size(); ++i)
-      input_check(offsets[i] >= offsets[i - 1], file, std::string("polyhedra: the ") + what + " offsets decrease");
+      if (offsets[i] < offsets[i - 1]) input_error(file, std::string("polyhedra: the ") + what + " offsets decrease");
   };
   check_csr(f.cell_face_offsets, cells, f.cell_faces.size(), "cell face");
   const uint64_t faces = f.face_offsets.empty() ? 0 : f.face_offsets.size() - 1;

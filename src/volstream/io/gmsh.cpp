@@ -23,11 +23,10 @@ struct GmshType {
   int type, nodes, dim;
 };
 constexpr GmshType kGmshTypes[] = {
-    {1, 2, 1},   {2, 3, 2},   {3, 4, 2},   {4, 4, 3},   {5, 8, 3},   {6, 6, 3},   {7, 5, 3},   {8, 3, 1},
-    {9, 6, 2},   {10, 9, 2},  {11, 10, 3}, {12, 27, 3}, {13, 18, 3}, {14, 14, 3}, {15, 1, 0},  {16, 8, 2},
-    {17, 20, 3}, {18, 15, 3}, {19, 13, 3}, {20, 9, 2},  {21, 10, 2}, {22, 12, 2}, {23, 15, 2}, {24, 15, 2},
-    {25, 21, 2}, {26, 4, 1},  {27, 5, 1},  {28, 6, 1},  {29, 20, 3}, {30, 35, 3}, {31, 56, 3}, {92, 64, 3},
-    {93, 125, 3}};
+    {1, 2, 1},   {2, 3, 2},   {3, 4, 2},   {4, 4, 3},   {5, 8, 3},   {6, 6, 3},   {7, 5, 3},   {8, 3, 1},   {9, 6, 2},
+    {10, 9, 2},  {11, 10, 3}, {12, 27, 3}, {13, 18, 3}, {14, 14, 3}, {15, 1, 0},  {16, 8, 2},  {17, 20, 3}, {18, 15, 3},
+    {19, 13, 3}, {20, 9, 2},  {21, 10, 2}, {22, 12, 2}, {23, 15, 2}, {24, 15, 2}, {25, 21, 2}, {26, 4, 1},  {27, 5, 1},
+    {28, 6, 1},  {29, 20, 3}, {30, 35, 3}, {31, 56, 3}, {92, 64, 3}, {93, 125, 3}};
 
 std::optional<GmshType> gmsh_type(int64_t type) {
   for (const GmshType& t : kGmshTypes)
@@ -64,7 +63,8 @@ const std::vector<VolumeKind>& volume_kinds() {
       {6, "prism6", 13, {0, 2, 1, 3, 5, 4}},
       {7, "pyramid5", 14, {}},
       {11, "tet10", uint8_t(QuadraticCell::tet10), {0, 1, 2, 3, 4, 5, 6, 7, 9, 8}},
-      {17, "hex20", uint8_t(QuadraticCell::hex20), {0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15}},
+      {17, "hex20", uint8_t(QuadraticCell::hex20), {0,  1, 2,  3,  4,  5,  6,  7,  8,  11,
+                                                    13, 9, 16, 18, 19, 17, 10, 12, 14, 15}},
       {12, "hex27", uint8_t(QuadraticCell::hex27), {0,  1,  2,  3,  4,  5,  6,  7,  8,  11, 13, 9,  16, 18,
                                                     19, 17, 10, 12, 14, 15, 22, 23, 21, 24, 20, 25, 26}},
       {18, "prism15", uint8_t(QuadraticCell::wedge15), {0, 2, 1, 3, 5, 4, 7, 9, 6, 13, 14, 12, 8, 11, 10}},
@@ -299,8 +299,8 @@ void MshParser::read_nodes_41() {
     const int64_t parametric = int_value("parametric flag");
     const uint64_t n = count("nodes in block");
     if (dim < 0 || dim > 3 || (parametric != 0 && parametric != 1))
-      in_.fail("$Nodes block " + std::to_string(b + 1) + ": entity dimension " + std::to_string(dim) +
-               ", parametric " + std::to_string(parametric));
+      in_.fail("$Nodes block " + std::to_string(b + 1) + ": entity dimension " + std::to_string(dim) + ", parametric " +
+               std::to_string(parametric));
     if (n > total - out_.node_tags.size())
       in_.fail("$Nodes blocks hold more than the " + std::to_string(total) + " nodes its header gives");
     for (uint64_t i = 0; i < n; ++i) out_.node_tags.push_back(count("node tag"));
@@ -315,7 +315,8 @@ void MshParser::read_nodes_41() {
     }
   }
   if (out_.node_tags.size() != total)
-    in_.fail("$Nodes blocks hold " + std::to_string(out_.node_tags.size()) + " nodes, its header " + std::to_string(total));
+    in_.fail("$Nodes blocks hold " + std::to_string(out_.node_tags.size()) + " nodes, its header " +
+             std::to_string(total));
 }
 
 void MshParser::finish_nodes() {
@@ -396,8 +397,8 @@ void MshParser::read_elements_41() {
       continue;
     }
     if (t && dim != t->dim)
-      in_.fail("$Elements block " + std::to_string(b + 1) + ": element type " + std::to_string(type) + " on an entity of dimension " +
-               std::to_string(dim));
+      in_.fail("$Elements block " + std::to_string(b + 1) + ": element type " + std::to_string(type) +
+               " on an entity of dimension " + std::to_string(dim));
     if (t) in_.require_fits(n, uint64_t(t->nodes + 1) * (binary_ ? 8 : 2), "$Elements block");
     for (uint64_t e = 0; e < n; ++e) read_element(type, count("element tag"), nodes);
   }
@@ -430,7 +431,8 @@ void MshParser::read_elements_22(uint64_t total) {
       const uint64_t element_tag = positive_int("element tag");
       const int64_t type = int_value("element type");
       const int64_t tags = int_value("tag count");
-      if (tags < 0 || tags > 1024) in_.fail("element " + std::to_string(element_tag) + ": " + std::to_string(tags) + " tags");
+      if (tags < 0 || tags > 1024)
+        in_.fail("element " + std::to_string(element_tag) + ": " + std::to_string(tags) + " tags");
       for (int64_t k = 0; k < tags; ++k) int_value("element tag");
       read_element(type, element_tag, nodes);
       ++seen;
@@ -481,7 +483,9 @@ void MshParser::read_view(bool cells) {
     if (i == 0) time = r;
   }
   const int64_t ints = in_.integer("integer tag count");
-  if (ints < 3 || ints > 64) in_.fail(std::string(section) + " with " + std::to_string(ints) + " integer tags (3 or more: step, components, count)");
+  if (ints < 3 || ints > 64)
+    in_.fail(std::string(section) + " with " + std::to_string(ints) +
+             " integer tags (3 or more: step, components, count)");
   int64_t tags[3] = {};
   for (int64_t i = 0; i < ints; ++i) {
     const int64_t v = in_.integer("integer tag");
@@ -490,13 +494,15 @@ void MshParser::read_view(bool cells) {
   const auto [step, components, entries] = tags;
   if (name.empty()) name = cells ? "element_data" : "node_data";
   if (components != 1 && components != 3 && components != 9)
-    in_.fail(std::string(section) + " '" + name + "': " + std::to_string(components) + " components (1, 3 or 9 are read)");
+    in_.fail(std::string(section) + " '" + name + "': " + std::to_string(components) +
+             " components (1, 3 or 9 are read)");
   if (entries < 0) in_.fail(std::string(section) + " '" + name + "': " + std::to_string(entries) + " entries");
   start_binary();
   const uint64_t c = uint64_t(components);
   in_.require_fits(uint64_t(entries), binary_ ? 4 + 8 * c : 2 * (1 + c), std::string(section) + " '" + name + "'");
 
-  auto it = std::find_if(out_.views.begin(), out_.views.end(), [&](const View& v) { return v.name == name && v.cells == cells; });
+  auto it = std::find_if(out_.views.begin(), out_.views.end(),
+                         [&](const View& v) { return v.name == name && v.cells == cells; });
   if (it == out_.views.end()) it = out_.views.insert(out_.views.end(), View{name, cells, int(components), {}});
   if (it->components != components)
     in_.fail(std::string(section) + " '" + name + "': " + std::to_string(components) + " components, earlier " +
@@ -511,7 +517,8 @@ void MshParser::read_view(bool cells) {
   for (int64_t e = 0; e < entries; ++e) {
     const int64_t t = int_value(cells ? "element tag" : "node tag");
     const std::optional<uint64_t> index = cells ? out_.elements.find(t) : out_.nodes.find(t);
-    if (!index && !cells) in_.fail(std::string(section) + " '" + name + "': node tag " + std::to_string(t) + " is not in $Nodes");
+    if (!index && !cells)
+      in_.fail(std::string(section) + " '" + name + "': node tag " + std::to_string(t) + " is not in $Nodes");
     for (uint64_t k = 0; k < c; ++k) {
       const double v = real_value("value");
       if (index) s.values[*index * c + k] = v;  // values of elements not read (surfaces) are dropped
@@ -532,7 +539,8 @@ void MshParser::read_section(std::string_view name) {
     in_.skip_line();
     const std::string view = strings > 0 ? string_tag() : "unnamed";
     const std::string note = "$ElementNodeData '" + view + "' left out";
-    if (std::find(out_.left_out.begin(), out_.left_out.end(), note) == out_.left_out.end()) out_.left_out.push_back(note);
+    if (std::find(out_.left_out.begin(), out_.left_out.end(), note) == out_.left_out.end())
+      out_.left_out.push_back(note);
   }
   skip_section(name);
 }
@@ -540,7 +548,8 @@ void MshParser::read_section(std::string_view name) {
 GmshContents MshParser::parse() {
   read_format();
   while (const std::optional<std::string_view> word = in_.try_word()) {
-    if (word->empty() || word->front() != '$') in_.fail("expected a section ($Nodes, ...), found '" + std::string(word->substr(0, 20)) + "'");
+    if (word->empty() || word->front() != '$')
+      in_.fail("expected a section ($Nodes, ...), found '" + std::string(word->substr(0, 20)) + "'");
     in_.skip_line();
     read_section(*word);
   }
@@ -566,8 +575,8 @@ struct GmshFile::Impl {
         for (size_t i = 0; i < s.given.size(); ++i)
           if (!s.given[i] && (v.cells || used[i]))
             input_error(file, std::string(v.cells ? "$ElementData" : "$NodeData") + " '" + v.name + "' step " +
-                                  std::to_string(step) + ": no value for " + (v.cells ? "element" : "node") +
-                                  " tag " + std::to_string((v.cells ? contents.element_tags : contents.node_tags)[i]) +
+                                  std::to_string(step) + ": no value for " + (v.cells ? "element" : "node") + " tag " +
+                                  std::to_string((v.cells ? contents.element_tags : contents.node_tags)[i]) +
                                   " of the volume");
   }
 
@@ -576,8 +585,8 @@ struct GmshFile::Impl {
   // with no others.
   void collect_steps() {
     std::map<int64_t, double> times;
-    const bool series = std::any_of(contents.views.begin(), contents.views.end(),
-                                    [](const View& v) { return v.steps.size() > 1; });
+    const bool series =
+        std::any_of(contents.views.begin(), contents.views.end(), [](const View& v) { return v.steps.size() > 1; });
     for (const View& v : contents.views)
       if (!series || v.steps.size() > 1)
         for (const auto& [step, s] : v.steps) times.emplace(step, s.time);

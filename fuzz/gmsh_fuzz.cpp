@@ -9,9 +9,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   namespace fs = std::filesystem;
   static const auto dir = fuzz::scratch("gmsh");
   static const fs::path kData = fs::path(VOLSTREAM_SOURCE_DIR) / "tests/data/gmsh";
-  static const fs::path kBases[] = {kData / "gmsh_tets_41a.msh",    kData / "gmsh_tets_41b.msh",
-                                    kData / "gmsh_tets_22a.msh",    kData / "gmsh_tets_22b.msh",
-                                    kData / "gmsh_mixed.msh",       kData / "gmsh_serendipity.msh",
+  static const fs::path kBases[] = {kData / "gmsh_tets_41a.msh", kData / "gmsh_tets_41b.msh",
+                                    kData / "gmsh_tets_22a.msh", kData / "gmsh_tets_22b.msh",
+                                    kData / "gmsh_mixed.msh",    kData / "gmsh_serendipity.msh",
                                     kData / "gmsh_quadratic.msh"};
   if (size < 1) return 0;
   const fs::path work = dir / "work.msh";

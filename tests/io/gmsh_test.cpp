@@ -215,6 +215,20 @@ TEST(Gmsh, ConvertsAsOneFileOrASeriesOfFiles) {
   EXPECT_THROW(bad->read_step(1), InputError);
 }
 
+// Sections not read are skipped to their end line; $ElementNodeData views are left out, and the
+// summary says so.
+TEST(Gmsh, SectionsNotReadAreSkipped) {
+  const std::string file = slurp(kDir / "gmsh_tets_22a.msh") +
+                           "$Comments\n$Nodes inside another section\n$EndComments\n" +
+                           "$ElementNodeData\n1\n\"stress\"\n1\n0.5\n3\n0\n1\n1\n1 4 1 2 3 4\n$EndElementNodeData\n";
+  GmshFile msh(write_scratch(file, "extra.msh"));
+  EXPECT_EQ(msh.summary(), "MSH 2.2 ascii: tet4 x 261; $ElementNodeData 'stress' left out");
+  ASSERT_EQ(msh.step_count(), 3u);
+  expect_views_of_step(msh.read_step(2), 2);
+  EXPECT_EQ(refusal(write_scratch(slurp(kDir / "gmsh_tets_22a.msh") + "$Comments\nno end\n", "open.msh")),
+            "truncated: no $EndComments after $Comments");
+}
+
 // Each of the four encodings cut short at 60 places: refused with one line, or (cut right after
 // a section's end) read as the sections before.
 TEST(Gmsh, FilesCutShortAreRefusedWithOneLine) {

@@ -301,6 +301,13 @@ TEST(Gmsh, DamagedFilesAreRefusedWithOneLine) {
   partial.replace(counts + 7, 3, "101");
   EXPECT_EQ(refusal(write_scratch(partial, "partial.msh")).substr(0, 39), "$NodeData 'f' step 0: no value for node");
 
+  // Many empty view blocks of new steps, each of which would hold a value per node.
+  std::string steps = slurp(kDir / "gmsh_tets_22a.msh");
+  for (int step = 3; step < 3000; ++step)
+    steps += "$NodeData\n1\n\"f\"\n1\n0\n3\n" + std::to_string(step) + "\n1\n0\n$EndNodeData\n";
+  EXPECT_NE(refusal(write_scratch(steps, "steps.msh")).find("more view steps than the file holds values for"),
+            std::string::npos);
+
   // 4.1 binary: the node count (size_t) of $Nodes' header made huge.
   std::string binary = slurp(kDir / "gmsh_tets_41b.msh");
   const size_t nodes = binary.find("$Nodes\n") + 7 + 8;

@@ -182,6 +182,7 @@ class MshParser {
   bool binary_ = false, big_endian_ = false, v41_ = false;
   bool have_nodes_ = false, have_elements_ = false;
   std::map<int64_t, uint64_t> unread_volumes_;  // Gmsh type -> elements not read
+  uint64_t view_tuples_ = 0;                    // nodes and elements of every view step so far
   GmshContents out_;
 };
 
@@ -510,6 +511,13 @@ void MshParser::read_view(bool cells) {
   const uint64_t tuples = cells ? out_.element_tags.size() : out_.points.size();
   ViewStep& s = it->steps[step];
   if (s.values.empty()) {
+    // Each step of a view holds values for the whole mesh, so many tiny blocks of new step
+    // indices could ask for far more memory than the file holds values: a step must be paid for
+    // by the file's bytes (each of a volume's nodes or elements takes 2 bytes or more in a view).
+    view_tuples_ += tuples;
+    if (view_tuples_ > (in_.position() + in_.remaining()) / 2)
+      in_.fail(std::string(section) + " '" + name + "' step " + std::to_string(step) +
+               ": more view steps than the file holds values for");
     s.time = time;  // a step's later partitions repeat its time
     s.values.assign(tuples * c, std::numeric_limits<double>::quiet_NaN());
     s.given.assign(tuples, 0);

@@ -233,6 +233,34 @@ else
   echo "CGNS: skipped (built without CGNS)"
 fi
 
+# Gmsh MSH (tests/data/gmsh/make_gmsh_files.py): a tet mesh's three steps at their times, the
+# same in MSH 4.1 binary and 2.2 ascii; g where Gmsh's own basis functions put it, through linear
+# and (curved) second-order elements; a file cut short and 14-node pyramids are one line and exit 2.
+GM="$DATA/../gmsh"
+"$VS" convert "$GM/gmsh_tets_41b.msh" -o gm_41b -q
+"$VS" info gm_41b | grep -q "steps     3 (t = 0 .. 1.25)" || fail "Gmsh: not 3 steps from 0 to 1.25"
+"$VS" info gm_41b | grep -q "Gmsh gmsh_tets_41b.msh (MSH 4.1 binary: tet4 x 261; 3 steps)" ||
+  fail "Gmsh: info does not name the file, its version and elements"
+"$VS" convert "$GM/gmsh_tets_22a.msh" -o gm_22a -q
+random_points gm_41b 2000 13 >gm_points.txt
+for field in g vel_y pressure; do
+  "$VS" probe gm_41b --field $field --step 2 --points gm_points.txt >gm_41b_$field.txt
+  "$VS" probe gm_22a --field $field --step 2 --points gm_points.txt >gm_22a_$field.txt
+  echo -n "Gmsh step 2 $field, MSH 4.1 binary against 2.2 ascii: "
+  compare_probes gm_41b_$field.txt gm_22a_$field.txt || fail "the Gmsh encodings' $field differ"
+done
+for stem in tets_41b:tets mixed:mixed serendipity:serendipity; do
+  "$VS" convert "$GM/gmsh_${stem%%:*}.msh" -o gm_${stem%%:*} -q
+  grep -v '^#' "$GM/gmsh_${stem#*:}_probes.txt" | awk '{print $2, $3, $4}' >gm_probe_points.txt
+  grep -v '^#' "$GM/gmsh_${stem#*:}_probes.txt" | awk '{print $5}' >gm_probe_want.txt
+  "$VS" probe gm_${stem%%:*} --field g --points gm_probe_points.txt >gm_probe_got.txt
+  echo -n "Gmsh ${stem#*:} elements against Gmsh's basis functions: "
+  compare_probes gm_probe_got.txt gm_probe_want.txt || fail "the Gmsh ${stem#*:} file's g differs from Gmsh's"
+done
+head -c 20000 "$GM/gmsh_tets_41b.msh" >cut.msh
+expect_bad_input "a Gmsh file cut short" convert cut.msh -o cut_msh
+expect_bad_input "14-node pyramids" convert "$GM/gmsh_pyramid14.msh" -o gm_pyr14
+
 # Bad input: a truncated file, a .pvd whose steps have different meshes, an unknown scalars spec.
 head -c 3000 m.vtu >trunc.vtu
 expect_bad_input "truncated .vtu" convert trunc.vtu -o bad1

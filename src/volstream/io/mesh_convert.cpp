@@ -14,6 +14,7 @@
 #include "volstream/io/cgns.h"
 #include "volstream/io/ensight.h"
 #include "volstream/io/exodus.h"
+#include "volstream/io/gmsh.h"
 #include "volstream/io/ugrid.h"
 #include "volstream/io/vtk_legacy.h"
 #include "volstream/io/vtu.h"
@@ -52,6 +53,16 @@ std::vector<MeshFieldRef> selected(const std::vector<MeshFieldRef>& all, const s
   return out;
 }
 
+// A Gmsh file as one step of several files (a .pvd's, or files given as a series): one holding
+// time steps of its own is converted on its own.
+MeshData read_gmsh_step(const fs::path& file) {
+  const GmshFile msh(file);
+  if (msh.step_count() > 1)
+    input_error(file.string(), "holds " + std::to_string(msh.step_count()) +
+                                   " time steps: give it on its own, not as one step of several files");
+  return msh.read_step(0);
+}
+
 MeshData read_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   if (ext == ".vtu") return read_vtu(file);
@@ -59,9 +70,10 @@ MeshData read_mesh_file(const fs::path& file) {
   if (ext == ".vtm") return read_vtm(file);
   if (ext == ".vtk") return read_vtk_legacy(file);
   if (ext == ".ugrid") return read_ugrid(file);
+  if (ext == ".msh") return read_gmsh_step(file);
   input_error(file.string(),
-              "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, or a .pvd or .series of them; or an EnSight .case "
-              "or an Exodus II .exo, or a .cgns)");
+              "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, .msh, or a .pvd or .series of them; or an EnSight "
+              ".case or an Exodus II .exo, or a .cgns)");
 }
 
 // A step's parts (a .pvd's entries of one time: a parallel run's pieces) as one mesh, read in
@@ -166,7 +178,7 @@ std::vector<fs::path> exodus_rank_files(const fs::path& file) {
   return files;
 }
 
-// A solver's file holding its time steps (an Exodus II or CGNS file), or the rank files of one
+// A solver's file holding its time steps (an Exodus II, CGNS or Gmsh file), or the rank files of one
 // (Exodus): the mesh read once, each step's values from the same files; rank files' meshes joined
 // (umesh/mesh_pieces.h: the nodes they share welded).
 template <class File>
@@ -227,6 +239,7 @@ std::string format_name(const fs::path& file) {
   if (ext == ".vtk") return "legacy VTK unstructured grid";
   if (ext == ".pvd") return "ParaView collection";
   if (ext == ".series") return "ParaView file series";
+  if (ext == ".msh") return "Gmsh";
   return "UGRID";
 }
 
@@ -235,7 +248,7 @@ std::string format_name(const fs::path& file) {
 bool is_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   return ext == ".vtu" || ext == ".pvtu" || ext == ".vtm" || ext == ".vtk" || ext == ".pvd" || ext == ".series" ||
-         ext == ".ugrid" || ext == ".case" || is_exodus_file(file) || is_cgns_file(file);
+         ext == ".ugrid" || ext == ".case" || ext == ".msh" || is_exodus_file(file) || is_cgns_file(file);
 }
 
 RawScalars parse_raw_scalars(const std::string& spec) {
@@ -272,6 +285,7 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
     if (files.size() > 1) throw UsageError("a CGNS file is converted on its own (it holds its time steps)");
     return std::make_unique<SolverFileSeries<CgnsFile>>(files, scalars, "CGNS");
   }
+  if (ext == ".msh" && files.size() == 1) return std::make_unique<SolverFileSeries<GmshFile>>(files, scalars, "Gmsh");
   if (ext == ".pvd" || ext == ".series") {
     if (files.size() > 1) throw UsageError("a .pvd collection or .series file is converted on its own");
     steps = ext == ".pvd" ? read_pvd(files.front()) : read_file_series(files.front());

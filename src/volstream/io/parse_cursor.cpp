@@ -54,6 +54,12 @@ std::string_view ParseCursor::line() {
   return l;
 }
 
+bool ParseCursor::skip_past(std::string_view text) {
+  const size_t at = data_.find(text, pos_);
+  pos_ = at == std::string::npos ? data_.size() : at + text.size();
+  return at != std::string::npos;
+}
+
 bool ParseCursor::at_blank_line() {
   for (uint64_t i = pos_; i < data_.size() && data_[i] != '\n'; ++i)
     if (!is_space(data_[i])) return false;

@@ -30,6 +30,9 @@ class ParseCursor {
   std::string_view line();  // the rest of the current line, without its end; moves past it
   bool at_blank_line();     // only spaces/tabs/CR up to the next newline (or end of file)
   void skip_line() { line(); }
+  // Moves past the next occurrence of `text` (a section's end marker); false, and at the end of
+  // the file, if there is none.
+  bool skip_past(std::string_view text);
   int64_t integer(const char* what);
   double real(const char* what);
 

@@ -518,6 +518,7 @@ class DataReader {
   // (its name goes to `left_out`).
   std::map<uint64_t, Variable> read(std::vector<std::string>& left_out) {
     while (!in_.at_end()) section();
+    if (variables_.empty()) input_error(in_.file(), "no cell values (no data section 300, 2300 or 3300 on a cell zone)");
     for (auto it = variables_.begin(); it != variables_.end();) {
       const bool whole = std::all_of(it->second.zones_read.begin(), it->second.zones_read.end(), [](bool b) { return b; });
       if (!whole) left_out.push_back(variable_name(it->first));

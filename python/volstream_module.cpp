@@ -530,7 +530,7 @@ PYBIND11_MODULE(volstream, m) {
         "garbage-collected: an AMReX plotfile directory (a list of them: time steps), [cells, scalars...]\n"
         "of ExaBrick, raw grids (dims=(X, Y, Z), type=, big_endian=, origin=, spacing=; several files are\n"
         "fields, or steps with series=True, named by field=), meshes (.vtu, .pvtu, .vtm, .vtk, .pvd,\n"
-        ".series, .ugrid, EnSight .case, Exodus II .exo, .cgns; a list: time steps) with scalars={'name': 'file.f32'} "
+        ".series, .ugrid, EnSight .case, Exodus II .exo, .cgns, Fluent .cas with its .dat files; a list: time steps) with scalars={'name': 'file.f32'} "
         "for "
         "UGRID. format: auto "
         "|\n"

@@ -23,11 +23,10 @@ struct ConvertArgs {
 void add_convert_command(CLI::App& app) {
   auto a = std::make_shared<ConvertArgs>();
   ImportRequest& in = a->in;
-  auto* cmd = app.add_subcommand(
-      "convert",
-      "Convert AMReX plotfiles, ExaBrick cells+scalars, raw grids or unstructured meshes "
-      "(.vtu, .pvtu, .vtm, .vtk, .pvd, .series, .ugrid, EnSight .case, Exodus II .exo, .cgns, Fluent .cas [.dat...]) to a "
-      "volstream dataset");
+  auto* cmd = app.add_subcommand("convert",
+                                 "Convert AMReX plotfiles, ExaBrick cells+scalars, raw grids or unstructured meshes "
+                                 "(.vtu, .pvtu, .vtm, .vtk, .pvd, .series, .ugrid, EnSight .case, Exodus II .exo, "
+                                 ".cgns, Fluent .cas [.dat...]) to a volstream dataset");
   cmd->add_option("inputs", a->inputs,
                   "plotfile directories (several = time steps) | FILE.cells SCALARS... | raw files (several = fields, "
                   "or steps with --series) | mesh files (several = time steps) or one .pvd or .series")

@@ -155,8 +155,8 @@ TEST_F(EditedFluent, CutShortAnywhere) {
                        full.size() * 3 / 4, full.size() - 2}) {
       SCOPED_TRACE(std::string(name) + " cut at " + std::to_string(cut));
       spit(dir_ / name, full.substr(0, cut));
-      const std::string e = error(std::string(name).find("bin") == std::string::npos ? "fluent_mixed.cas"
-                                                                                       : "fluent_mixed_bin.cas");
+      const std::string e =
+          error(std::string(name).find("bin") == std::string::npos ? "fluent_mixed.cas" : "fluent_mixed_bin.cas");
       EXPECT_NE(e, "accepted");
     }
     spit(dir_ / name, full);

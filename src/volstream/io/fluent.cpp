@@ -280,7 +280,8 @@ class CaseReader {
         in_.fail("section " + std::to_string(index) + " (" + (index % 1000 == 58 ? "cell" : "face") +
                  " tree): meshes with hanging-node adaption are not read");
       case 61:
-        in_.fail("section " + std::to_string(index) + " (interface face parents): non-conformal interfaces are not read");
+        in_.fail("section " + std::to_string(index) +
+                 " (interface face parents): non-conformal interfaces are not read");
       default:
         return skip(index);
     }
@@ -310,8 +311,9 @@ class CaseReader {
   // A declared count must be one the file could describe (each item at least `bytes_each`
   // bytes: a node's coordinates 6, "0 0 0\n").
   uint64_t declared_count(uint64_t count, uint64_t bytes_each, const char* what) {
-    if (count > in_.size() / bytes_each) in_.fail(std::string("declares ") + std::to_string(count) + " " + what +
-                                     ", more than a file of " + std::to_string(in_.size()) + " bytes holds");
+    if (count > in_.size() / bytes_each)
+      in_.fail(std::string("declares ") + std::to_string(count) + " " + what + ", more than a file of " +
+               std::to_string(in_.size()) + " bytes holds");
     return count;
   }
 
@@ -372,7 +374,8 @@ class CaseReader {
   void set_cell_type(uint64_t cell, uint64_t type) {
     if (type == kTriangle || type == kQuad)
       in_.fail(std::string("a 2D cell (") + element_name(int(type)) + "): only 3D cases are read");
-    if (type == kMixed || type > kPolyhedron) in_.fail("cell " + std::to_string(cell + 1) + " of unknown element type " + std::to_string(type));
+    if (type == kMixed || type > kPolyhedron)
+      in_.fail("cell " + std::to_string(cell + 1) + " of unknown element type " + std::to_string(type));
     if (mesh_.cell_types[cell] != 0) in_.fail("cell " + std::to_string(cell + 1) + " is in two cell zones");
     mesh_.cell_types[cell] = uint8_t(type);
   }
@@ -384,8 +387,7 @@ class CaseReader {
       mesh_.face_count = declared_count(h[2], 1, "faces");
       return close_section(index);
     }
-    if (!mesh_.nodes_declared || !mesh_.cells_declared)
-      in_.fail("faces before the node and cell counts are declared");
+    if (!mesh_.nodes_declared || !mesh_.cells_declared) in_.fail("faces before the node and cell counts are declared");
     if (h.size() < 5) in_.fail("a face zone's header without its face type");
     const Range r = zone_range(h, mesh_.face_count, "faces");
     const uint64_t type = h[4];
@@ -434,8 +436,7 @@ class CaseReader {
 
   // A section with values: its values' ')' (binary: with its end line), then its own ')'.
   void end_values(int index) {
-    if (is_binary_index(index))
-      return in_.end_binary_section(index);
+    if (is_binary_index(index)) return in_.end_binary_section(index);
     in_.expect(')', "closing the values");
     in_.expect(')', "closing the section");
   }
@@ -491,13 +492,27 @@ MeshData unsplit_mesh(const CaseMesh& m) {
 
 // Fluent's variable (SV_) ids of the fields solvers write most, as they are called here.
 std::string variable_name(uint64_t id) {
-  static const std::map<uint64_t, const char*> kNames = {
-      {1, "pressure"},       {2, "momentum"},        {3, "temperature"},        {4, "enthalpy"},
-      {5, "k"},              {6, "epsilon"},         {7, "species"},            {59, "mach"},
-      {63, "omega"},         {101, "density"},       {102, "viscosity_laminar"}, {103, "viscosity_turbulent"},
-      {104, "cp"},           {105, "thermal_conductivity"}, {111, "x_velocity"}, {112, "y_velocity"},
-      {113, "z_velocity"},   {150, "vof"},           {192, "total_pressure"},   {193, "total_temperature"},
-      {500, "nut"}};
+  static const std::map<uint64_t, const char*> kNames = {{1, "pressure"},
+                                                         {2, "momentum"},
+                                                         {3, "temperature"},
+                                                         {4, "enthalpy"},
+                                                         {5, "k"},
+                                                         {6, "epsilon"},
+                                                         {7, "species"},
+                                                         {59, "mach"},
+                                                         {63, "omega"},
+                                                         {101, "density"},
+                                                         {102, "viscosity_laminar"},
+                                                         {103, "viscosity_turbulent"},
+                                                         {104, "cp"},
+                                                         {105, "thermal_conductivity"},
+                                                         {111, "x_velocity"},
+                                                         {112, "y_velocity"},
+                                                         {113, "z_velocity"},
+                                                         {150, "vof"},
+                                                         {192, "total_pressure"},
+                                                         {193, "total_temperature"},
+                                                         {500, "nut"}};
   const auto it = kNames.find(id);
   return it == kNames.end() ? "SV_" + std::to_string(id) : it->second;
 }
@@ -518,9 +533,11 @@ class DataReader {
   // (its name goes to `left_out`).
   std::map<uint64_t, Variable> read(std::vector<std::string>& left_out) {
     while (!in_.at_end()) section();
-    if (variables_.empty()) input_error(in_.file(), "no cell values (no data section 300, 2300 or 3300 on a cell zone)");
+    if (variables_.empty())
+      input_error(in_.file(), "no cell values (no data section 300, 2300 or 3300 on a cell zone)");
     for (auto it = variables_.begin(); it != variables_.end();) {
-      const bool whole = std::all_of(it->second.zones_read.begin(), it->second.zones_read.end(), [](bool b) { return b; });
+      const bool whole =
+          std::all_of(it->second.zones_read.begin(), it->second.zones_read.end(), [](bool b) { return b; });
       if (!whole) left_out.push_back(variable_name(it->first));
       it = whole ? std::next(it) : variables_.erase(it);
     }
@@ -553,13 +570,13 @@ class DataReader {
     const uint64_t bytes = is_binary_index(index) ? (is_double_index(index) ? 8 : 4) : 2;
     in_.require_fits(r.count() * size, bytes, "data values");
     in_.expect('(', "opening the values");
-    const auto z = std::find_if(mesh_.cell_zones.begin(), mesh_.cell_zones.end(), [&](const CellZone& c) { return c.id == zone; });
+    const auto z =
+        std::find_if(mesh_.cell_zones.begin(), mesh_.cell_zones.end(), [&](const CellZone& c) { return c.id == zone; });
     if (z == mesh_.cell_zones.end())
       skip_values(index, r.count() * size);  // a face zone's
     else
       read_cell_values(index, sv, int(size), *z, size_t(z - mesh_.cell_zones.begin()), r);
-    if (is_binary_index(index))
-      return in_.end_binary_section(index);
+    if (is_binary_index(index)) return in_.end_binary_section(index);
     in_.expect(')', "closing the values");
     in_.expect(')', "closing the section");
   }
@@ -580,7 +597,9 @@ class DataReader {
       v.values.assign(mesh_.cell_count * uint64_t(size), NAN);
       v.zones_read.assign(mesh_.cell_zones.size(), false);
     }
-    if (v.components != size) in_.fail("variable " + std::to_string(sv) + " of both " + std::to_string(v.components) + " and " + std::to_string(size) + " components");
+    if (v.components != size)
+      in_.fail("variable " + std::to_string(sv) + " of both " + std::to_string(v.components) + " and " +
+               std::to_string(size) + " components");
     for (uint64_t k = (r.first - 1) * uint64_t(size); k < r.last * uint64_t(size); ++k) v.values[k] = value(index);
     if (r.first == zone.cells.first && r.last == zone.cells.last) v.zones_read[zone_index] = true;
   }

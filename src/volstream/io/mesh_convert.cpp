@@ -230,7 +230,8 @@ class FluentSeries : public MeshSeries {
   std::string origin(int step) const override { return file_.step_file(size_t(step)).string(); }
   std::string description() const override {
     const size_t steps = file_.step_count();
-    return "Fluent case " + name_ + " (" + file_.summary() + (steps > 1 ? "; " + std::to_string(steps) + " steps)" : ")");
+    return "Fluent case " + name_ + " (" + file_.summary() +
+           (steps > 1 ? "; " + std::to_string(steps) + " steps)" : ")");
   }
 
  private:
@@ -244,7 +245,8 @@ std::unique_ptr<MeshSeries> open_fluent_files(const std::vector<fs::path>& files
   const std::vector<fs::path> data(files.begin() + 1, files.end());
   for (const fs::path& f : data)
     if (!is_fluent_data_file(f))
-      throw UsageError(f.string() + " is not a Fluent data file (.dat, .dat.gz): a .cas is converted with its data files");
+      throw UsageError(f.string() +
+                       " is not a Fluent data file (.dat, .dat.gz): a .cas is converted with its data files");
   return std::make_unique<FluentSeries>(files.front(), data, std::move(scalars));
 }
 

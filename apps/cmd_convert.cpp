@@ -26,7 +26,7 @@ void add_convert_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("convert",
                                  "Convert AMReX plotfiles, ExaBrick cells+scalars, raw grids or unstructured meshes "
                                  "(.vtu, .pvtu, .vtm, .vtk, .pvd, .series, .ugrid, EnSight .case, Exodus II .exo, "
-                                 ".cgns, Gmsh .msh) to a volstream dataset");
+                                 ".cgns, Gmsh .msh, Fluent .cas [.dat...]) to a volstream dataset");
   cmd->add_option("inputs", a->inputs,
                   "plotfile directories (several = time steps) | FILE.cells SCALARS... | raw files (several = fields, "
                   "or steps with --series) | mesh files (several = time steps) or one .pvd or .series")

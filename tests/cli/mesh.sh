@@ -260,6 +260,26 @@ done
 head -c 20000 "$GM/gmsh_tets_41b.msh" >cut.msh
 expect_bad_input "a Gmsh file cut short" convert cut.msh -o cut_msh
 expect_bad_input "14-node pyramids" convert "$GM/gmsh_pyramid14.msh" -o gm_pyr14
+# Fluent (tests/data/fluent/make_fluent_files.py): a binary case and two data files are two steps
+# at their flow times; step 1's cell values probe as the .vtu VTK wrote; the ASCII case alone
+# finds its .dat by name; a data file cut short and a 2D case are one line and exit 2.
+FL="$DATA/../fluent"
+"$VS" convert "$FL/fluent_mixed_bin.cas" "$FL/fluent_mixed_bin.dat" "$FL/fluent_mixed_bin-2.dat" -o fl_mixed -q
+"$VS" info fl_mixed | grep -q "Fluent case fluent_mixed_bin.cas (2 cell zones (fluid, solid): hex x 8, pyramid x 48, tet x 48, wedge x 16; 2 steps)" ||
+  fail "Fluent: info does not describe the case"
+"$VS" info fl_mixed | grep -q "steps     2 (t = 0.5 .. 1.25)" || fail "Fluent: not 2 steps from 0.5 to 1.25"
+"$VS" convert "$FL/fluent_mixed_2.vtu" -o fl_vtu -q
+random_points fl_vtu 2000 12 >fl_points.txt
+"$VS" probe fl_mixed --field temperature --step 1 --points fl_points.txt >fl_t.txt
+"$VS" probe fl_vtu --field temperature --points fl_points.txt >fl_t_want.txt
+echo -n "Fluent binary case, step 1, against VTK's .vtu: "
+compare_probes fl_t.txt fl_t_want.txt || fail "the Fluent case probes otherwise than the .vtu"
+"$VS" convert "$FL/fluent_mixed.cas" -o fl_ascii -q
+"$VS" info fl_ascii | grep -q "Fluent case fluent_mixed.cas" || fail "Fluent: the ASCII case alone"
+head -c 3000 "$FL/fluent_mixed_bin-2.dat" >cut.dat
+expect_bad_input "a Fluent data file cut short" convert "$FL/fluent_mixed_bin.cas" cut.dat -o cut_fluent
+sed 's/^(2 3)$/(2 2)/' "$FL/fluent_mixed.cas" >flat.cas
+expect_bad_input "a 2D Fluent case" convert flat.cas -o flat_fluent
 
 # Bad input: a truncated file, a .pvd whose steps have different meshes, an unknown scalars spec.
 head -c 3000 m.vtu >trunc.vtu

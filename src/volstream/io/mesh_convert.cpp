@@ -14,6 +14,7 @@
 #include "volstream/io/cgns.h"
 #include "volstream/io/ensight.h"
 #include "volstream/io/exodus.h"
+#include "volstream/io/fluent.h"
 #include "volstream/io/gmsh.h"
 #include "volstream/io/ugrid.h"
 #include "volstream/io/vtk_legacy.h"
@@ -73,7 +74,7 @@ MeshData read_mesh_file(const fs::path& file) {
   if (ext == ".msh") return read_gmsh_step(file);
   input_error(file.string(),
               "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, .msh, or a .pvd or .series of them; or an EnSight "
-              ".case or an Exodus II .exo, or a .cgns)");
+              ".case or an Exodus II .exo, or a .cgns, or a Fluent .cas and its .dat files)");
 }
 
 // A step's parts (a .pvd's entries of one time: a parallel run's pieces) as one mesh, read in
@@ -226,6 +227,41 @@ class SolverFileSeries : public MeshSeries {
   std::string format_;
 };
 
+// A Fluent case and its data files, a step each (io/fluent.h): the mesh read once.
+class FluentSeries : public MeshSeries {
+ public:
+  FluentSeries(const fs::path& case_file, std::vector<fs::path> data_files, std::vector<RawScalars> scalars)
+      : file_(case_file, std::move(data_files)), name_(case_file.filename().string()), scalars_(std::move(scalars)) {}
+  int step_count() const override { return int(file_.step_count()); }
+  double step_time(int step) const override { return file_.step_time(size_t(step)); }
+  MeshData read_step(int step) override {
+    MeshData m = file_.read_step(size_t(step));
+    for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
+    return m;
+  }
+  std::string origin(int step) const override { return file_.step_file(size_t(step)).string(); }
+  std::string description() const override {
+    const size_t steps = file_.step_count();
+    return "Fluent case " + name_ + " (" + file_.summary() +
+           (steps > 1 ? "; " + std::to_string(steps) + " steps)" : ")");
+  }
+
+ private:
+  FluentFile file_;
+  std::string name_;
+  std::vector<RawScalars> scalars_;
+};
+
+// A Fluent case file and the data files after it (UsageError for any other file among them).
+std::unique_ptr<MeshSeries> open_fluent_files(const std::vector<fs::path>& files, std::vector<RawScalars> scalars) {
+  const std::vector<fs::path> data(files.begin() + 1, files.end());
+  for (const fs::path& f : data)
+    if (!is_fluent_data_file(f))
+      throw UsageError(f.string() +
+                       " is not a Fluent data file (.dat, .dat.gz): a .cas is converted with its data files");
+  return std::make_unique<FluentSeries>(files.front(), data, std::move(scalars));
+}
+
 bool is_cgns_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   return ext == ".cgns" || ext == ".cgn";
@@ -248,7 +284,8 @@ std::string format_name(const fs::path& file) {
 bool is_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   return ext == ".vtu" || ext == ".pvtu" || ext == ".vtm" || ext == ".vtk" || ext == ".pvd" || ext == ".series" ||
-         ext == ".ugrid" || ext == ".case" || ext == ".msh" || is_exodus_file(file) || is_cgns_file(file);
+         ext == ".ugrid" || ext == ".case" || ext == ".msh" || is_exodus_file(file) || is_cgns_file(file) ||
+         is_fluent_case_file(file);
 }
 
 RawScalars parse_raw_scalars(const std::string& spec) {
@@ -285,6 +322,7 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
     if (files.size() > 1) throw UsageError("a CGNS file is converted on its own (it holds its time steps)");
     return std::make_unique<SolverFileSeries<CgnsFile>>(files, scalars, "CGNS");
   }
+  if (is_fluent_case_file(files.front())) return open_fluent_files(files, scalars);
   if (ext == ".msh" && files.size() == 1) return std::make_unique<SolverFileSeries<GmshFile>>(files, scalars, "Gmsh");
   if (ext == ".pvd" || ext == ".series") {
     if (files.size() > 1) throw UsageError("a .pvd collection or .series file is converted on its own");

@@ -1,0 +1,730 @@
+#include "volstream/io/fluent.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <optional>
+#include <string_view>
+
+#include "volstream/core/error.h"
+#include "volstream/io/binary_file.h"
+#include "volstream/io/byte_order.h"
+#include "volstream/umesh/polyhedra.h"
+
+namespace vs {
+namespace fs = std::filesystem;
+
+namespace {
+
+bool ends_with_lower(const fs::path& file, std::string_view suffix) {
+  return lower_case(file.filename().string()).ends_with(suffix);
+}
+
+// The file (its first max_bytes), through zlib's gz* calls for a .gz name (a gzip stream), else
+// read as it is.
+std::string read_whole_file(const fs::path& file, uint64_t max_bytes = UINT64_MAX) {
+  const uint64_t size = std::min(file_size_checked(file), max_bytes);
+  if (!ends_with_lower(file, ".gz")) {
+    std::string bytes(size, '\0');
+    read_exact(file, 0, bytes.data(), size);
+    return bytes;
+  }
+  gzFile gz = gzopen(file.string().c_str(), "rb");
+  if (!gz) input_error(file.string(), "cannot open the gzip stream");
+  std::string bytes;
+  char buffer[1 << 16];
+  int got = 0;
+  while (bytes.size() < max_bytes && (got = gzread(gz, buffer, sizeof buffer)) > 0) bytes.append(buffer, size_t(got));
+  int status = Z_OK;
+  const std::string message = gzerror(gz, &status);
+  gzclose(gz);
+  input_check(got == 0 && (status == Z_OK || status == Z_STREAM_END), file.string(),
+              "a damaged gzip stream (" + message + ")");
+  return bytes;
+}
+
+// Fluent's files are lists in parentheses: "(INDEX BODY...)", BODY holding a header list of
+// numbers and, for the mesh and data sections, a list of values, as text or as bytes (section
+// indices of four digits, 2xxx single and 3xxx double precision, end with "End of Binary Section
+// INDEX)"). A cursor over one file in memory; every failure names the file and the offset.
+class Cursor {
+ public:
+  Cursor(std::string bytes, std::string file) : s_(std::move(bytes)), file_(std::move(file)) {}
+
+  const std::string& file() const { return file_; }
+  uint64_t size() const { return s_.size(); }
+  uint64_t position() const { return pos_; }
+  [[noreturn]] void fail(const std::string& what) const {
+    input_error(file_, "offset " + std::to_string(pos_) + ": " + what);
+  }
+
+  void skip_space() {
+    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+  }
+  bool at_end() {
+    skip_space();
+    return pos_ >= s_.size();
+  }
+  bool peek(char c) {
+    skip_space();
+    return pos_ < s_.size() && s_[pos_] == c;
+  }
+  void expect(char c, const char* where) {
+    if (!peek(c)) fail(std::string("expected '") + c + "' " + where + (pos_ < s_.size() ? "" : " (the file ends)"));
+    ++pos_;
+  }
+
+  // A number as the format writes it: hexadecimal in the case file's headers and lists,
+  // decimal in section indices and in the data file's headers.
+  uint64_t number(int base, const char* what) {
+    skip_space();
+    const size_t begin = pos_;
+    uint64_t v = 0;
+    while (pos_ < s_.size()) {
+      const int d = digit(s_[pos_], base);
+      if (d < 0) break;
+      if (v > (uint64_t(1) << 48)) fail(std::string(what) + " is too large");
+      v = v * uint64_t(base) + uint64_t(d);
+      ++pos_;
+    }
+    if (pos_ == begin) fail(std::string("expected ") + what);
+    return v;
+  }
+  double real(const char* what) {
+    skip_space();
+    const size_t begin = pos_;
+    while (pos_ < s_.size() && !std::isspace(static_cast<unsigned char>(s_[pos_])) && s_[pos_] != '(' &&
+           s_[pos_] != ')')
+      ++pos_;
+    const std::string text = s_.substr(begin, pos_ - begin);
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size()) {
+      pos_ = begin;
+      fail(std::string("expected a number (") + what + ")");
+    }
+    return v;
+  }
+  // A word of a zone's name: up to a space or a parenthesis.
+  std::string word(const char* what) {
+    skip_space();
+    const size_t begin = pos_;
+    while (pos_ < s_.size() && !std::isspace(static_cast<unsigned char>(s_[pos_])) && s_[pos_] != '(' &&
+           s_[pos_] != ')')
+      ++pos_;
+    if (pos_ == begin) fail(std::string("expected ") + what);
+    return s_.substr(begin, pos_ - begin);
+  }
+
+  template <typename T>
+  T binary(const char* what) {
+    if (s_.size() - pos_ < sizeof(T)) fail(std::string("the file ends inside ") + what);
+    const T v = load_value<T>(s_.data() + pos_, false);  // Fluent writes little-endian on every machine we meet
+    pos_ += sizeof(T);
+    return v;
+  }
+  // InputError unless `count` items of at least `bytes_each` bytes fit in what is left: a count
+  // from a damaged file must not make us allocate what the file cannot hold.
+  void require_fits(uint64_t count, uint64_t bytes_each, const std::string& what) const {
+    if (count > (s_.size() - pos_) / std::max<uint64_t>(bytes_each, 1))
+      fail(what + ": " + std::to_string(count) + " cannot fit in the " + std::to_string(s_.size() - pos_) +
+           " bytes left");
+  }
+  void skip_bytes(uint64_t bytes, const char* what) {
+    if (s_.size() - pos_ < bytes) fail(std::string("the file ends inside ") + what);
+    pos_ += bytes;
+  }
+
+  // Past the ')' that closes a list whose '(' is behind us; strings in double quotes (the
+  // settings' values) may hold parentheses of their own.
+  void skip_list() {
+    int depth = 1;
+    while (pos_ < s_.size()) {
+      const char c = s_[pos_++];
+      if (c == '"')
+        skip_string();
+      else if (c == '(')
+        ++depth;
+      else if (c == ')' && --depth == 0)
+        return;
+    }
+    fail("unbalanced parentheses: a list is not closed before the end of the file");
+  }
+  // The end of a binary section: its values' ')', then "End of Binary Section INDEX)".
+  void end_binary_section(int index) {
+    expect(')', "after the binary values");
+    skip_space();
+    static constexpr std::string_view kEnd = "End of Binary Section";
+    if (std::string_view(s_).substr(pos_, kEnd.size()) != kEnd)
+      fail("expected \"End of Binary Section " + std::to_string(index) + ")\"");
+    pos_ += kEnd.size();
+    if (number(10, "the section index") != uint64_t(index))
+      fail("the binary section " + std::to_string(index) + " ends as another");
+    expect(')', "closing the binary section");
+  }
+  // Past the end of an unknown binary section, whose values' size we do not know: the first
+  // "End of Binary Section" (as VTK's reader finds it), then its ')'.
+  void skip_unknown_binary_section(int index) {
+    const size_t end = s_.find("End of Binary Section", pos_);
+    if (end == std::string::npos) fail("binary section " + std::to_string(index) + " has no end");
+    pos_ = end;
+    pos_ += std::strlen("End of Binary Section");
+    number(10, "the section index");
+    expect(')', "closing the binary section");
+  }
+  std::string_view rest() const { return std::string_view(s_).substr(pos_); }
+
+ private:
+  static int digit(char c, int base) {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (base == 16 && c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (base == 16 && c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+  }
+  void skip_string() {
+    while (pos_ < s_.size()) {
+      const char c = s_[pos_++];
+      if (c == '\\')
+        ++pos_;
+      else if (c == '"')
+        return;
+    }
+    fail("a string in double quotes is not closed before the end of the file");
+  }
+
+  std::string s_, file_;
+  uint64_t pos_ = 0;
+};
+
+bool is_binary_index(int index) { return index >= 1000; }
+bool is_double_index(int index) { return index / 1000 == 3; }
+
+// A section's header list "(a b c ...)" of hexadecimal (case file) or decimal (data file)
+// numbers, as many as it has.
+std::vector<uint64_t> header_numbers(Cursor& in, int base) {
+  in.expect('(', "opening the section's header");
+  std::vector<uint64_t> v;
+  while (!in.peek(')')) {
+    if (v.size() == 8) in.fail("a section header of more than 8 numbers");
+    v.push_back(in.number(base, "a header number"));
+  }
+  in.expect(')', "closing the section's header");
+  return v;
+}
+
+// Fluent's element types (section 12), as `info` names them.
+constexpr int kMixed = 0, kTriangle = 1, kQuad = 3, kPolyhedron = 7;
+const char* element_name(int type) {
+  static const char* const kNames[] = {"mixed", "triangle", "tet", "quad", "hex", "pyramid", "wedge", "polyhedron"};
+  return kNames[type];
+}
+
+struct Range {
+  uint64_t first = 0, last = 0;  // 1-based, inclusive
+  uint64_t count() const { return last - first + 1; }
+};
+
+struct CellZone {
+  uint64_t id = 0;
+  Range cells;
+};
+
+struct Face {
+  uint64_t c0 = 0, c1 = 0;  // 1-based cells; 0 where there is none (a boundary's outside)
+};
+
+// The mesh a case file describes.
+struct CaseMesh {
+  uint64_t node_count = 0, cell_count = 0, face_count = 0;  // as declared (zone 0)
+  bool nodes_declared = false, cells_declared = false;
+  std::vector<vec3d> nodes;
+  std::vector<Range> node_ranges;
+  std::vector<uint8_t> cell_types;  // Fluent's element type per cell (0: not in a zone yet)
+  std::vector<CellZone> cell_zones;
+  std::vector<Face> faces;
+  std::vector<uint64_t> face_offsets{0}, face_vertices;  // 0-based nodes
+  std::map<uint64_t, std::string> zone_names;
+};
+
+class CaseReader {
+ public:
+  explicit CaseReader(const fs::path& file) : in_(read_whole_file(file), file.string()) {}
+
+  CaseMesh read() {
+    while (!in_.at_end()) section();
+    check_complete();
+    return std::move(mesh_);
+  }
+
+ private:
+  void section() {
+    in_.expect('(', "opening a section");
+    const int index = int(in_.number(10, "a section index"));
+    switch (index % 1000) {
+      case 2:
+        return dimension();
+      case 10:
+        return nodes(index);
+      case 12:
+        return cells(index);
+      case 13:
+        return faces(index);
+      case 39:
+      case 45:
+        return zone_name(index);
+      case 58:
+      case 59:
+        in_.fail("section " + std::to_string(index) + " (" + (index % 1000 == 58 ? "cell" : "face") +
+                 " tree): meshes with hanging-node adaption are not read");
+      case 61:
+        in_.fail("section " + std::to_string(index) +
+                 " (interface face parents): non-conformal interfaces are not read");
+      default:
+        return skip(index);
+    }
+  }
+
+  void skip(int index) {
+    if (is_binary_index(index))
+      in_.skip_unknown_binary_section(index);
+    else
+      in_.skip_list();
+  }
+
+  void dimension() {
+    const uint64_t d = in_.number(10, "the dimension");
+    if (d != 3) in_.fail("a " + std::to_string(d) + "D case: only 3D cases are read");
+    in_.expect(')', "closing the dimension section");
+  }
+
+  // Declarations (zone 0) give the counts; a zone's range must lie inside them.
+  Range zone_range(const std::vector<uint64_t>& h, uint64_t declared, const char* what) {
+    const Range r{h[1], h[2]};
+    if (r.first < 1 || r.last < r.first || r.last > declared)
+      in_.fail(std::string(what) + " " + std::to_string(r.first) + ".." + std::to_string(r.last) +
+               " outside the declared 1.." + std::to_string(declared));
+    return r;
+  }
+  // A declared count must be one the file could describe (each item at least `bytes_each`
+  // bytes: a node's coordinates 6, "0 0 0\n").
+  uint64_t declared_count(uint64_t count, uint64_t bytes_each, const char* what) {
+    if (count > in_.size() / bytes_each)
+      in_.fail(std::string("declares ") + std::to_string(count) + " " + what + ", more than a file of " +
+               std::to_string(in_.size()) + " bytes holds");
+    return count;
+  }
+
+  void nodes(int index) {
+    const std::vector<uint64_t> h = header_numbers(in_, 16);
+    if (h.size() < 4) in_.fail("a node section header of fewer than 4 numbers");
+    if (h.size() >= 5 && h[4] != 3) in_.fail("nodes of dimension " + std::to_string(h[4]) + ": only 3D cases are read");
+    if (h[0] == 0) {
+      mesh_.node_count = declared_count(h[2], 6, "nodes");
+      mesh_.nodes_declared = true;
+      mesh_.nodes.assign(mesh_.node_count, vec3d{NAN, NAN, NAN});
+      return close_section(index);
+    }
+    if (!mesh_.nodes_declared) in_.fail("nodes before their count is declared (section 10, zone 0)");
+    const Range r = zone_range(h, mesh_.node_count, "nodes");
+    mesh_.node_ranges.push_back(r);
+    in_.expect('(', "opening the node coordinates");
+    for (uint64_t n = r.first - 1; n < r.last; ++n) mesh_.nodes[n] = node(index);
+    end_values(index);
+  }
+  vec3d node(int index) {
+    vec3d p;
+    for (int k = 0; k < 3; ++k) {
+      if (!is_binary_index(index))
+        p[k] = in_.real("a node coordinate");
+      else if (is_double_index(index))
+        p[k] = in_.binary<double>("the node coordinates");
+      else
+        p[k] = in_.binary<float>("the node coordinates");
+    }
+    return p;
+  }
+
+  void cells(int index) {
+    const std::vector<uint64_t> h = header_numbers(in_, 16);
+    if (h.size() < 4) in_.fail("a cell section header of fewer than 4 numbers");
+    if (h[0] == 0) {
+      mesh_.cell_count = declared_count(h[2], 1, "cells");
+      mesh_.cells_declared = true;
+      mesh_.cell_types.assign(mesh_.cell_count, 0);
+      return close_section(index);
+    }
+    if (!mesh_.cells_declared) in_.fail("cells before their count is declared (section 12, zone 0)");
+    if (h.size() < 5) in_.fail("a cell zone's header without its element type");
+    const Range r = zone_range(h, mesh_.cell_count, "cells");
+    mesh_.cell_zones.push_back({h[0], r});
+    const uint64_t type = h[4];
+    if (type != kMixed) {
+      for (uint64_t c = r.first - 1; c < r.last; ++c) set_cell_type(c, type);
+      return close_section(index);
+    }
+    in_.expect('(', "opening the cells' element types");
+    for (uint64_t c = r.first - 1; c < r.last; ++c)
+      set_cell_type(c, is_binary_index(index) ? uint64_t(in_.binary<uint32_t>("the element types"))
+                                              : in_.number(16, "an element type"));
+    end_values(index);
+  }
+  void set_cell_type(uint64_t cell, uint64_t type) {
+    if (type == kTriangle || type == kQuad)
+      in_.fail(std::string("a 2D cell (") + element_name(int(type)) + "): only 3D cases are read");
+    if (type == kMixed || type > kPolyhedron)
+      in_.fail("cell " + std::to_string(cell + 1) + " of unknown element type " + std::to_string(type));
+    if (mesh_.cell_types[cell] != 0) in_.fail("cell " + std::to_string(cell + 1) + " is in two cell zones");
+    mesh_.cell_types[cell] = uint8_t(type);
+  }
+
+  void faces(int index) {
+    const std::vector<uint64_t> h = header_numbers(in_, 16);
+    if (h.size() < 4) in_.fail("a face section header of fewer than 4 numbers");
+    if (h[0] == 0) {
+      mesh_.face_count = declared_count(h[2], 1, "faces");
+      return close_section(index);
+    }
+    if (!mesh_.nodes_declared || !mesh_.cells_declared) in_.fail("faces before the node and cell counts are declared");
+    if (h.size() < 5) in_.fail("a face zone's header without its face type");
+    const Range r = zone_range(h, mesh_.face_count, "faces");
+    const uint64_t type = h[4];
+    if (type == 2) in_.fail("line faces: only 3D cases are read");
+    if (type != 0 && type != 3 && type != 4 && type != 5) in_.fail("unknown face type " + std::to_string(type));
+    in_.expect('(', "opening the faces");
+    in_.require_fits(r.count(), is_binary_index(index) ? 20 : 10, "faces");
+    for (uint64_t f = r.first; f <= r.last; ++f) face(index, type, f);
+    end_values(index);
+  }
+  // A face's row: (for mixed and polygonal zones) its node count, its nodes, c0, c1.
+  void face(int index, uint64_t type, uint64_t id) {
+    const uint64_t nodes = (type == 0 || type == 5) ? value(index, "a face's node count") : type;
+    if (nodes < 3) in_.fail("face " + std::to_string(id) + " of " + std::to_string(nodes) + " nodes");
+    in_.require_fits(nodes, is_binary_index(index) ? 4 : 2, "face nodes");
+    for (uint64_t k = 0; k < nodes; ++k) {
+      const uint64_t n = value(index, "a face's node");
+      if (n < 1 || n > mesh_.node_count)
+        in_.fail("face " + std::to_string(id) + ": node " + std::to_string(n) + " out of range 1.." +
+                 std::to_string(mesh_.node_count));
+      mesh_.face_vertices.push_back(n - 1);
+    }
+    mesh_.face_offsets.push_back(mesh_.face_vertices.size());
+    Face f{value(index, "a face's c0 cell"), value(index, "a face's c1 cell")};
+    if (f.c0 > mesh_.cell_count || f.c1 > mesh_.cell_count || (f.c0 == 0 && f.c1 == 0))
+      in_.fail("face " + std::to_string(id) + ": cells " + std::to_string(f.c0) + ", " + std::to_string(f.c1) +
+               " out of range 1.." + std::to_string(mesh_.cell_count));
+    if (f.c0 == f.c1) in_.fail("face " + std::to_string(id) + " has cell " + std::to_string(f.c0) + " on both sides");
+    mesh_.faces.push_back(f);
+  }
+  uint64_t value(int index, const char* what) {
+    return is_binary_index(index) ? uint64_t(in_.binary<uint32_t>(what)) : in_.number(16, what);
+  }
+
+  // "(39 (ID TYPE NAME ...) ...)" and "(45 (ID TYPE NAME) ...)". The format's description does not
+  // say in which base these ids are written; Fluent's files read as decimal ones (zone 10 and up
+  // are "a" and up in the mesh sections' hexadecimal headers but "10" here).
+  void zone_name(int index) {
+    in_.expect('(', "opening a zone's name");
+    const uint64_t id = in_.number(10, "a zone id");
+    in_.word("a zone type");
+    mesh_.zone_names[id] = in_.word("a zone name");
+    in_.skip_list();
+    skip(index % 1000);  // the rest of the section: its settings
+  }
+
+  // A section with values: its values' ')' (binary: with its end line), then its own ')'.
+  void end_values(int index) {
+    if (is_binary_index(index)) return in_.end_binary_section(index);
+    in_.expect(')', "closing the values");
+    in_.expect(')', "closing the section");
+  }
+  void close_section(int index) {
+    if (is_binary_index(index)) in_.fail("a declaration (zone 0) in binary section " + std::to_string(index));
+    in_.expect(')', "closing the section");
+  }
+
+  // Every node has coordinates and every cell a zone, and there are faces enough for every cell
+  // to have four (which bounds what a data file's values may make us allocate).
+  void check_complete() {
+    if (!mesh_.nodes_declared || !mesh_.cells_declared || mesh_.faces.empty())
+      input_error(in_.file(), "no mesh: a case file declares its nodes, cells and faces (sections 10, 12, 13)");
+    if (mesh_.faces.size() * 2 < mesh_.cell_count * 4)
+      input_error(in_.file(), std::to_string(mesh_.cell_count) + " cells but only " +
+                                  std::to_string(mesh_.faces.size()) + " faces");
+    for (uint64_t n = 0; n < mesh_.node_count; ++n)
+      if (std::isnan(mesh_.nodes[n][0]))
+        input_error(in_.file(), "node " + std::to_string(n + 1) + " has no coordinates (in no node zone)");
+    for (uint64_t c = 0; c < mesh_.cell_count; ++c)
+      if (mesh_.cell_types[c] == 0) input_error(in_.file(), "cell " + std::to_string(c + 1) + " is in no cell zone");
+  }
+
+  Cursor in_;
+  CaseMesh mesh_;
+};
+
+// Each cell a polyhedron of the faces that name it (their c0 or c1), for split_polyhedra.
+PolyhedronFaces cell_faces(const CaseMesh& m) {
+  PolyhedronFaces p;
+  p.face_offsets = m.face_offsets;
+  p.face_vertices = m.face_vertices;
+  p.cell_face_offsets.assign(m.cell_count + 1, 0);
+  for (const Face& f : m.faces)
+    for (uint64_t c : {f.c0, f.c1})
+      if (c != 0) ++p.cell_face_offsets[c];
+  for (uint64_t c = 0; c < m.cell_count; ++c) p.cell_face_offsets[c + 1] += p.cell_face_offsets[c];
+  p.cell_faces.resize(p.cell_face_offsets.back());
+  std::vector<uint64_t> next(p.cell_face_offsets.begin(), p.cell_face_offsets.end() - 1);
+  for (uint64_t f = 0; f < m.faces.size(); ++f)
+    for (uint64_t c : {m.faces[f].c0, m.faces[f].c1})
+      if (c != 0) p.cell_faces[next[c - 1]++] = f;
+  return p;
+}
+
+MeshData unsplit_mesh(const CaseMesh& m) {
+  MeshData mesh;
+  mesh.points = m.nodes;
+  mesh.cell_types.assign(m.cell_count, kVtkPolyhedron);
+  mesh.cell_offsets.assign(m.cell_count + 1, 0);  // a polyhedron's vertices are its faces'
+  return mesh;
+}
+
+// Fluent's variable (SV_) ids of the fields solvers write most, as they are called here.
+std::string variable_name(uint64_t id) {
+  static const std::map<uint64_t, const char*> kNames = {{1, "pressure"},
+                                                         {2, "momentum"},
+                                                         {3, "temperature"},
+                                                         {4, "enthalpy"},
+                                                         {5, "k"},
+                                                         {6, "epsilon"},
+                                                         {7, "species"},
+                                                         {59, "mach"},
+                                                         {63, "omega"},
+                                                         {101, "density"},
+                                                         {102, "viscosity_laminar"},
+                                                         {103, "viscosity_turbulent"},
+                                                         {104, "cp"},
+                                                         {105, "thermal_conductivity"},
+                                                         {111, "x_velocity"},
+                                                         {112, "y_velocity"},
+                                                         {113, "z_velocity"},
+                                                         {150, "vof"},
+                                                         {192, "total_pressure"},
+                                                         {193, "total_temperature"},
+                                                         {500, "nut"}};
+  const auto it = kNames.find(id);
+  return it == kNames.end() ? "SV_" + std::to_string(id) : it->second;
+}
+constexpr uint64_t kSvU = 111, kSvV = 112, kSvW = 113;
+
+// One variable's values over the cells, as the data file's sections fill them.
+struct Variable {
+  int components = 0;
+  std::vector<double> values;
+  std::vector<bool> zones_read;  // per cell zone
+};
+
+class DataReader {
+ public:
+  DataReader(const fs::path& file, const CaseMesh& mesh) : in_(read_whole_file(file), file.string()), mesh_(mesh) {}
+
+  // The cell values by variable id; a variable without values on some cell zone is left out
+  // (its name goes to `left_out`).
+  std::map<uint64_t, Variable> read(std::vector<std::string>& left_out) {
+    while (!in_.at_end()) section();
+    if (variables_.empty())
+      input_error(in_.file(), "no cell values (no data section 300, 2300 or 3300 on a cell zone)");
+    for (auto it = variables_.begin(); it != variables_.end();) {
+      const bool whole =
+          std::all_of(it->second.zones_read.begin(), it->second.zones_read.end(), [](bool b) { return b; });
+      if (!whole) left_out.push_back(variable_name(it->first));
+      it = whole ? std::next(it) : variables_.erase(it);
+    }
+    return std::move(variables_);
+  }
+
+ private:
+  void section() {
+    in_.expect('(', "opening a section");
+    const int index = int(in_.number(10, "a section index"));
+    if (index == 300 || index == 2300 || index == 3300)
+      values(index);
+    else if (is_binary_index(index))
+      in_.skip_unknown_binary_section(index);
+    else
+      in_.skip_list();
+  }
+
+  // "(300 (SV ZONE SIZE TIME-LEVELS PHASES FIRST LAST)(values))": the header in decimal, as VTK's
+  // reader takes it (the format's description calls every header number hexadecimal; Fluent's
+  // data files hold decimal ones); SIZE values per cell or face of FIRST..LAST.
+  void values(int index) {
+    const std::vector<uint64_t> h = header_numbers(in_, 10);
+    if (h.size() != 7) in_.fail("a data section header of " + std::to_string(h.size()) + " numbers, not 7");
+    const uint64_t sv = h[0], zone = h[1], size = h[2];
+    const Range r{h[5], h[6]};
+    if (size < 1 || size > 64 || r.first < 1 || r.last < r.first)
+      in_.fail("data section of variable " + std::to_string(sv) + ": size " + std::to_string(size) + ", ids " +
+               std::to_string(r.first) + ".." + std::to_string(r.last));
+    const uint64_t bytes = is_binary_index(index) ? (is_double_index(index) ? 8 : 4) : 2;
+    in_.require_fits(r.count() * size, bytes, "data values");
+    in_.expect('(', "opening the values");
+    const auto z =
+        std::find_if(mesh_.cell_zones.begin(), mesh_.cell_zones.end(), [&](const CellZone& c) { return c.id == zone; });
+    if (z == mesh_.cell_zones.end())
+      skip_values(index, r.count() * size);  // a face zone's
+    else
+      read_cell_values(index, sv, int(size), *z, size_t(z - mesh_.cell_zones.begin()), r);
+    if (is_binary_index(index)) return in_.end_binary_section(index);
+    in_.expect(')', "closing the values");
+    in_.expect(')', "closing the section");
+  }
+  void skip_values(int index, uint64_t count) {
+    if (!is_binary_index(index))
+      for (uint64_t k = 0; k < count; ++k) in_.real("a value");
+    else
+      in_.skip_bytes(count * (is_double_index(index) ? 8 : 4), "the values");
+  }
+  void read_cell_values(int index, uint64_t sv, int size, const CellZone& zone, size_t zone_index, const Range& r) {
+    if (r.first < zone.cells.first || r.last > zone.cells.last)
+      in_.fail("values of cells " + std::to_string(r.first) + ".." + std::to_string(r.last) + " in cell zone " +
+               std::to_string(zone.id) + " of cells " + std::to_string(zone.cells.first) + ".." +
+               std::to_string(zone.cells.last));
+    Variable& v = variables_[sv];
+    if (v.components == 0) {
+      v.components = size;
+      v.values.assign(mesh_.cell_count * uint64_t(size), NAN);
+      v.zones_read.assign(mesh_.cell_zones.size(), false);
+    }
+    if (v.components != size)
+      in_.fail("variable " + std::to_string(sv) + " of both " + std::to_string(v.components) + " and " +
+               std::to_string(size) + " components");
+    for (uint64_t k = (r.first - 1) * uint64_t(size); k < r.last * uint64_t(size); ++k) v.values[k] = value(index);
+    if (r.first == zone.cells.first && r.last == zone.cells.last) v.zones_read[zone_index] = true;
+  }
+  double value(int index) {
+    if (!is_binary_index(index)) return in_.real("a value");
+    return is_double_index(index) ? in_.binary<double>("the values") : double(in_.binary<float>("the values"));
+  }
+
+  Cursor in_;
+  const CaseMesh& mesh_;
+  std::map<uint64_t, Variable> variables_;
+};
+
+// The cell arrays of a data file's variables: SV_U, SV_V, SV_W as one "velocity".
+std::vector<MeshArray> cell_arrays(std::map<uint64_t, Variable> variables) {
+  std::vector<MeshArray> arrays;
+  if (variables.count(kSvU) && variables.count(kSvV) && variables.count(kSvW)) {
+    const std::vector<double>*u = &variables[kSvU].values, *v = &variables[kSvV].values, *w = &variables[kSvW].values;
+    if (variables[kSvU].components == 1 && variables[kSvV].components == 1 && variables[kSvW].components == 1) {
+      MeshArray velocity{"velocity", 3, {}};
+      velocity.values.reserve(u->size() * 3);
+      for (size_t c = 0; c < u->size(); ++c) velocity.values.insert(velocity.values.end(), {(*u)[c], (*v)[c], (*w)[c]});
+      arrays.push_back(std::move(velocity));
+      for (uint64_t id : {kSvU, kSvV, kSvW}) variables.erase(id);
+    }
+  }
+  for (auto& [id, v] : variables) arrays.push_back({variable_name(id), v.components, std::move(v.values)});
+  return arrays;
+}
+
+// The "(flow-time T)" among a data file's settings (section 37), looked for in its first MiB
+// (the settings come before the values); VTK's reader reads no time.
+std::optional<double> flow_time(const fs::path& file) {
+  const std::string text = read_whole_file(file, 1 << 20);
+  const size_t at = text.find("(flow-time ");
+  if (at == std::string::npos) return std::nullopt;
+  char* end = nullptr;
+  const double t = std::strtod(text.c_str() + at + std::strlen("(flow-time "), &end);
+  if (end == text.c_str() + at + std::strlen("(flow-time ") || !std::isfinite(t)) return std::nullopt;
+  return t;
+}
+
+std::string case_stem(const fs::path& case_file) {
+  std::string name = case_file.filename().string();
+  name.erase(name.size() - (ends_with_lower(case_file, ".gz") ? 7 : 4));  // ".cas.gz" or ".cas"
+  return name;
+}
+
+}  // namespace
+
+bool is_fluent_case_file(const fs::path& file) {
+  return ends_with_lower(file, ".cas") || ends_with_lower(file, ".cas.gz");
+}
+bool is_fluent_data_file(const fs::path& file) {
+  return ends_with_lower(file, ".dat") || ends_with_lower(file, ".dat.gz");
+}
+
+struct FluentFile::Impl {
+  fs::path case_file;
+  std::vector<fs::path> data_files;
+  CaseMesh mesh;
+  std::vector<double> times;
+  std::vector<std::string> left_out;  // of the last step read
+
+  void find_data_file() {
+    for (const char* ext : {".dat", ".dat.gz"}) {
+      const fs::path candidate = case_file.parent_path() / (case_stem(case_file) + ext);
+      if (fs::exists(candidate)) return data_files.push_back(candidate);
+    }
+  }
+  void read_times() {
+    std::vector<std::optional<double>> found;
+    for (const fs::path& f : data_files) found.push_back(flow_time(f));
+    const bool all = !found.empty() && std::all_of(found.begin(), found.end(), [](auto& t) { return t.has_value(); });
+    for (size_t s = 0; s < std::max<size_t>(data_files.size(), 1); ++s) times.push_back(all ? *found[s] : double(s));
+  }
+};
+
+FluentFile::FluentFile(const fs::path& case_file, std::vector<fs::path> data_files) : impl_(std::make_unique<Impl>()) {
+  impl_->case_file = case_file;
+  impl_->data_files = std::move(data_files);
+  impl_->mesh = CaseReader(case_file).read();
+  if (impl_->data_files.empty()) impl_->find_data_file();
+  impl_->read_times();
+}
+FluentFile::~FluentFile() = default;
+
+size_t FluentFile::step_count() const { return impl_->times.size(); }
+double FluentFile::step_time(size_t step) const { return impl_->times.at(step); }
+fs::path FluentFile::step_file(size_t step) const {
+  return impl_->data_files.empty() ? impl_->case_file : impl_->data_files.at(step);
+}
+
+MeshData FluentFile::read_step(size_t step) {
+  const std::string file = impl_->case_file.string();
+  input_check(step < step_count(), file, "no time step " + std::to_string(step));
+  MeshData m = unsplit_mesh(impl_->mesh);
+  if (!impl_->data_files.empty()) {
+    impl_->left_out.clear();
+    m.cell_data = cell_arrays(DataReader(impl_->data_files[step], impl_->mesh).read(impl_->left_out));
+  }
+  split_polyhedra(m, cell_faces(impl_->mesh), file);
+  check_mesh(m, file);
+  return m;
+}
+
+std::string FluentFile::summary() const {
+  const CaseMesh& m = impl_->mesh;
+  std::string s = std::to_string(m.cell_zones.size()) + (m.cell_zones.size() == 1 ? " cell zone (" : " cell zones (");
+  for (size_t z = 0; z < m.cell_zones.size(); ++z) {
+    const auto name = m.zone_names.find(m.cell_zones[z].id);
+    s += (z ? ", " : "") + (name != m.zone_names.end() ? name->second : std::to_string(m.cell_zones[z].id));
+  }
+  std::map<std::string, uint64_t> counts;
+  for (uint8_t t : m.cell_types) ++counts[element_name(t)];
+  const char* sep = "): ";
+  for (const auto& [type, n] : counts) {
+    s += sep + type + " x " + std::to_string(n);
+    sep = ", ";
+  }
+  if (!impl_->left_out.empty()) {
+    s += "; left out (not on every cell zone):";
+    for (const std::string& name : impl_->left_out) s += " " + name;
+  }
+  return s;
+}
+
+}  // namespace vs

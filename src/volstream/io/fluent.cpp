@@ -661,6 +661,8 @@ struct FluentFile::Impl {
   fs::path case_file;
   std::vector<fs::path> data_files;
   CaseMesh mesh;
+  PolyhedronFaces faces;      // each cell's, from the mesh's faces
+  SplitMemo polyhedra_split;  // the last step's, for the next
   std::vector<double> times;
   std::vector<std::string> left_out;  // of the last step read
 
@@ -682,6 +684,7 @@ FluentFile::FluentFile(const fs::path& case_file, std::vector<fs::path> data_fil
   impl_->case_file = case_file;
   impl_->data_files = std::move(data_files);
   impl_->mesh = CaseReader(case_file).read();
+  impl_->faces = cell_faces(impl_->mesh);
   if (impl_->data_files.empty()) impl_->find_data_file();
   impl_->read_times();
 }
@@ -701,7 +704,7 @@ MeshData FluentFile::read_step(size_t step) {
     impl_->left_out.clear();
     m.cell_data = cell_arrays(DataReader(impl_->data_files[step], impl_->mesh).read(impl_->left_out));
   }
-  split_polyhedra(m, cell_faces(impl_->mesh), file);
+  split_polyhedra(m, impl_->faces, file, &impl_->polyhedra_split);
   check_mesh(m, file);
   return m;
 }

@@ -572,6 +572,7 @@ struct GmshFile::Impl {
   std::string file;
   GmshContents contents;
   std::vector<std::pair<int64_t, double>> steps;  // the views' step indices, sorted, and times
+  mutable SplitMemo quadratic_split;              // the last step's, for the next
 
   // Every node of a volume element and every volume element must have a value in each step of
   // each view (a file may hold values of other nodes and elements too).
@@ -633,7 +634,7 @@ MeshData GmshFile::read_step(size_t step) const {
   for (const View& v : c.views)
     if (const ViewStep* s = Impl::at_step(v, impl_->steps.at(step).first))
       (v.cells ? m.cell_data : m.point_data).push_back({v.name, v.components, s->values});
-  split_quadratic_cells(m, impl_->file);
+  split_quadratic_cells(m, impl_->file, &impl_->quadratic_split);
   check_mesh(m, impl_->file);
   return m;
 }

@@ -613,18 +613,22 @@ class DataReader {
   std::map<uint64_t, Variable> variables_;
 };
 
-// The cell arrays of a data file's variables: SV_U, SV_V, SV_W as one "velocity".
+bool is_scalar(const std::map<uint64_t, Variable>& variables, uint64_t id) {
+  const auto it = variables.find(id);
+  return it != variables.end() && it->second.components == 1;
+}
+
+// The cell arrays of a data file's variables: SV_U, SV_V, SV_W (scalars all three) as one
+// vector "velocity", as ParaView users know it; the others by variable_name().
 std::vector<MeshArray> cell_arrays(std::map<uint64_t, Variable> variables) {
   std::vector<MeshArray> arrays;
-  if (variables.count(kSvU) && variables.count(kSvV) && variables.count(kSvW)) {
-    const std::vector<double>*u = &variables[kSvU].values, *v = &variables[kSvV].values, *w = &variables[kSvW].values;
-    if (variables[kSvU].components == 1 && variables[kSvV].components == 1 && variables[kSvW].components == 1) {
-      MeshArray velocity{"velocity", 3, {}};
-      velocity.values.reserve(u->size() * 3);
-      for (size_t c = 0; c < u->size(); ++c) velocity.values.insert(velocity.values.end(), {(*u)[c], (*v)[c], (*w)[c]});
-      arrays.push_back(std::move(velocity));
-      for (uint64_t id : {kSvU, kSvV, kSvW}) variables.erase(id);
-    }
+  if (is_scalar(variables, kSvU) && is_scalar(variables, kSvV) && is_scalar(variables, kSvW)) {
+    const std::vector<double>&u = variables[kSvU].values, &v = variables[kSvV].values, &w = variables[kSvW].values;
+    MeshArray velocity{"velocity", 3, {}};
+    velocity.values.reserve(u.size() * 3);
+    for (size_t c = 0; c < u.size(); ++c) velocity.values.insert(velocity.values.end(), {u[c], v[c], w[c]});
+    arrays.push_back(std::move(velocity));
+    for (uint64_t id : {kSvU, kSvV, kSvW}) variables.erase(id);
   }
   for (auto& [id, v] : variables) arrays.push_back({variable_name(id), v.components, std::move(v.values)});
   return arrays;

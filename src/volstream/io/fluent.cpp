@@ -241,7 +241,6 @@ struct CaseMesh {
   uint64_t node_count = 0, cell_count = 0, face_count = 0;  // as declared (zone 0)
   bool nodes_declared = false, cells_declared = false;
   std::vector<vec3d> nodes;
-  std::vector<Range> node_ranges;
   std::vector<uint8_t> cell_types;  // Fluent's element type per cell (0: not in a zone yet)
   std::vector<CellZone> cell_zones;
   std::vector<Face> faces;
@@ -329,7 +328,6 @@ class CaseReader {
     }
     if (!mesh_.nodes_declared) in_.fail("nodes before their count is declared (section 10, zone 0)");
     const Range r = zone_range(h, mesh_.node_count, "nodes");
-    mesh_.node_ranges.push_back(r);
     in_.expect('(', "opening the node coordinates");
     for (uint64_t n = r.first - 1; n < r.last; ++n) mesh_.nodes[n] = node(index);
     end_values(index);

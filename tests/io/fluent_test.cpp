@@ -206,5 +206,22 @@ TEST_F(EditedFluent, DataOutsideItsZone) {
   EXPECT_NE(error().find("in cell zone 2"), std::string::npos) << error();
 }
 
+// A solid zone without velocity (as Fluent writes a conjugate heat transfer case): the vector is
+// left out, and the summary says so; the other fields are read.
+TEST_F(EditedFluent, VariableMissingOnAZoneIsLeftOut) {
+  std::string t = slurp(dir_ / "fluent_mixed.dat");
+  const size_t at = t.find("(300 (111 3 1 0 0 57 120)(");
+  ASSERT_NE(at, std::string::npos);
+  t.erase(at, t.find("))\n", at) + 3 - at);
+  spit(dir_ / "fluent_mixed.dat", t);
+  FluentFile fluent(dir_ / "fluent_mixed.cas");
+  const MeshData m = fluent.read_step(0);
+  EXPECT_EQ(m.cell_data.size(), 4u);  // pressure, temperature, y_velocity, z_velocity
+  EXPECT_THROW(test::array_named(m.cell_data, "velocity"), std::runtime_error);
+  EXPECT_EQ(test::array_named(m.cell_data, "y_velocity").values.size(), 120u);
+  EXPECT_NE(fluent.summary().find("left out (not on every cell zone): x_velocity"), std::string::npos)
+      << fluent.summary();
+}
+
 }  // namespace
 }  // namespace vs

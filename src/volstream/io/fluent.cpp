@@ -241,7 +241,6 @@ struct CaseMesh {
   uint64_t node_count = 0, cell_count = 0, face_count = 0;  // as declared (zone 0)
   bool nodes_declared = false, cells_declared = false;
   std::vector<vec3d> nodes;
-  std::vector<Range> node_ranges;
   std::vector<uint8_t> cell_types;  // Fluent's element type per cell (0: not in a zone yet)
   std::vector<CellZone> cell_zones;
   std::vector<Face> faces;
@@ -329,7 +328,6 @@ class CaseReader {
     }
     if (!mesh_.nodes_declared) in_.fail("nodes before their count is declared (section 10, zone 0)");
     const Range r = zone_range(h, mesh_.node_count, "nodes");
-    mesh_.node_ranges.push_back(r);
     in_.expect('(', "opening the node coordinates");
     for (uint64_t n = r.first - 1; n < r.last; ++n) mesh_.nodes[n] = node(index);
     end_values(index);
@@ -613,18 +611,22 @@ class DataReader {
   std::map<uint64_t, Variable> variables_;
 };
 
-// The cell arrays of a data file's variables: SV_U, SV_V, SV_W as one "velocity".
+bool is_scalar(const std::map<uint64_t, Variable>& variables, uint64_t id) {
+  const auto it = variables.find(id);
+  return it != variables.end() && it->second.components == 1;
+}
+
+// The cell arrays of a data file's variables: SV_U, SV_V, SV_W (scalars all three) as one
+// vector "velocity", as ParaView users know it; the others by variable_name().
 std::vector<MeshArray> cell_arrays(std::map<uint64_t, Variable> variables) {
   std::vector<MeshArray> arrays;
-  if (variables.count(kSvU) && variables.count(kSvV) && variables.count(kSvW)) {
-    const std::vector<double>*u = &variables[kSvU].values, *v = &variables[kSvV].values, *w = &variables[kSvW].values;
-    if (variables[kSvU].components == 1 && variables[kSvV].components == 1 && variables[kSvW].components == 1) {
-      MeshArray velocity{"velocity", 3, {}};
-      velocity.values.reserve(u->size() * 3);
-      for (size_t c = 0; c < u->size(); ++c) velocity.values.insert(velocity.values.end(), {(*u)[c], (*v)[c], (*w)[c]});
-      arrays.push_back(std::move(velocity));
-      for (uint64_t id : {kSvU, kSvV, kSvW}) variables.erase(id);
-    }
+  if (is_scalar(variables, kSvU) && is_scalar(variables, kSvV) && is_scalar(variables, kSvW)) {
+    const std::vector<double>&u = variables[kSvU].values, &v = variables[kSvV].values, &w = variables[kSvW].values;
+    MeshArray velocity{"velocity", 3, {}};
+    velocity.values.reserve(u.size() * 3);
+    for (size_t c = 0; c < u.size(); ++c) velocity.values.insert(velocity.values.end(), {u[c], v[c], w[c]});
+    arrays.push_back(std::move(velocity));
+    for (uint64_t id : {kSvU, kSvV, kSvW}) variables.erase(id);
   }
   for (auto& [id, v] : variables) arrays.push_back({variable_name(id), v.components, std::move(v.values)});
   return arrays;

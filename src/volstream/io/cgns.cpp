@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <span>
 
@@ -110,6 +111,7 @@ struct CgnsFile::Impl {
     Range vertices, cells;
     MeshData topology;                          // the zone's points and kept cells, VTK order; no data
     std::vector<cgsize_t> cell_number;          // unstructured: each kept cell's element number
+    std::vector<size_t> cell_value_index;       // and where its CellCenter value is (per_kept_cell)
     PolyhedronFaces faces;                      // the faces of its NFACE_n cells (kVtkPolyhedron)
     std::vector<FaceSection> face_sections;     // where faces.face_offsets has each NGON_n section
     mutable SplitMemo polyhedra_split;          // the last step's, for the next
@@ -243,6 +245,16 @@ struct CgnsFile::Impl {
                     ": NGON_n faces without an NFACE_n section (cells given only by the faces' "
                     "ParentElements are not read)");
     input_check(zone.topology.cell_count() > 0, file, "zone " + zone.name + ": no volume elements");
+    zone.cell_value_index = ranks(zone.cell_number);
+  }
+
+  // Each number's place among them in increasing order.
+  static std::vector<size_t> ranks(const std::vector<cgsize_t>& numbers) {
+    std::vector<size_t> order(numbers.size()), rank(numbers.size());
+    std::iota(order.begin(), order.end(), size_t(0));
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return numbers[a] < numbers[b]; });
+    for (size_t r = 0; r < order.size(); ++r) rank[order[r]] = r;
+    return rank;
   }
 
   // Section s's elements, if it holds faces (NGON_n) and `faces` is set, or holds others and it
@@ -495,15 +507,12 @@ struct CgnsFile::Impl {
   std::vector<double> per_kept_cell(const Zone& zone, bool at_cells, std::vector<double> v,
                                     const std::string& where) const {
     if (!at_cells || zone.structured) return v;
-    std::vector<cgsize_t> numbers = zone.cell_number;
-    std::sort(numbers.begin(), numbers.end());
-    input_check(numbers.size() == v.size(), file,
-                where + ": " + std::to_string(v.size()) + " cell values for " + std::to_string(numbers.size()) +
-                    " volume elements");
+    input_check(zone.cell_value_index.size() == v.size(), file,
+                where + ": " + std::to_string(v.size()) + " cell values for " +
+                    std::to_string(zone.cell_value_index.size()) + " volume elements");
     std::vector<double> out;
-    out.reserve(numbers.size());
-    for (cgsize_t n : zone.cell_number)
-      out.push_back(v[size_t(std::lower_bound(numbers.begin(), numbers.end(), n) - numbers.begin())]);
+    out.reserve(v.size());
+    for (size_t i : zone.cell_value_index) out.push_back(v[i]);
     return out;
   }
 

@@ -98,12 +98,11 @@ bool same_topology(const MeshData& a, const MeshData& b) {
 bool SplitMemo::reuse(MeshData& m, std::initializer_list<std::span<const uint64_t>> key,
                       const std::string& file) const {
   if (!remembered_ || key.size() != key_.size() || !same_topology(m, source_)) return false;
-  size_t i = 0;
-  for (std::span<const uint64_t> k : key)
-    if (!std::equal(k.begin(), k.end(), key_[i].begin(), key_[i].end()))
-      return false;
-    else
-      ++i;
+  auto remembered = key_.begin();
+  for (std::span<const uint64_t> k : key) {
+    if (!std::equal(k.begin(), k.end(), remembered->begin(), remembered->end())) return false;
+    ++remembered;
+  }
   check_rebuild_input(m, "a step split as the one before", file);
   m.points = split_points_;
   rebuild_.finish(m);

@@ -3,6 +3,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -12,6 +13,7 @@
 #include "volstream/core/error.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/io/byte_order.h"
+#include "volstream/io/parse_cursor.h"
 #include "volstream/umesh/polyhedra.h"
 
 namespace vs {
@@ -49,101 +51,74 @@ std::string read_whole_file(const fs::path& file, uint64_t max_bytes = UINT64_MA
 // Fluent's files are lists in parentheses: "(INDEX BODY...)", BODY holding a header list of
 // numbers and, for the mesh and data sections, a list of values, as text or as bytes (section
 // indices of four digits, 2xxx single and 3xxx double precision, end with "End of Binary Section
-// INDEX)"). A cursor over one file in memory; every failure names the file and the offset.
-class Cursor {
+// INDEX)"). ParseCursor's binary reads and size checks, with the list syntax on top: tokens end
+// at parentheses as well as at spaces. Syntax failures name the offset.
+class Cursor : public ParseCursor {
  public:
-  Cursor(std::string bytes, std::string file) : s_(std::move(bytes)), file_(std::move(file)) {}
+  using ParseCursor::ParseCursor;
 
-  const std::string& file() const { return file_; }
-  uint64_t size() const { return s_.size(); }
-  uint64_t position() const { return pos_; }
   [[noreturn]] void fail(const std::string& what) const {
-    input_error(file_, "offset " + std::to_string(pos_) + ": " + what);
+    ParseCursor::fail("offset " + std::to_string(position()) + ": " + what);
   }
 
-  void skip_space() {
-    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
-  }
   bool at_end() {
     skip_space();
-    return pos_ >= s_.size();
+    return remaining() == 0;
   }
   bool peek(char c) {
     skip_space();
-    return pos_ < s_.size() && s_[pos_] == c;
+    return !rest().empty() && rest().front() == c;
   }
   void expect(char c, const char* where) {
-    if (!peek(c)) fail(std::string("expected '") + c + "' " + where + (pos_ < s_.size() ? "" : " (the file ends)"));
-    ++pos_;
+    if (!peek(c)) fail(std::string("expected '") + c + "' " + where + (remaining() ? "" : " (the file ends)"));
+    seek(position() + 1);
   }
 
   // A number as the format writes it: hexadecimal in the case file's headers and lists,
   // decimal in section indices and in the data file's headers.
   uint64_t number(int base, const char* what) {
     skip_space();
-    const size_t begin = pos_;
+    const std::string_view r = rest();
+    size_t n = 0;
     uint64_t v = 0;
-    while (pos_ < s_.size()) {
-      const int d = digit(s_[pos_], base);
-      if (d < 0) break;
+    for (int d; n < r.size() && (d = digit(r[n], base)) >= 0; ++n) {
       if (v > (uint64_t(1) << 48)) fail(std::string(what) + " is too large");
       v = v * uint64_t(base) + uint64_t(d);
-      ++pos_;
     }
-    if (pos_ == begin) fail(std::string("expected ") + what);
+    if (n == 0) fail(std::string("expected ") + what);
+    seek(position() + n);
     return v;
   }
   double real(const char* what) {
-    skip_space();
-    const size_t begin = pos_;
-    while (pos_ < s_.size() && !std::isspace(static_cast<unsigned char>(s_[pos_])) && s_[pos_] != '(' &&
-           s_[pos_] != ')')
-      ++pos_;
-    const std::string text = s_.substr(begin, pos_ - begin);
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size()) {
-      pos_ = begin;
+    const std::string_view text = token();
+    double v = 0;
+    const char* first = text.data() + (text.size() > 1 && text[0] == '+' ? 1 : 0);
+    const auto [end, ec] = std::from_chars(first, text.data() + text.size(), v);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size()) {
+      seek(position() - text.size());
       fail(std::string("expected a number (") + what + ")");
     }
     return v;
   }
   // A word of a zone's name: up to a space or a parenthesis.
   std::string word(const char* what) {
-    skip_space();
-    const size_t begin = pos_;
-    while (pos_ < s_.size() && !std::isspace(static_cast<unsigned char>(s_[pos_])) && s_[pos_] != '(' &&
-           s_[pos_] != ')')
-      ++pos_;
-    if (pos_ == begin) fail(std::string("expected ") + what);
-    return s_.substr(begin, pos_ - begin);
+    const std::string_view w = token();
+    if (w.empty()) fail(std::string("expected ") + what);
+    return std::string(w);
   }
 
   template <typename T>
   T binary(const char* what) {
-    if (s_.size() - pos_ < sizeof(T)) fail(std::string("the file ends inside ") + what);
-    const T v = load_value<T>(s_.data() + pos_, false);  // Fluent writes little-endian on every machine we meet
-    pos_ += sizeof(T);
-    return v;
+    return ParseCursor::binary<T>(false, what);  // Fluent writes little-endian on every machine we meet
   }
-  // InputError unless `count` items of at least `bytes_each` bytes fit in what is left: a count
-  // from a damaged file must not make us allocate what the file cannot hold.
-  void require_fits(uint64_t count, uint64_t bytes_each, const std::string& what) const {
-    if (count > (s_.size() - pos_) / std::max<uint64_t>(bytes_each, 1))
-      fail(what + ": " + std::to_string(count) + " cannot fit in the " + std::to_string(s_.size() - pos_) +
-           " bytes left");
-  }
-  void skip_bytes(uint64_t bytes, const char* what) {
-    if (s_.size() - pos_ < bytes) fail(std::string("the file ends inside ") + what);
-    pos_ += bytes;
-  }
+  void skip_bytes(uint64_t bytes, const char* what) { take(bytes, what); }
 
   // Past the ')' that closes a list whose '(' is behind us; strings in double quotes (the
   // settings' values) may hold parentheses of their own.
   void skip_list() {
     int depth = 1;
-    while (pos_ < s_.size()) {
-      const char c = s_[pos_++];
+    while (remaining()) {
+      const char c = next_char();
       if (c == '"')
         skip_string();
       else if (c == '(')
@@ -157,10 +132,8 @@ class Cursor {
   void end_binary_section(int index) {
     expect(')', "after the binary values");
     skip_space();
-    static constexpr std::string_view kEnd = "End of Binary Section";
-    if (std::string_view(s_).substr(pos_, kEnd.size()) != kEnd)
-      fail("expected \"End of Binary Section " + std::to_string(index) + ")\"");
-    pos_ += kEnd.size();
+    if (!rest().starts_with(kEndOfBinary)) fail("expected \"End of Binary Section " + std::to_string(index) + ")\"");
+    seek(position() + kEndOfBinary.size());
     if (number(10, "the section index") != uint64_t(index))
       fail("the binary section " + std::to_string(index) + " ends as another");
     expect(')', "closing the binary section");
@@ -168,35 +141,44 @@ class Cursor {
   // Past the end of an unknown binary section, whose values' size we do not know: the first
   // "End of Binary Section" (as VTK's reader finds it), then its ')'.
   void skip_unknown_binary_section(int index) {
-    const size_t end = s_.find("End of Binary Section", pos_);
-    if (end == std::string::npos) fail("binary section " + std::to_string(index) + " has no end");
-    pos_ = end;
-    pos_ += std::strlen("End of Binary Section");
+    if (!skip_past(kEndOfBinary)) fail("binary section " + std::to_string(index) + " has no end");
     number(10, "the section index");
     expect(')', "closing the binary section");
   }
-  std::string_view rest() const { return std::string_view(s_).substr(pos_); }
 
  private:
+  static constexpr std::string_view kEndOfBinary = "End of Binary Section";
+
   static int digit(char c, int base) {
     if (c >= '0' && c <= '9') return c - '0';
     if (base == 16 && c >= 'a' && c <= 'f') return c - 'a' + 10;
     if (base == 16 && c >= 'A' && c <= 'F') return c - 'A' + 10;
     return -1;
   }
+  char next_char() {
+    const char c = rest().front();
+    seek(position() + 1);
+    return c;
+  }
+  // Up to a space or a parenthesis (empty at either, or at the end).
+  std::string_view token() {
+    skip_space();
+    const std::string_view r = rest();
+    size_t n = 0;
+    while (n < r.size() && !std::isspace(static_cast<unsigned char>(r[n])) && r[n] != '(' && r[n] != ')') ++n;
+    seek(position() + n);
+    return r.substr(0, n);
+  }
   void skip_string() {
-    while (pos_ < s_.size()) {
-      const char c = s_[pos_++];
-      if (c == '\\')
-        ++pos_;
+    while (remaining()) {
+      const char c = next_char();
+      if (c == '\\' && remaining())
+        next_char();
       else if (c == '"')
         return;
     }
     fail("a string in double quotes is not closed before the end of the file");
   }
-
-  std::string s_, file_;
-  uint64_t pos_ = 0;
 };
 
 bool is_binary_index(int index) { return index >= 1000; }

@@ -19,12 +19,15 @@ class ParseCursor {
   ParseCursor(std::string data, std::string file) : data_(std::move(data)), file_(std::move(file)) {}
 
   const std::string& file() const { return file_; }
+  uint64_t size() const { return data_.size(); }
   uint64_t remaining() const { return data_.size() - pos_; }
   uint64_t position() const { return pos_; }
+  std::string_view rest() const { return std::string_view(data_).substr(pos_); }  // for parsers of their own
   void seek(uint64_t pos) { pos_ = pos; }
   [[noreturn]] void fail(const std::string& what) const;
 
   // Text. `what` names the expected item in the error ("point count", "keyword").
+  void skip_space();
   std::optional<std::string_view> try_word();
   std::string_view word(const char* what);
   std::string_view line();  // the rest of the current line, without its end; moves past it
@@ -48,7 +51,6 @@ class ParseCursor {
   void require_fits(uint64_t count, uint64_t min_bytes_each, const std::string& what) const;
 
  private:
-  void skip_space();
   std::string data_;
   std::string file_;
   uint64_t pos_ = 0;

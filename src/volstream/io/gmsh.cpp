@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -142,7 +143,7 @@ struct GmshContents {
   MeshData cells;  // connectivity, types and offsets only
   std::vector<uint64_t> node_tags, element_tags;
   TagIndex elements;
-  std::map<std::string, uint64_t> kind_counts;  // "tet4" -> elements read
+  std::map<std::string_view, uint64_t> kind_counts;  // "tet4" -> elements read (no string made per element)
   std::vector<View> views;
   std::vector<std::string> left_out;  // for summary()
 };
@@ -644,7 +645,7 @@ std::string GmshFile::summary() const {
   std::string s = c.format + ":";
   bool first = true;
   for (const auto& [kind, n] : c.kind_counts) {
-    s += std::string(first ? " " : ", ") + kind + " x " + std::to_string(n);
+    s.append(first ? " " : ", ").append(kind).append(" x " + std::to_string(n));
     first = false;
   }
   for (const std::string& note : c.left_out) s += "; " + note;

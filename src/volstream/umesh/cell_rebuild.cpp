@@ -59,11 +59,7 @@ void CellRebuild::add_point_data(MeshData& m) const {
   }
 }
 
-void CellRebuild::finish(MeshData& m) const {
-  m.cell_types = types_;
-  m.cell_offsets = offsets_;
-  m.connectivity = connectivity_;
-  add_point_data(m);
+void CellRebuild::gather_cell_data(MeshData& m) const {
   for (MeshArray& a : m.cell_data) {
     const auto components = size_t(a.components);
     std::vector<double> values;
@@ -73,6 +69,22 @@ void CellRebuild::finish(MeshData& m) const {
                     a.values.begin() + int64_t((c + 1) * components));
     a.values = std::move(values);
   }
+}
+
+void CellRebuild::finish(MeshData& m) const& {
+  m.cell_types = types_;
+  m.cell_offsets = offsets_;
+  m.connectivity = connectivity_;
+  add_point_data(m);
+  gather_cell_data(m);
+}
+
+void CellRebuild::finish(MeshData& m) && {
+  m.cell_types = std::move(types_);
+  m.cell_offsets = std::move(offsets_);
+  m.connectivity = std::move(connectivity_);
+  add_point_data(m);
+  gather_cell_data(m);
 }
 
 namespace {

@@ -28,10 +28,12 @@ class CellRebuild {
   uint64_t add_point(MeshData& mesh, std::span<const uint64_t> vertices, std::span<const double> weights);
   void add(uint8_t type, std::span<const uint64_t> vertices, uint64_t from_cell);
   void keep(const MeshData& mesh, uint64_t cell);  // cell as it is
-  void finish(MeshData& mesh) const;
+  void finish(MeshData& mesh) const&;              // the rebuild kept (for a SplitMemo)
+  void finish(MeshData& mesh) &&;                  // its cells moved into the mesh
 
  private:
   void add_point_data(MeshData& mesh) const;
+  void gather_cell_data(MeshData& mesh) const;
 
   std::vector<uint8_t> types_;
   std::vector<uint64_t> offsets_{0}, connectivity_, source_;

@@ -78,7 +78,7 @@ bool drop_ghost_cells(MeshData& m) {
   CellRebuild cells;
   for (size_t c = 0; c < keep.size(); ++c)
     if (keep[c]) cells.keep(m, c);
-  cells.finish(m);
+  std::move(cells).finish(m);
   return true;
 }
 

@@ -330,8 +330,9 @@ void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::strin
     }
     for (const Piece& p : splitter.split(c)) cells.add(uint8_t(type_of(p)), std::span(p.v.data(), size_t(p.count)), c);
   }
+  if (!memo) return std::move(cells).finish(m);
   cells.finish(m);
-  if (memo) memo->split_ends(std::move(cells), m.points);
+  memo->split_ends(std::move(cells), m.points);
 }
 
 }  // namespace vs

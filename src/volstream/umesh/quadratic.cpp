@@ -428,8 +428,9 @@ void split_quadratic_cells(MeshData& m, const std::string& file, SplitMemo* memo
       splitter.split(c);
     else
       cells.keep(m, c);
+  if (!memo) return std::move(cells).finish(m);
   cells.finish(m);
-  if (memo) memo->split_ends(std::move(cells), m.points);
+  memo->split_ends(std::move(cells), m.points);
 }
 
 }  // namespace vs

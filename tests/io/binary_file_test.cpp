@@ -1,7 +1,9 @@
 // Records read and mapped (io/binary_file.h) and the arrays that hold them (core/host_array.h):
 // a mapped file reads as the read one, a short or long file is refused by both, and writing to
-// a view copies it first, leaving the file alone.
+// a view copies it first, leaving the file alone; gzip streams inflate up to a cap, the first
+// bytes of a long one are read alone, and a damaged one is refused.
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <numeric>
 
@@ -55,6 +57,44 @@ TEST(ReadExact, ReadsTheRangeRefusesPastTheEndAndReadsNothingForZeroBytes) {
   EXPECT_NO_THROW(read_exact(path, 0, none.data(), 0));
   EXPECT_NO_THROW(read_exact(path, 1000, nullptr, 0));
   EXPECT_TRUE(read_records<uint32_t>(file_of({}, "empty_records.bin"), 0).empty());
+}
+
+std::filesystem::path gzip_of(const std::string& bytes, const char* name) {
+  const auto path = test::scratch_dir("binary_file") / name;
+  gzFile gz = gzopen(path.c_str(), "wb");
+  EXPECT_TRUE(gz);
+  EXPECT_EQ(gzwrite(gz, bytes.data(), unsigned(bytes.size())), int(bytes.size()));
+  gzclose(gz);
+  return path;
+}
+
+// A gzip bomb's work: 4 MiB of zeros is a 4 KiB file; refused past its cap, read below it, and
+// its first bytes read alone (a long data file's settings) whatever its length.
+TEST(ReadFileInflating, InflatesUpToTheCapAndRefusesPastIt) {
+  const std::string zeros(4 << 20, '\0');
+  const auto path = gzip_of(zeros, "zeros.dat.GZ");
+  EXPECT_LT(std::filesystem::file_size(path), 64u << 10);
+  EXPECT_EQ(read_file_inflating(path, UINT64_MAX, 8 << 20), zeros);
+  try {
+    read_file_inflating(path, UINT64_MAX, 1 << 20);
+    ADD_FAILURE() << "inflated past its cap";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "the gzip stream inflates past 1 MiB, more than this reader holds at once; gunzip it first if it is "
+              "meant");
+  }
+  EXPECT_EQ(read_file_inflating(path, 1000, 1 << 20), std::string(1000, '\0'));
+  const auto plain = file_of(counting(10), "plain.dat");
+  EXPECT_EQ(read_file_inflating(plain, 8).size(), 8u);
+}
+
+TEST(ReadFileInflating, RefusesADamagedStream) {
+  const auto path = gzip_of(std::string(100000, 'x') + "end", "cut.gz");
+  std::string bytes = read_text_file(path);
+  bytes.resize(bytes.size() / 2);
+  write_file(path, bytes.data(), bytes.size());
+  EXPECT_THROW(read_file_inflating(path), InputError);
+  EXPECT_THROW(read_file_inflating(path.parent_path() / "missing.gz"), InputError);
 }
 
 TEST(HostArray, WritingToAViewCopiesItAndLeavesTheFileAlone) {

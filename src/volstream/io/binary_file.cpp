@@ -9,6 +9,7 @@
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <unistd.h>
+#include <zlib.h>
 #endif
 
 #include "volstream/core/error.h"
@@ -86,6 +87,45 @@ std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes
   std::string text(size, '\0');
   read_exact(path, 0, text.data(), size);
   return text;
+}
+
+namespace {
+
+uint64_t half_the_memory() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  return pages > 0 && page > 0 ? uint64_t(pages) * uint64_t(page) / 2 : uint64_t(4) << 30;
+}
+
+std::string read_gzip_stream(const std::filesystem::path& path, uint64_t max_bytes, uint64_t inflate_cap) {
+  file_size_checked(path);
+  const std::unique_ptr<gzFile_s, int (*)(gzFile)> gz(gzopen(path.string().c_str(), "rb"), gzclose);
+  if (!gz) input_error(path.string(), "cannot open the gzip stream");
+  std::string bytes;
+  char buffer[1 << 16];
+  int got = 0;
+  while (bytes.size() < max_bytes && (got = gzread(gz.get(), buffer, sizeof buffer)) > 0) {
+    bytes.append(buffer, size_t(got));
+    if (bytes.size() > inflate_cap)
+      input_error(path.string(), "the gzip stream inflates past " + std::to_string(inflate_cap >> 20) +
+                                     " MiB, more than this reader holds at once; gunzip it first if it is meant");
+  }
+  int status = Z_OK;
+  const std::string message = gzerror(gz.get(), &status);
+  if (got < 0 || !(status == Z_OK || status == Z_STREAM_END))
+    input_error(path.string(), "a damaged gzip stream (" + message + ")");
+  if (bytes.size() > max_bytes) bytes.resize(max_bytes);
+  return bytes;
+}
+
+}  // namespace
+
+std::string read_file_inflating(const std::filesystem::path& path, uint64_t max_bytes, uint64_t inflate_cap) {
+  if (lower_case(path.filename().string()).ends_with(".gz"))
+    return read_gzip_stream(path, max_bytes, inflate_cap ? inflate_cap : half_the_memory());
+  const uint64_t size = std::min(file_size_checked(path), max_bytes);
+  std::string bytes(size, '\0');
+  read_exact(path, 0, bytes.data(), size);
+  return bytes;
 }
 
 std::string lower_case(std::string_view s) {

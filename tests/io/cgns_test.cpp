@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 
@@ -75,6 +76,29 @@ TEST(Cgns, PolyhedralZoneIsTheVtuVtkWrote) {
   test::expect_probes_alike(vtu, "f", m, "f");
 }
 
+// The same mesh with no NFACE_n section, its cells given by the faces' ParentElements (numbered
+// after the faces), reads as the NFACE_n file does: the same cells, values and probes.
+TEST(Cgns, CellsOfParentElementsAreTheNfaceCells) {
+  SKIP_WITHOUT_CGNS();
+  CgnsFile cgns(kDir / "cgns_ngon_parents.cgns"), nface(kDir / "cgns_polyhedra.cgns");
+  EXPECT_EQ(cgns.summary(), "1 zone: polyhedra (NGON_n ParentElements) x 11");
+  const MeshData m = cgns.read_step(0), reference = nface.read_step(0);
+  EXPECT_EQ(m.points.size(), reference.points.size());
+  // A cell's faces come in another order (the faces', not its NFACE_n list's), so its pieces do:
+  // the same pieces per cell, cells in the same order.
+  const auto pieces_per_cell = [](const MeshData& mesh) {
+    std::vector<std::pair<double, int>> pieces;
+    const std::vector<double>& cell_id = test::array_named(mesh.cell_data, "cell_id").values;
+    for (uint64_t c = 0; c < mesh.cell_count(); ++c) pieces.emplace_back(cell_id[c], mesh.cell_types[c]);
+    EXPECT_TRUE(std::is_sorted(cell_id.begin(), cell_id.end()));
+    std::sort(pieces.begin(), pieces.end());
+    return pieces;
+  };
+  EXPECT_EQ(pieces_per_cell(m), pieces_per_cell(reference));
+  test::expect_probes_alike(reference, "g", m, "g");
+  test::expect_probes_alike(reference, "f", m, "f");
+}
+
 #ifdef VOLSTREAM_HAVE_CGNS
 // A small CGNS file written here: one unstructured zone of the unit cube's 8 nodes in a base of
 // `cell_dim`, with one section of `type` holding `elements`.
@@ -83,6 +107,7 @@ struct BadFile {
   CGNS_ENUMT(ElementType_t) type = CGNS_ENUMV(HEXA_8);
   std::vector<cgsize_t> elements = {1, 2, 3, 4, 5, 6, 7, 8};
   std::vector<cgsize_t> offsets{};  // for NGON_n, NFACE_n
+  std::vector<cgsize_t> parents{};  // NGON_n's ParentElements: the left cells, then the right
   cgsize_t zone_cells = 1;
   bool cell_values = false;  // a CellCenter solution of zone_cells values
 };
@@ -102,6 +127,12 @@ fs::path write_cgns(const BadFile& b, const std::string& name) {
     ok(cg_section_write(fn, base, zone, "cells", b.type, 1, 1, 0, b.elements.data(), &section));
   else
     ok(cg_poly_section_write(fn, base, zone, "cells", b.type, 1, 1, 0, b.elements.data(), b.offsets.data(), &section));
+  if (!b.parents.empty()) {
+    const cgsize_t dimensions[2] = {cgsize_t(b.parents.size() / 2), 2};
+    ok(cg_goto(fn, base, "Zone_t", zone, "Elements_t", section, "end"));
+    ok(cg_array_write("ParentElements", sizeof(cgsize_t) == 8 ? CGNS_ENUMV(LongInteger) : CGNS_ENUMV(Integer), 2,
+                      dimensions, b.parents.data()));
+  }
   if (b.cell_values) {
     int solution = 0, field = 0;
     const std::vector<double> values(size_t(b.zone_cells), 1.0);
@@ -132,8 +163,16 @@ TEST(Cgns, BadFilesAreRefusedWithOneLine) {
   EXPECT_EQ(refusal(write_cgns(out_of_range, "range.cgns")),
             "zone cube, section cells, element 1: node 9 out of range 1..8");
   EXPECT_EQ(refusal(write_cgns({.type = CGNS_ENUMV(NGON_n), .elements = {1, 2, 3, 4}, .offsets = {0, 4}}, "ngon.cgns")),
-            "zone cube: NGON_n faces without an NFACE_n section (cells given only by the faces' ParentElements are "
-            "not read)");
+            "zone cube: NGON_n faces without an NFACE_n section or the faces' ParentElements");
+  const auto face_of = [](std::vector<cgsize_t> parents) {
+    return BadFile{.type = CGNS_ENUMV(NGON_n), .elements = {1, 2, 3, 4}, .offsets = {0, 4}, .parents = parents};
+  };
+  EXPECT_EQ(refusal(write_cgns(face_of({1, 1}), "both_sides.cgns")), "zone cube: face 1 has one cell on both sides");
+  EXPECT_EQ(refusal(write_cgns(face_of({1, -2}), "negative.cgns")), "zone cube: ParentElements name cell -2");
+  EXPECT_EQ(refusal(write_cgns(face_of({1, 2}), "two_cells.cgns")),
+            "zone cube: the faces' ParentElements name 2 cells, the zone has 1");
+  EXPECT_NE(refusal(write_cgns(face_of({1, 0, 0, 0}), "parents_size.cgns")), "(read)");  // by the library
+  EXPECT_NE(refusal(write_cgns(face_of({2, 0}), "one_face.cgns")), "(read)");            // a cell of one face
   EXPECT_EQ(
       refusal(write_cgns({.type = CGNS_ENUMV(NFACE_n), .elements = {5, 6, 7, 8}, .offsets = {0, 4}}, "nface.cgns")),
       "zone cube, section cells, cell 1: face 5 is in no NGON_n section");

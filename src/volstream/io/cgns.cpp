@@ -17,6 +17,7 @@
 #include "volstream/umesh/quadratic.h"
 
 #ifdef VOLSTREAM_HAVE_CGNS
+#include <cgns_io.h>
 #include <cgnslib.h>
 #endif
 
@@ -109,20 +110,21 @@ struct CgnsFile::Impl {
     std::string name;
     bool structured = false;
     Range vertices, cells;
-    MeshData topology;                          // the zone's points and kept cells, VTK order; no data
-    std::vector<cgsize_t> cell_number;          // unstructured: each kept cell's element number
-    std::vector<size_t> cell_value_index;       // and where its CellCenter value is (per_kept_cell)
-    PolyhedronFaces faces;                      // the faces of its NFACE_n cells (kVtkPolyhedron)
-    std::vector<FaceSection> face_sections;     // where faces.face_offsets has each NGON_n section
-    mutable SplitMemo polyhedra_split;          // the last step's, for the next
-    std::vector<std::string> solution_at_step;  // FlowSolutionPointers; empty: every solution, one step
+    MeshData topology;                                   // the zone's points and kept cells, VTK order; no data
+    std::vector<cgsize_t> cell_number;                   // unstructured: each kept cell's element number
+    std::vector<size_t> cell_value_index;                // and where its CellCenter value is (per_kept_cell)
+    PolyhedronFaces faces;                               // the faces of its NFACE_n cells (kVtkPolyhedron)
+    std::vector<FaceSection> face_sections;              // where faces.face_offsets has each NGON_n section
+    std::vector<std::array<cgsize_t, 2> > face_parents;  // each face's ParentElements, where all have them
+    mutable SplitMemo polyhedra_split;                   // the last step's, for the next
+    std::vector<std::string> solution_at_step;           // FlowSolutionPointers; empty: every solution, one step
   };
 
   std::string file;
   int fn = -1, base = 0;
   std::vector<Zone> zones;
   std::vector<double> times{0.0};
-  std::map<std::string, uint64_t> element_counts;  // of structured zones' hexahedra
+  std::map<std::string, uint64_t> element_counts;  // of structured zones' hexahedra, and cells by ParentElements
   std::vector<uint64_t> elements_of_type = std::vector<uint64_t>(NofValidElementTypes);
   mutable SplitMemo quadratic_split;  // the last step's, for the next
 
@@ -240,12 +242,70 @@ struct CgnsFile::Impl {
     zone.topology.cell_offsets = {0};
     for (bool faces : {true, false})
       for (int s = 1; s <= sections; ++s) read_section(zone, s, faces);
-    input_check(zone.topology.cell_count() > 0 || zone.face_sections.empty(), file,
-                "zone " + zone.name +
-                    ": NGON_n faces without an NFACE_n section (cells given only by the faces' "
-                    "ParentElements are not read)");
+    if (zone.topology.cell_count() == 0 && !zone.face_sections.empty()) cells_from_parents(zone);
     input_check(zone.topology.cell_count() > 0, file, "zone " + zone.name + ": no volume elements");
     zone.cell_value_index = ranks(zone.cell_number);
+  }
+
+  // An NGON_n section's ParentElements (its faces' left and right cells, 0 for none), kept while
+  // every face section so far has them. Read through the file's node tree (cgns_io.h): the
+  // library's element reads give them only beside ParentElementsPosition.
+  void read_parent_elements(Zone& zone, const std::string& section, size_t faces, const std::string& where) {
+    if (zone.face_parents.size() != zone.faces.face_offsets.size() - 1 - faces) return;  // a section before had none
+    char base_name[33] = {};
+    int cell_dim = 0, phys_dim = 0, cgio = 0;
+    double root = 0, node = 0;
+    check(cg_base_read(fn, base, base_name, &cell_dim, &phys_dim), "base");
+    const std::string path = "/" + std::string(base_name) + "/" + zone.name + "/" + section + "/ParentElements";
+    if (cg_get_cgio(fn, &cgio) != CG_OK || cg_root_id(fn, &root) != CG_OK ||
+        cgio_get_node_id(cgio, root, path.c_str(), &node) != CGIO_ERR_NONE)
+      return;
+    int dimensions = 0;
+    cgsize_t size[CGIO_MAX_DIMENSIONS] = {};
+    if (cgio_get_dimensions(cgio, node, &dimensions, size) != CGIO_ERR_NONE ||
+        !(dimensions == 2 && size[0] == cgsize_t(faces) && size[1] == 2))
+      input_error(file, where + ": ParentElements not of " + std::to_string(faces) + " x 2 cells");
+    std::vector<cgsize_t> columns(2 * faces);  // the left cells, then the right
+    if (cgio_read_all_data_type(cgio, node, sizeof(cgsize_t) == 8 ? "I8" : "I4", columns.data()) != CGIO_ERR_NONE)
+      input_error(file, where + ": ParentElements unreadable");
+    for (size_t f = 0; f < faces; ++f) zone.face_parents.push_back({columns[f], columns[faces + f]});
+  }
+
+  // A zone of NGON_n faces alone: its cells are the element numbers the faces' ParentElements
+  // name (numbered after the faces, or 1.., as writers differ), each the polyhedron of the faces
+  // naming it, in the order of their numbers.
+  void cells_from_parents(Zone& zone) {
+    const std::string where = "zone " + zone.name;
+    if (zone.face_parents.size() != zone.faces.face_offsets.size() - 1)
+      input_error(file, where + ": NGON_n faces without an NFACE_n section or the faces' ParentElements");
+    std::vector<cgsize_t> numbers;
+    for (const auto& parents : zone.face_parents)
+      for (cgsize_t c : parents) {
+        if (c < 0) input_error(file, where + ": ParentElements name cell " + std::to_string(c));
+        if (c > 0) numbers.push_back(c);
+      }
+    std::sort(numbers.begin(), numbers.end());
+    numbers.erase(std::unique(numbers.begin(), numbers.end()), numbers.end());
+    if (numbers.size() != zone.cells.size())
+      input_error(file, where + ": the faces' ParentElements name " + std::to_string(numbers.size()) +
+                            " cells, the zone has " + std::to_string(zone.cells.size()));
+    std::vector<FaceCells> sides(zone.face_parents.size());
+    const auto index = [&](cgsize_t c) {  // 1-based place among the numbers; 0 for none
+      return c == 0 ? 0 : uint64_t(std::lower_bound(numbers.begin(), numbers.end(), c) - numbers.begin()) + 1;
+    };
+    for (size_t f = 0; f < sides.size(); ++f) {
+      const auto [left, right] = zone.face_parents[f];
+      if (left == right) input_error(file, where + ": face " + std::to_string(f + 1) + " has one cell on both sides");
+      sides[f] = {index(left), index(right)};
+    }
+    zone.faces = polyhedra_from_face_cells(std::move(zone.faces.face_offsets), std::move(zone.faces.face_vertices),
+                                           sides, numbers.size(), file);
+    zone.face_parents = {};
+    MeshData& t = zone.topology;
+    t.cell_types.assign(numbers.size(), kVtkPolyhedron);
+    t.cell_offsets.assign(numbers.size() + 1, 0);
+    zone.cell_number = std::move(numbers);
+    element_counts["polyhedra (NGON_n ParentElements)"] += zone.cell_number.size();
   }
 
   // Each number's place among them in increasing order.
@@ -281,6 +341,7 @@ struct CgnsFile::Impl {
         add_fixed_elements(zone, type, data, start, end, where);
       else
         add_polyhedral_elements(zone, type, data, offsets, start, where);
+      if (type == CGNS_ENUMV(NGON_n)) read_parent_elements(zone, name, size_t(end - start) + 1, where);
       return;
     }
     check(cg_elements_read(fn, base, zone.index, s, data.data(), nullptr), where);

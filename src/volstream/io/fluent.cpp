@@ -1,7 +1,5 @@
 #include "volstream/io/fluent.h"
 
-#include <zlib.h>
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -23,29 +21,6 @@ namespace {
 
 bool ends_with_lower(const fs::path& file, std::string_view suffix) {
   return lower_case(file.filename().string()).ends_with(suffix);
-}
-
-// The file (its first max_bytes), through zlib's gz* calls for a .gz name (a gzip stream), else
-// read as it is.
-std::string read_whole_file(const fs::path& file, uint64_t max_bytes = UINT64_MAX) {
-  const uint64_t size = std::min(file_size_checked(file), max_bytes);
-  if (!ends_with_lower(file, ".gz")) {
-    std::string bytes(size, '\0');
-    read_exact(file, 0, bytes.data(), size);
-    return bytes;
-  }
-  gzFile gz = gzopen(file.string().c_str(), "rb");
-  if (!gz) input_error(file.string(), "cannot open the gzip stream");
-  std::string bytes;
-  char buffer[1 << 16];
-  int got = 0;
-  while (bytes.size() < max_bytes && (got = gzread(gz, buffer, sizeof buffer)) > 0) bytes.append(buffer, size_t(got));
-  int status = Z_OK;
-  const std::string message = gzerror(gz, &status);
-  gzclose(gz);
-  input_check(got == 0 && (status == Z_OK || status == Z_STREAM_END), file.string(),
-              "a damaged gzip stream (" + message + ")");
-  return bytes;
 }
 
 // Fluent's files are lists in parentheses: "(INDEX BODY...)", BODY holding a header list of
@@ -214,10 +189,6 @@ struct CellZone {
   Range cells;
 };
 
-struct Face {
-  uint64_t c0 = 0, c1 = 0;  // 1-based cells; 0 where there is none (a boundary's outside)
-};
-
 // The mesh a case file describes.
 struct CaseMesh {
   uint64_t node_count = 0, cell_count = 0, face_count = 0;  // as declared (zone 0)
@@ -225,14 +196,14 @@ struct CaseMesh {
   std::vector<vec3d> nodes;
   std::vector<uint8_t> cell_types;  // Fluent's element type per cell (0: not in a zone yet)
   std::vector<CellZone> cell_zones;
-  std::vector<Face> faces;
+  std::vector<FaceCells> faces;                          // c0 and c1 of each face
   std::vector<uint64_t> face_offsets{0}, face_vertices;  // 0-based nodes
   std::map<uint64_t, std::string> zone_names;
 };
 
 class CaseReader {
  public:
-  explicit CaseReader(const fs::path& file) : in_(read_whole_file(file), file.string()) {}
+  explicit CaseReader(const fs::path& file) : in_(read_file_inflating(file), file.string()) {}
 
   CaseMesh read() {
     while (!in_.at_end()) section();
@@ -391,11 +362,12 @@ class CaseReader {
       mesh_.face_vertices.push_back(n - 1);
     }
     mesh_.face_offsets.push_back(mesh_.face_vertices.size());
-    Face f{value(index, "a face's c0 cell"), value(index, "a face's c1 cell")};
-    if (f.c0 > mesh_.cell_count || f.c1 > mesh_.cell_count || (f.c0 == 0 && f.c1 == 0))
-      in_.fail("face " + std::to_string(id) + ": cells " + std::to_string(f.c0) + ", " + std::to_string(f.c1) +
+    const FaceCells f{value(index, "a face's c0 cell"), value(index, "a face's c1 cell")};
+    if (f.first > mesh_.cell_count || f.second > mesh_.cell_count || (f.first == 0 && f.second == 0))
+      in_.fail("face " + std::to_string(id) + ": cells " + std::to_string(f.first) + ", " + std::to_string(f.second) +
                " out of range 1.." + std::to_string(mesh_.cell_count));
-    if (f.c0 == f.c1) in_.fail("face " + std::to_string(id) + " has cell " + std::to_string(f.c0) + " on both sides");
+    if (f.first == f.second)
+      in_.fail("face " + std::to_string(id) + " has cell " + std::to_string(f.first) + " on both sides");
     mesh_.faces.push_back(f);
   }
   uint64_t value(int index, const char* what) {
@@ -444,24 +416,6 @@ class CaseReader {
   CaseMesh mesh_;
 };
 
-// Each cell a polyhedron of the faces that name it (their c0 or c1), for split_polyhedra.
-PolyhedronFaces cell_faces(const CaseMesh& m) {
-  PolyhedronFaces p;
-  p.face_offsets = m.face_offsets;
-  p.face_vertices = m.face_vertices;
-  p.cell_face_offsets.assign(m.cell_count + 1, 0);
-  for (const Face& f : m.faces)
-    for (uint64_t c : {f.c0, f.c1})
-      if (c != 0) ++p.cell_face_offsets[c];
-  for (uint64_t c = 0; c < m.cell_count; ++c) p.cell_face_offsets[c + 1] += p.cell_face_offsets[c];
-  p.cell_faces.resize(p.cell_face_offsets.back());
-  std::vector<uint64_t> next(p.cell_face_offsets.begin(), p.cell_face_offsets.end() - 1);
-  for (uint64_t f = 0; f < m.faces.size(); ++f)
-    for (uint64_t c : {m.faces[f].c0, m.faces[f].c1})
-      if (c != 0) p.cell_faces[next[c - 1]++] = f;
-  return p;
-}
-
 MeshData unsplit_mesh(const CaseMesh& m) {
   MeshData mesh;
   mesh.points = m.nodes;
@@ -507,7 +461,7 @@ struct Variable {
 
 class DataReader {
  public:
-  DataReader(const fs::path& file, const CaseMesh& mesh) : in_(read_whole_file(file), file.string()), mesh_(mesh) {}
+  DataReader(const fs::path& file, const CaseMesh& mesh) : in_(read_file_inflating(file), file.string()), mesh_(mesh) {}
 
   // The cell values by variable id; a variable without values on some cell zone is left out
   // (its name goes to `left_out`).
@@ -617,7 +571,7 @@ std::vector<MeshArray> cell_arrays(std::map<uint64_t, Variable> variables) {
 // The "(flow-time T)" among a data file's settings (section 37), looked for in its first MiB
 // (the settings come before the values); VTK's reader reads no time.
 std::optional<double> flow_time(const fs::path& file) {
-  const std::string text = read_whole_file(file, 1 << 20);
+  const std::string text = read_file_inflating(file, 1 << 20);
   const size_t at = text.find("(flow-time ");
   if (at == std::string::npos) return std::nullopt;
   char* end = nullptr;
@@ -668,7 +622,9 @@ FluentFile::FluentFile(const fs::path& case_file, std::vector<fs::path> data_fil
   impl_->case_file = case_file;
   impl_->data_files = std::move(data_files);
   impl_->mesh = CaseReader(case_file).read();
-  impl_->faces = cell_faces(impl_->mesh);
+  CaseMesh& m = impl_->mesh;
+  impl_->faces = polyhedra_from_face_cells(std::move(m.face_offsets), std::move(m.face_vertices), m.faces, m.cell_count,
+                                           case_file.string());
   if (impl_->data_files.empty()) impl_->find_data_file();
   impl_->read_times();
 }

@@ -313,6 +313,27 @@ PolyhedronFaces faces_in_connectivity(const MeshData& m, const std::string& file
   return faces;
 }
 
+PolyhedronFaces polyhedra_from_face_cells(std::vector<uint64_t> face_offsets, std::vector<uint64_t> face_vertices,
+                                          std::span<const FaceCells> face_cells, uint64_t cell_count,
+                                          const std::string& file) {
+  PolyhedronFaces p;
+  p.face_offsets = std::move(face_offsets);
+  p.face_vertices = std::move(face_vertices);
+  p.cell_face_offsets.assign(cell_count + 1, 0);
+  for (const FaceCells& f : face_cells)
+    for (uint64_t c : {f.first, f.second}) {
+      if (c > cell_count) input_error(file, "a face names cell " + str(c) + " of " + str(cell_count));
+      if (c != 0) ++p.cell_face_offsets[c];
+    }
+  for (uint64_t c = 0; c < cell_count; ++c) p.cell_face_offsets[c + 1] += p.cell_face_offsets[c];
+  p.cell_faces.resize(p.cell_face_offsets.back());
+  std::vector<uint64_t> next(p.cell_face_offsets.begin(), p.cell_face_offsets.end() - 1);
+  for (uint64_t f = 0; f < face_cells.size(); ++f)
+    for (uint64_t c : {face_cells[f].first, face_cells[f].second})
+      if (c != 0) p.cell_faces[next[c - 1]++] = f;
+  return p;
+}
+
 void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::string& file, SplitMemo* memo) {
   if (std::find(m.cell_types.begin(), m.cell_types.end(), kVtkPolyhedron) == m.cell_types.end()) return;
   const auto key = {std::span<const uint64_t>(faces.cell_face_offsets), std::span<const uint64_t>(faces.cell_faces),

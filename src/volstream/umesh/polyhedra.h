@@ -31,6 +31,21 @@ struct PolyhedronFaces {
   void add_face_stream(std::span<const uint64_t> stream, uint64_t cell, const std::string& file);
 };
 
+// The cells on a face's two sides, 1-based; 0 where there is none (the outside of a boundary
+// face).
+struct FaceCells {
+  uint64_t first = 0, second = 0;
+};
+
+// Polyhedra given by the cells on each side of their faces, as finite-volume solvers store them
+// (Fluent's c0 and c1, OpenFOAM's owner and neighbour, CGNS's ParentElements): face f's vertices
+// are face_vertices[face_offsets[f] .. face_offsets[f + 1]), and each of cells 1..cell_count has
+// the faces that name it, in face order. InputError naming `file` for a cell number above
+// cell_count.
+PolyhedronFaces polyhedra_from_face_cells(std::vector<uint64_t> face_offsets, std::vector<uint64_t> face_vertices,
+                                          std::span<const FaceCells> face_cells, uint64_t cell_count,
+                                          const std::string& file);
+
 // The faces of the polyhedra of a legacy .vtk file, whose connectivity holds a polyhedron's face
 // stream where another cell's holds its vertices.
 PolyhedronFaces faces_in_connectivity(const MeshData& mesh, const std::string& file);

@@ -23,6 +23,11 @@ the Exodus generator's meshes, libcgns-dev; the committed files come from VTK 9.
   points out of the cell; the cells' section written first. A Vertex solution (f, g) and a
   CellCenter one (cell_id), as the .vtu has them. VTK's CGNS reader reads it as the same
   polyhedra (point sets) and values.
+- cgns_ngon_parents.cgns: the same mesh and values with no NFACE_n section: the cells are given
+  only by the faces' ParentElements (as ONERA's elsA and maia, and CGNS 4 writers of NGON-only
+  zones, store them): each face's left cell (the one its normal points out of) and right cell
+  (0 on the boundary), numbered after the faces. VTK 9.1's CGNS reader does not read such a
+  zone; the test checks volstream's read against cgns_polyhedra.cgns instead.
 """
 import ctypes
 import os
@@ -321,6 +326,43 @@ def write_polyhedral_zone(fn, base, name, grid):
     return zone
 
 
+def parent_elements(faces, cells, first_cell):
+    """Each face's (left, right) cells from the cells' signed face numbers: left is the cell the
+    face's normal points out of."""
+    parents = np.zeros((len(faces), 2), dtype=np.int32)
+    for c, signed in enumerate(cells):
+        for n in signed:
+            parents[abs(n) - 1, 0 if n > 0 else 1] = first_cell + c
+    assert (parents[:, 0] > 0).all(), "a face no cell's normal points out of"
+    return parents
+
+
+def write_ngon_parents():
+    grid = read_vtu(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "vtu", "vtk_polyhedra.vtu"))
+    xyz = numpy_support.vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
+    faces, shared, cells = polyhedral_sections(grid, xyz)
+    parents = parent_elements(faces, cells, len(faces) + 1)
+    fn, base, zone = ctypes.c_int(), ctypes.c_int(), ctypes.c_int()
+    ok(cg.cg_open(b"cgns_ngon_parents.cgns", 1, ctypes.byref(fn)))
+    ok(cg.cg_base_write(fn, b"Base", 3, 3, ctypes.byref(base)))
+    fn, base = fn.value, base.value
+    ok(cg.cg_zone_write(fn, base, b"ngon", (cgsize * 3)(len(xyz), len(cells), 0), Unstructured, ctypes.byref(zone)))
+    zone = zone.value
+    write_coordinates(fn, base, zone, xyz)
+    one_based = [[i + 1 for i in face] for face in faces]
+    for s, (name, rows, first) in enumerate(((b"SharedFaces", slice(0, shared), 1),
+                                             (b"BoundaryFaces", slice(shared, None), shared + 1)), start=1):
+        write_poly_section(fn, base, zone, name, NGON_n, first, one_based[rows])
+        ok(cg.cg_goto(fn, base, b"Zone_t", zone, b"Elements_t", s, b"end"))
+        columns, data = ints(np.asfortranarray(parents[rows]).ravel(order="F"))
+        ok(cg.cg_array_write(b"ParentElements", Integer, 2, (cgsize * 2)(len(columns) // 2, 2), data))
+    array = lambda name, data: numpy_support.vtk_to_numpy(data.GetArray(name)).astype(np.float64)
+    write_solution(fn, base, zone, "FlowSolution", Vertex, {n: array(n, grid.GetPointData()) for n in ("f", "g")})
+    write_solution(fn, base, zone, "CellSolution", CellCenter, {"cell_id": array("cell_id", grid.GetCellData())})
+    ok(cg.cg_close(fn))
+    print(f"cgns_ngon_parents.cgns: {len(faces)} faces ({shared} shared), {len(cells)} cells by ParentElements")
+
+
 def write_polyhedra():
     grid = read_vtu(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "vtu", "vtk_polyhedra.vtu"))
     fn, base = ctypes.c_int(), ctypes.c_int()
@@ -404,3 +446,4 @@ if __name__ == "__main__":
     write_mixed()
     write_quadratic()
     write_polyhedra()
+    write_ngon_parents()

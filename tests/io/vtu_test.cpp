@@ -279,6 +279,33 @@ TEST(Vtu, PiecesShareTheirCommonPoints) {
             std::vector<uint64_t>(m.connectivity.begin(), m.connectivity.begin() + 27));
 }
 
+// A series' second step on the same polyhedra, with other values (the file's fields f and g
+// swapped), split with the first step's memo, reads as it does alone; so does the first step
+// again through a .vtm naming it.
+TEST(Vtu, SeriesStepsOnOneMeshSplitAsTheFirstDid) {
+  const fs::path dir = test::scratch_dir("vtu_series");
+  const fs::path first = kDataDir / "vtk_polyhedra.vtu", second = dir / "swapped.vtu", vtm = dir / "first.vtm";
+  std::string text = read_file(first);
+  for (auto [from, to] :
+       {std::pair{"Name=\"f\"", "Name=\"t\""}, {"Name=\"g\"", "Name=\"f\""}, {"Name=\"t\"", "Name=\"g\""}})
+    text.replace(text.find(from), std::strlen(from), to);
+  write_file(second, text);
+  std::ofstream(vtm) << "<VTKFile type=\"vtkMultiBlockDataSet\"><vtkMultiBlockDataSet>"
+                     << "<DataSet index=\"0\" file=\"" << first.string() << "\"/></vtkMultiBlockDataSet></VTKFile>\n";
+  SeriesSplits splits;
+  const MeshData step0 = read_vtu(first, &splits), step1 = read_vtu(second, &splits), again = read_vtm(vtm, &splits);
+  const MeshData alone = read_vtu(second);
+  for (const MeshData* m : {&step1, &again}) {
+    EXPECT_EQ(m->points, alone.points);
+    EXPECT_EQ(m->connectivity, alone.connectivity);
+    EXPECT_EQ(m->cell_types, alone.cell_types);
+  }
+  EXPECT_EQ(test::array_named(step1.point_data, "f").values, test::array_named(alone.point_data, "f").values);
+  EXPECT_EQ(test::array_named(step1.point_data, "f").values, test::array_named(step0.point_data, "g").values);
+  EXPECT_EQ(test::array_named(again.point_data, "f").values, test::array_named(step0.point_data, "f").values);
+  EXPECT_EQ(test::array_named(step1.cell_data, "cell_id").values, test::array_named(alone.cell_data, "cell_id").values);
+}
+
 // A hand-made BigEndian file: one tet, Float64 points, Int32 cells, raw appended data.
 TEST(Vtu, ReadsBigEndian) {
   std::string data;

@@ -64,11 +64,12 @@ MeshData read_gmsh_step(const fs::path& file) {
   return msh.read_step(0);
 }
 
-MeshData read_mesh_file(const fs::path& file) {
+// A step's file; a .vtu or .vtm split with `splits` (a series', for its next step).
+MeshData read_mesh_file(const fs::path& file, SeriesSplits* splits = nullptr) {
   const std::string ext = lower_extension(file);
-  if (ext == ".vtu") return read_vtu(file);
+  if (ext == ".vtu") return read_vtu(file, splits);
   if (ext == ".pvtu") return read_pvtu(file);
-  if (ext == ".vtm") return read_vtm(file);
+  if (ext == ".vtm") return read_vtm(file, splits);
   if (ext == ".vtk") return read_vtk_legacy(file);
   if (ext == ".ugrid") return read_ugrid(file);
   if (ext == ".msh") return read_gmsh_step(file);
@@ -79,8 +80,8 @@ MeshData read_mesh_file(const fs::path& file) {
 
 // A step's parts (a .pvd's entries of one time: a parallel run's pieces) as one mesh, read in
 // parallel; the error is the first bad part's.
-MeshData read_parts(const std::vector<fs::path>& parts, const std::string& origin) {
-  if (parts.size() == 1) return read_mesh_file(parts.front());
+MeshData read_parts(const std::vector<fs::path>& parts, const std::string& origin, SeriesSplits& splits) {
+  if (parts.size() == 1) return read_mesh_file(parts.front(), &splits);
   std::vector<MeshData> meshes(parts.size());
   parallel_each_in_order(int64_t(parts.size()),
                          [&](int64_t i) { meshes[size_t(i)] = read_mesh_file(parts[size_t(i)]); });
@@ -96,7 +97,7 @@ class FileSeries : public MeshSeries {
   int step_count() const override { return int(steps_.size()); }
   double step_time(int step) const override { return steps_.at(size_t(step)).time; }
   MeshData read_step(int step) override {
-    MeshData m = read_parts(steps_.at(size_t(step)).parts, origin(step));
+    MeshData m = read_parts(steps_.at(size_t(step)).parts, origin(step), splits_);
     for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
     return m;
   }
@@ -107,6 +108,7 @@ class FileSeries : public MeshSeries {
   std::vector<PvdStep> steps_;
   std::vector<RawScalars> scalars_;
   std::string description_;
+  SeriesSplits splits_;  // the last step's, for the next
 };
 
 // An EnSight Gold case: its geometry is read once unless it changes from step to step.

@@ -533,7 +533,7 @@ PolyhedronFaces read_polyhedron_faces(const VtuFile& f, const XmlElement& cells,
   return faces;
 }
 
-MeshData read_piece(const VtuFile& f, const XmlElement& piece, size_t index) {
+MeshData read_piece(const VtuFile& f, const XmlElement& piece, size_t index, SplitMemo* memo) {
   const std::string what = "Piece " + std::to_string(index);
   const uint64_t points = uint_attribute(f, piece, "NumberOfPoints", what);
   const uint64_t cells = uint_attribute(f, piece, "NumberOfCells", what);
@@ -547,7 +547,7 @@ MeshData read_piece(const VtuFile& f, const XmlElement& piece, size_t index) {
   mesh.point_data = read_attribute_arrays(f, piece.child("PointData"), points, what + " point");
   mesh.cell_data = read_attribute_arrays(f, piece.child("CellData"), cells, what + " cell");
   split_polyhedra(mesh, read_polyhedron_faces(f, required_child(f, piece, "Cells", what), mesh.cell_types, what),
-                  f.name);
+                  f.name, memo);
   return mesh;
 }
 
@@ -594,17 +594,20 @@ std::string read_whole_file(const fs::path& file) {
   return text;
 }
 
-// The file's pieces joined (join_pieces), not yet checked with check_mesh.
-MeshData read_vtu_unchecked(const fs::path& file) {
+// The file's pieces joined (join_pieces), not yet checked with check_mesh; a file of one piece
+// split with `memo`, if any.
+MeshData read_vtu_unchecked(const fs::path& file, SplitMemo* memo) {
   VtuFile f;
   f.name = file.string();
   f.text = read_whole_file(file);
   f.doc = scan_xml(f.text, f.name);
   read_file_attributes(f);
   const XmlElement& grid = required_child(f, f.doc.root, "UnstructuredGrid", "VTKFile");
+  const auto is_piece = [](const XmlElement& e) { return e.name == "Piece"; };
+  if (std::count_if(grid.children.begin(), grid.children.end(), is_piece) != 1) memo = nullptr;
   std::vector<MeshData> pieces;
   for (const XmlElement& e : grid.children)
-    if (e.name == "Piece") pieces.push_back(read_piece(f, e, pieces.size()));
+    if (is_piece(e)) pieces.push_back(read_piece(f, e, pieces.size(), memo));
   if (pieces.empty()) input_error(f.name, "the UnstructuredGrid has no <Piece>");
   if (f.pre_vtk91_lagrange)
     for (MeshData& piece : pieces) lagrange_hexahedra_from_pre_vtk91_order(piece);
@@ -689,29 +692,38 @@ std::vector<MeshData> read_each(const std::vector<fs::path>& files, MeshData (*r
   return meshes;
 }
 
+MeshData read_unsplit_vtu(const fs::path& file) { return read_vtu_unchecked(file, nullptr); }
+
 MeshData read_pvtu_unchecked(const fs::path& file) {
-  return join_pieces(read_each(pvtu_sources(file), read_vtu_unchecked), file.string());
+  return join_pieces(read_each(pvtu_sources(file), read_unsplit_vtu), file.string());
 }
 
 MeshData read_block(const fs::path& file) {
-  return lower_extension(file) == ".pvtu" ? read_pvtu_unchecked(file) : read_vtu_unchecked(file);
+  return lower_extension(file) == ".pvtu" ? read_pvtu_unchecked(file) : read_unsplit_vtu(file);
 }
 
-MeshData checked(MeshData mesh, const fs::path& file) {
+MeshData checked(MeshData mesh, const fs::path& file, SplitMemo* quadratic_memo = nullptr) {
   voxels_to_hexahedra(mesh);
-  split_quadratic_cells(mesh, file.string());
+  split_quadratic_cells(mesh, file.string(), quadratic_memo);
   check_mesh(mesh, file.string());
   return mesh;
 }
 
 }  // namespace
 
-MeshData read_vtu(const std::filesystem::path& file) { return checked(read_vtu_unchecked(file), file); }
+MeshData read_vtu(const std::filesystem::path& file, SeriesSplits* splits) {
+  return checked(read_vtu_unchecked(file, splits ? &splits->polyhedra : nullptr), file,
+                 splits ? &splits->quadratic : nullptr);
+}
 
 MeshData read_pvtu(const std::filesystem::path& file) { return checked(read_pvtu_unchecked(file), file); }
 
-MeshData read_vtm(const std::filesystem::path& file) {
-  return checked(join_pieces(read_each(vtm_volume_files(file), read_block), file.string()), file);
+MeshData read_vtm(const std::filesystem::path& file, SeriesSplits* splits) {
+  const std::vector<fs::path> volumes = vtm_volume_files(file);
+  if (volumes.size() == 1 && lower_extension(volumes.front()) == ".vtu")
+    return checked(read_vtu_unchecked(volumes.front(), splits ? &splits->polyhedra : nullptr), file,
+                   splits ? &splits->quadratic : nullptr);
+  return checked(join_pieces(read_each(volumes, read_block), file.string()), file);
 }
 
 // =============================================================================================

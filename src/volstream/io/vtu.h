@@ -25,16 +25,25 @@
 #include <filesystem>
 #include <vector>
 
+#include "volstream/umesh/cell_rebuild.h"
 #include "volstream/umesh/mesh_data.h"
 
 namespace vs {
 
-MeshData read_vtu(const std::filesystem::path& file);
+// The splits of polyhedra and quadratic cells (umesh/cell_rebuild.h) a series' reads remember,
+// so that a step on the mesh of the one before is split as it was, only its data combined (a
+// foamToVTK series of polyhedra): used where a step is one .vtu of one piece, directly or as the
+// one volume block of a .vtm; other steps are split anew.
+struct SeriesSplits {
+  SplitMemo polyhedra, quadratic;
+};
+
+MeshData read_vtu(const std::filesystem::path& file, SeriesSplits* splits = nullptr);
 MeshData read_pvtu(const std::filesystem::path& file);
 // A .vtm (VTK multiblock, as OpenFOAM's foamToVTK and SU2's multizone output write it): its .vtu
 // and .pvtu blocks, at any depth, joined into one mesh; surface blocks (.vtp, .pvtp: boundary
 // patches) are skipped; a block of another type, or none that is a volume, is an InputError.
-MeshData read_vtm(const std::filesystem::path& file);
+MeshData read_vtm(const std::filesystem::path& file, SeriesSplits* splits = nullptr);
 
 // VTK's block compressors (the VTKFile's compressor attribute).
 enum class VtuCompressor { none, zlib, lz4, lzma };

@@ -1,6 +1,6 @@
 // CGNS: the test files (an unstructured MIXED zone and a structured one over three steps;
 // quadratic sections with vertex and cell-centred solutions; a polyhedral zone of NFACE_n cells
-// and NGON_n faces) with one of them patched or
+// and NGON_n faces; the same zone's cells by the faces' ParentElements) with one of them patched or
 // truncated, read step by step as `convert` reads them. The CGNS and HDF5 libraries' own leaks
 // on damaged files are not volstream's, so this target runs with leak detection off (fuzz/
 // CMakeLists.txt); a crash in them is caught by the reader's child process (io/solver_files.h).
@@ -13,7 +13,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const auto dir = fuzz::scratch("cgns");
   static const fs::path kBases[] = {fs::path(VOLSTREAM_SOURCE_DIR) / "tests/data/cgns/cgns_mixed.cgns",
                                     fs::path(VOLSTREAM_SOURCE_DIR) / "tests/data/cgns/cgns_quadratic.cgns",
-                                    fs::path(VOLSTREAM_SOURCE_DIR) / "tests/data/cgns/cgns_polyhedra.cgns"};
+                                    fs::path(VOLSTREAM_SOURCE_DIR) / "tests/data/cgns/cgns_polyhedra.cgns",
+                                    fs::path(VOLSTREAM_SOURCE_DIR) / "tests/data/cgns/cgns_ngon_parents.cgns"};
   if (size < 1) return 0;
   const fs::path work = dir / "work.cgns";
   fuzz::copy_file_contents(kBases[(data[0] & 0x7f) % std::size(kBases)], work);

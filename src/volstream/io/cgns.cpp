@@ -594,10 +594,10 @@ struct CgnsFile::Impl {
     std::vector<MeshData> pieces;
     for (const Zone& z : zones) {
       pieces.push_back(zone_step(z, s));
-      split_polyhedra(pieces.back(), z.faces, file, &z.polyhedra_split);
+      split_polyhedra(pieces.back(), z.faces, file, times.size() > 1 ? &z.polyhedra_split : nullptr);
     }
     MeshData m = pieces.size() == 1 ? std::move(pieces.front()) : join_pieces(std::move(pieces), file);
-    split_quadratic_cells(m, file, &quadratic_split);
+    split_quadratic_cells(m, file, times.size() > 1 ? &quadratic_split : nullptr);
     check_mesh(m, file);
     return m;
   }

@@ -568,13 +568,13 @@ MeshData read_ensight_step(const EnsightCase& c, const EnsightGeometry& g, size_
   std::vector<MeshData> volume;
   for (size_t i = 0; i < parts.size(); ++i) {
     if (parts[i].cell_count() == 0) continue;  // a boundary part
-    split_polyhedra(parts[i], g.parts[i].faces, origin, &g.parts[i].polyhedra_split);
+    split_polyhedra(parts[i], g.parts[i].faces, origin, c.times.size() > 1 ? &g.parts[i].polyhedra_split : nullptr);
     volume.push_back(std::move(parts[i]));
   }
   input_check(!volume.empty(), origin,
               "no part has volume elements (tetra4, pyramid5, penta6, hexa8, nfaced, or the quadratic ones)");
   MeshData m = join_pieces(std::move(volume), origin);
-  split_quadratic_cells(m, origin, &g.quadratic_split);
+  split_quadratic_cells(m, origin, c.times.size() > 1 ? &g.quadratic_split : nullptr);
   check_mesh(m, origin);
   return m;
 }

@@ -491,7 +491,7 @@ struct ExodusFile::Impl {
     input_check(s < times.size(), file, "no time step " + std::to_string(s));
     MeshData m = topology;
     read_values(s, m);
-    split_quadratic_cells(m, file, &quadratic_split);
+    split_quadratic_cells(m, file, times.size() > 1 ? &quadratic_split : nullptr);
     check_mesh(m, file);
     return m;
   }

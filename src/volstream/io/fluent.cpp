@@ -644,7 +644,7 @@ MeshData FluentFile::read_step(size_t step) {
     impl_->left_out.clear();
     m.cell_data = cell_arrays(DataReader(impl_->data_files[step], impl_->mesh).read(impl_->left_out));
   }
-  split_polyhedra(m, impl_->faces, file, &impl_->polyhedra_split);
+  split_polyhedra(m, impl_->faces, file, step_count() > 1 ? &impl_->polyhedra_split : nullptr);
   check_mesh(m, file);
   return m;
 }

@@ -635,7 +635,7 @@ MeshData GmshFile::read_step(size_t step) const {
   for (const View& v : c.views)
     if (const ViewStep* s = Impl::at_step(v, impl_->steps.at(step).first))
       (v.cells ? m.cell_data : m.point_data).push_back({v.name, v.components, s->values});
-  split_quadratic_cells(m, impl_->file, &impl_->quadratic_split);
+  split_quadratic_cells(m, impl_->file, impl_->steps.size() > 1 ? &impl_->quadratic_split : nullptr);
   check_mesh(m, impl_->file);
   return m;
 }

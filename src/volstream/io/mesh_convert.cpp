@@ -80,8 +80,8 @@ MeshData read_mesh_file(const fs::path& file, SeriesSplits* splits = nullptr) {
 
 // A step's parts (a .pvd's entries of one time: a parallel run's pieces) as one mesh, read in
 // parallel; the error is the first bad part's.
-MeshData read_parts(const std::vector<fs::path>& parts, const std::string& origin, SeriesSplits& splits) {
-  if (parts.size() == 1) return read_mesh_file(parts.front(), &splits);
+MeshData read_parts(const std::vector<fs::path>& parts, const std::string& origin, SeriesSplits* splits) {
+  if (parts.size() == 1) return read_mesh_file(parts.front(), splits);
   std::vector<MeshData> meshes(parts.size());
   parallel_each_in_order(int64_t(parts.size()),
                          [&](int64_t i) { meshes[size_t(i)] = read_mesh_file(parts[size_t(i)]); });
@@ -97,7 +97,7 @@ class FileSeries : public MeshSeries {
   int step_count() const override { return int(steps_.size()); }
   double step_time(int step) const override { return steps_.at(size_t(step)).time; }
   MeshData read_step(int step) override {
-    MeshData m = read_parts(steps_.at(size_t(step)).parts, origin(step), splits_);
+    MeshData m = read_parts(steps_.at(size_t(step)).parts, origin(step), steps_.size() > 1 ? &splits_ : nullptr);
     for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
     return m;
   }

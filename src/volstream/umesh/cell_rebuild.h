@@ -44,7 +44,8 @@ class CellRebuild {
 
 // The last split (polyhedra.h, quadratic.h) of a reader's series, kept for its next step: a time
 // series' steps mostly have the same points and cells, and then the split need not run again;
-// only the step's data is combined, as the split combined the first's.
+// only the step's data is combined, as the split combined the first's. Readers pass theirs only
+// for a series of more than one step: remembering copies the mesh's points and cells.
 class SplitMemo {
  public:
   // True, with `mesh` split as the remembered one was, when its points, cell types, offsets and

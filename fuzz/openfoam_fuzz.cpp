@@ -22,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fuzz::copy_tree(base / name, work);
   const std::string gz = name == "box_gz" ? ".gz" : "";
   const fs::path mesh = work / "constant" / "polyMesh";
-  const std::vector<fs::path> files = {mesh / ("points" + gz), mesh / ("faces" + gz), mesh / ("owner" + gz),
+  const std::vector<fs::path> files = {mesh / ("points" + gz),    mesh / ("faces" + gz),     mesh / ("owner" + gz),
                                        mesh / ("neighbour" + gz), work / "0.2" / ("T" + gz), work / "0.2" / ("U" + gz)};
   if (!fuzz::apply_patch(files, data + 1, size - 1)) return 0;
   fuzz::expect_clean([&] {

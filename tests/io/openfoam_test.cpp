@@ -117,8 +117,9 @@ TEST(OpenFoam, AsciiCaseIsWhatVtkRead) {
   EXPECT_EQ(foam.step_time(1), 0.1);
   EXPECT_EQ(foam.step_time(2), 0.2);
   EXPECT_EQ(foam.step_file(2), kDir / "box_ascii" / "0.2");
-  EXPECT_EQ(foam.summary(), "232 cells, 842 faces; fields C, T, U, V; left out (not in every time step): mag(U); "
-                            "skipped: phi (surfaceScalarField)");
+  EXPECT_EQ(foam.summary(),
+            "232 cells, 842 faces; fields C, T, U, V; left out (not in every time step): mag(U); "
+            "skipped: phi (surfaceScalarField)");
   const MeshData m = foam.read_step(2), vtu = read_vtu(kDir / "reference.vtu");
   // The same points first (VTK's and the file's), the same cells split the same way.
   ASSERT_GE(m.points.size(), 406u);
@@ -157,9 +158,10 @@ TEST(OpenFoam, PiecesFillTheirCellsAndKeepItsCentre) {
   // A field of each cell's index (written here, as OpenFOAM writes one) tells which cell a piece
   // is of.
   const fs::path dir = case_copy("box_ascii", "openfoam_pieces");
-  std::string ids = "FoamFile { version 2.0; format ascii; class volScalarField; object id; }\n"
-                    "dimensions [0 0 0 0 0 0 0];\ninternalField nonuniform List<scalar> " +
-                    std::to_string(kCells) + "\n(\n";
+  std::string ids =
+      "FoamFile { version 2.0; format ascii; class volScalarField; object id; }\n"
+      "dimensions [0 0 0 0 0 0 0];\ninternalField nonuniform List<scalar> " +
+      std::to_string(kCells) + "\n(\n";
   for (uint64_t c = 0; c < kCells; ++c) ids += std::to_string(c) + "\n";
   ids += ");\nboundaryField { }\n";
   for (const char* t : {"0", "0.1", "0.2"}) spit(dir / t / "id", ids);

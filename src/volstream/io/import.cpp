@@ -58,8 +58,9 @@ std::string import_format(const ImportRequest& r) {
     if (fs::exists(first / "manifest.json", ec)) input_error(first.string(), "is already a volstream dataset");
     if (is_plotfile(first)) return "plotfile";
     if (is_openfoam_input(first)) return "mesh";
-    input_error(first.string(), "directory is neither an AMReX plotfile (no plotfile Header) nor an OpenFOAM case "
-                                "(no constant/polyMesh, system/controlDict or processor0)");
+    input_error(first.string(),
+                "directory is neither an AMReX plotfile (no plotfile Header) nor an OpenFOAM case "
+                "(no constant/polyMesh, system/controlDict or processor0)");
   }
   if (!fs::exists(first, ec)) input_error(first.string(), "does not exist");
   if (first.extension() == ".cells") return "exabrick";

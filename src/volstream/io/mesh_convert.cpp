@@ -266,8 +266,7 @@ std::unique_ptr<MeshSeries> open_fluent_files(const std::vector<fs::path>& files
 // An OpenFOAM case (io/openfoam.h): the mesh read and split once, each time directory a step.
 class OpenFoamSeries : public MeshSeries {
  public:
-  OpenFoamSeries(const fs::path& input, std::vector<RawScalars> scalars)
-      : case_(input), scalars_(std::move(scalars)) {}
+  OpenFoamSeries(const fs::path& input, std::vector<RawScalars> scalars) : case_(input), scalars_(std::move(scalars)) {}
   int step_count() const override { return int(case_.step_count()); }
   double step_time(int step) const override { return case_.step_time(size_t(step)); }
   MeshData read_step(int step) override {
@@ -280,7 +279,8 @@ class OpenFoamSeries : public MeshSeries {
     const size_t steps = case_.step_count();
     const fs::path dir = fs::absolute(case_.case_directory()).lexically_normal();
     const std::string name = (dir.has_filename() ? dir : dir.parent_path()).filename().string();
-    return "OpenFOAM case " + name + " (" + case_.summary() + (steps > 1 ? "; " + std::to_string(steps) + " steps)" : ")");
+    return "OpenFOAM case " + name + " (" + case_.summary() +
+           (steps > 1 ? "; " + std::to_string(steps) + " steps)" : ")");
   }
 
  private:
@@ -350,7 +350,8 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
   }
   if (is_fluent_case_file(files.front())) return open_fluent_files(files, scalars);
   if (is_openfoam_input(files.front())) {
-    if (files.size() > 1) throw UsageError("an OpenFOAM case is converted on its own (its time directories are its steps)");
+    if (files.size() > 1)
+      throw UsageError("an OpenFOAM case is converted on its own (its time directories are its steps)");
     return std::make_unique<OpenFoamSeries>(files.front(), scalars);
   }
   if (ext == ".msh" && files.size() == 1) return std::make_unique<SolverFileSeries<GmshFile>>(files, scalars, "Gmsh");

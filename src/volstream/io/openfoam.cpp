@@ -282,7 +282,7 @@ std::vector<double> read_scalars(Cursor& in, const Header& h, int components, st
   }
   in.expect('(', "opening a list");
   if (h.binary) {
-    in.require_fits(uint64_t(n) * uint64_t(components), uint64_t(h.scalar_bytes), what);
+    in.require_fits(uint64_t(n), uint64_t(h.scalar_bytes) * uint64_t(components), what);
     v.resize(size_t(n) * size_t(components));
     for (double& x : v) x = binary_scalar(in, h, what);
   } else {
@@ -426,7 +426,8 @@ void read_owners(const fs::path& dir, PolyMesh& m) {
   if (m.cell_count == 0) owner.fail("no cells");
   // Each cell has 4 faces at least, each face 2 cells at most: a bound on what the cell count
   // (from the note) may make us allocate.
-  if (m.cell_count > faces / 2 + 1) owner.fail(std::to_string(m.cell_count) + " cells of " + std::to_string(faces) + " faces");
+  if (m.cell_count > faces / 2 + 1)
+    owner.fail(std::to_string(m.cell_count) + " cells of " + std::to_string(faces) + " faces");
 }
 
 PolyMesh read_poly_mesh(const fs::path& dir) {
@@ -546,8 +547,8 @@ fs::path case_directory_of(const fs::path& input) {
 bool is_openfoam_input(const fs::path& input) {
   std::error_code ec;
   if (fs::is_directory(input, ec))
-    return fs::is_directory(input / "constant" / "polyMesh", ec) || fs::is_regular_file(input / "system" / "controlDict", ec) ||
-           fs::is_directory(input / "processor0", ec);
+    return fs::is_directory(input / "constant" / "polyMesh", ec) ||
+           fs::is_regular_file(input / "system" / "controlDict", ec) || fs::is_directory(input / "processor0", ec);
   return ends_with_lower(input, ".foam") || ends_with_lower(input, ".openfoam") ||
          (input.filename() == "controlDict" && input.parent_path().filename() == "system");
 }
@@ -620,8 +621,9 @@ OpenFoamCase::OpenFoamCase(const fs::path& input) : impl_(std::make_unique<Impl>
   std::error_code ec;
   if (!fs::is_directory(c.mesh_dir, ec)) {
     if (fs::is_directory(c.dir / "processor0", ec))
-      input_error(c.dir.string(), "a decomposed case (processor0 ... without constant/polyMesh): run reconstructPar "
-                                  "(or reconstructParMesh) first");
+      input_error(c.dir.string(),
+                  "a decomposed case (processor0 ... without constant/polyMesh): run reconstructPar "
+                  "(or reconstructParMesh) first");
     input_error(c.mesh_dir.string(), "missing: not an OpenFOAM case (no constant/polyMesh)");
   }
   c.mesh = read_poly_mesh(c.mesh_dir);

@@ -39,7 +39,7 @@ class OpenFoamCase {
   OpenFoamCase(const OpenFoamCase&) = delete;
   OpenFoamCase& operator=(const OpenFoamCase&) = delete;
 
-  size_t step_count() const;  // at least 1 (the mesh alone where no time directory holds fields)
+  size_t step_count() const;            // at least 1 (the mesh alone where no time directory holds fields)
   double step_time(size_t step) const;  // the time directory's value
   // The mesh with the step's cell values, polyhedra split (once for the series), checked.
   MeshData read_step(size_t step);

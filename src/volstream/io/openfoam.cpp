@@ -536,10 +536,12 @@ std::vector<double> read_field(const FieldFile& f, uint64_t cells) {
 // The case directory an input names.
 fs::path case_directory_of(const fs::path& input) {
   std::error_code ec;
-  if (fs::is_directory(input, ec)) return input;
-  if (input.filename() == "controlDict" && input.parent_path().filename() == "system")
-    return input.parent_path().parent_path();
-  return input.parent_path();
+  fs::path dir = input.parent_path();  // of a .foam file
+  if (fs::is_directory(input, ec))
+    dir = input;
+  else if (input.filename() == "controlDict" && input.parent_path().filename() == "system")
+    dir = input.parent_path().parent_path();
+  return dir.empty() ? fs::path(".") : dir;  // "run.foam" in the working directory
 }
 
 }  // namespace

@@ -60,7 +60,6 @@ std::vector<double> numbers_of(const fs::path& file) {
 }
 
 using P = std::array<double, 3>;
-P sub(P a, P b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 double det(P a, P b, P c) {
   return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
 }

@@ -602,7 +602,9 @@ struct OpenFoamCase::Impl {
     }
     // Those in every step (of the same class) are read; the others are left out.
     for (size_t s = 0; s < steps.size(); ++s)
-      for (const auto& [name, f] : found[s]) {
+      for (const auto& entry : found[s]) {
+        const std::string& name = entry.first;
+        const FieldFile& f = entry.second;
         const bool everywhere = std::all_of(found.begin(), found.end(), [&](const auto& other) {
           const auto it = other.find(name);
           return it != other.end() && it->second.components == f.components;

@@ -297,7 +297,7 @@ std::vector<double> read_scalars(Cursor& in, const Header& h, int components, st
 // The mesh of constant/polyMesh.
 struct PolyMesh {
   std::vector<vec3d> points;
-  std::vector<uint64_t> face_offsets{0}, face_vertices;
+  std::vector<uint64_t> face_offsets{0}, face_vertices;  // moved to the PolyhedronFaces once read
   std::vector<int64_t> owner, neighbour;
   uint64_t cell_count = 0;
   fs::path owner_file;
@@ -348,6 +348,7 @@ void read_faces(const fs::path& dir, PolyMesh& m) {
     if (offsets.empty() || offsets.front() != 0 || uint64_t(offsets.back()) != vertices.size())
       in.fail("the face offsets do not span the " + std::to_string(vertices.size()) + " face vertices");
     m.face_vertices.reserve(vertices.size());
+    m.face_offsets.reserve(offsets.size());
     for (size_t f = 0; f + 1 < offsets.size(); ++f) {
       if (offsets[f + 1] < offsets[f]) in.fail("the face offsets decrease at face " + std::to_string(f));
       add_face(in, m, f, uint64_t(offsets[f + 1] - offsets[f]));
@@ -438,11 +439,12 @@ PolyMesh read_poly_mesh(const fs::path& dir) {
   return m;
 }
 
-// Each cell a polyhedron of the faces that name it (owner or neighbour), for split_polyhedra.
-PolyhedronFaces cell_faces(const PolyMesh& m) {
+// Each cell a polyhedron of the faces that name it (owner or neighbour), for split_polyhedra;
+// the faces' vertices move there (nothing else needs them).
+PolyhedronFaces cell_faces(PolyMesh& m) {
   PolyhedronFaces p;
-  p.face_offsets = m.face_offsets;
-  p.face_vertices = m.face_vertices;
+  p.face_offsets = std::move(m.face_offsets);
+  p.face_vertices = std::move(m.face_vertices);
   p.cell_face_offsets.assign(m.cell_count + 1, 0);
   for (int64_t c : m.owner) ++p.cell_face_offsets[size_t(c) + 1];
   for (int64_t c : m.neighbour) ++p.cell_face_offsets[size_t(c) + 1];

@@ -8,8 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -225,6 +227,57 @@ TEST(OpenFoam, ConvertReadsTheCaseDirectory) {
   EXPECT_TRUE(is_mesh_file(kDir / "box_gz"));
   EXPECT_FALSE(is_mesh_file(kDir));
   EXPECT_THROW(open_mesh_files({kDir / "box_ascii", kDir / "box_gz"}), UsageError);
+}
+
+// A one-tet case written here in binary with 64-bit labels and 32-bit scalars (`arch`), little-
+// or big-endian, faces as a faceCompactList: what OpenFOAM built with WM_LABEL_SIZE=64 and
+// WM_PRECISION_OPTION=SP (or on a big-endian machine) writes.
+template <typename T>
+std::string raw(std::initializer_list<T> values, bool big_endian) {
+  std::string bytes;
+  for (T v : values) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    if (big_endian) std::reverse(b, b + sizeof(T));
+    bytes.append(b, sizeof(T));
+  }
+  return bytes;
+}
+void write_tet_case(const fs::path& dir, bool big_endian) {
+  fs::create_directories(dir / "constant" / "polyMesh");
+  fs::create_directories(dir / "1.5");
+  const auto header = [&](const char* cls) {
+    return std::string("FoamFile\n{\n    format binary;\n    class ") + cls + ";\n    arch \"" +
+           (big_endian ? "MSB" : "LSB") + ";label=64;scalar=32\";\n}\n// a comment\n";
+  };
+  const fs::path m = dir / "constant" / "polyMesh";
+  spit(m / "points",
+       header("vectorField") + "4\n(" + raw<float>({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, big_endian) + ")\n");
+  spit(m / "faces", header("faceCompactList") + "5\n(" + raw<int64_t>({0, 3, 6, 9, 12}, big_endian) + ")\n12\n(" +
+                        raw<int64_t>({0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2}, big_endian) + ")\n");
+  spit(m / "owner", header("labelList") + "4\n(" + raw<int64_t>({0, 0, 0, 0}, big_endian) + ")\n");
+  spit(m / "neighbour", header("labelList") + "0()\n");
+  spit(dir / "1.5" / "T", header("volScalarField") + "dimensions [0 0 0 1 0 0 0];\ninternalField nonuniform " +
+                              "List<scalar> 1(" + raw<float>({2.5f}, big_endian) + ");\nboundaryField {}\n");
+  spit(dir / "1.5" / "U", header("volVectorField") + "internalField uniform (1 2 3);\n");
+}
+
+TEST(OpenFoam, BinaryOf64BitLabelsAnd32BitScalarsEitherEndian) {
+  for (bool big_endian : {false, true}) {
+    SCOPED_TRACE(big_endian ? "MSB" : "LSB");
+    const fs::path dir = test::scratch_dir(big_endian ? "openfoam_tet_msb" : "openfoam_tet_lsb") / "tet";
+    write_tet_case(dir, big_endian);
+    OpenFoamCase foam(dir);
+    ASSERT_EQ(foam.step_count(), 1u);
+    EXPECT_EQ(foam.step_time(0), 1.5);
+    const MeshData m = foam.read_step(0);
+    ASSERT_EQ(m.cell_count(), 1u);
+    EXPECT_EQ(m.cell_types[0], 10);  // the faces of a tet: a tet
+    ASSERT_EQ(m.points.size(), 4u);
+    EXPECT_EQ(m.points[3], (vec3d{0, 0, 1}));
+    EXPECT_EQ(test::array_named(m.cell_data, "T").values, std::vector<double>{2.5});
+    EXPECT_EQ(test::array_named(m.cell_data, "U").values, (std::vector<double>{1, 2, 3}));
+  }
 }
 
 // A copy of the ascii case, its files edited, read step by step as `convert` reads it.

@@ -666,12 +666,12 @@ std::string OpenFoamCase::summary() const {
     sep = ", ";
   }
   if (!c.left_out.empty()) {
-    s += "; left out (not in every time step):";
-    for (const std::string& name : c.left_out) s += " " + name;
+    s += "; left out (not in every time step): ";
+    for (const std::string& name : c.left_out) s += (name == *c.left_out.begin() ? "" : ", ") + name;
   }
   if (!c.skipped.empty()) {
-    s += "; skipped:";
-    for (const std::string& name : c.skipped) s += " " + name;
+    s += "; skipped: ";
+    for (const std::string& name : c.skipped) s += (name == *c.skipped.begin() ? "" : ", ") + name;
   }
   return s;
 }

@@ -23,18 +23,21 @@ struct ConvertArgs {
 void add_convert_command(CLI::App& app) {
   auto a = std::make_shared<ConvertArgs>();
   ImportRequest& in = a->in;
-  auto* cmd = app.add_subcommand("convert",
-                                 "Convert AMReX plotfiles, ExaBrick cells+scalars, raw grids or unstructured meshes "
-                                 "(.vtu, .pvtu, .vtm, .vtk, .pvd, .series, .ugrid, EnSight .case, Exodus II .exo, "
-                                 ".cgns, Gmsh .msh, Fluent .cas [.dat...]) to a volstream dataset");
+  auto* cmd =
+      app.add_subcommand("convert",
+                         "Convert AMReX plotfiles, ExaBrick cells+scalars, raw grids or unstructured meshes "
+                         "(.vtu, .pvtu, .vtm, .vtk, .pvd, .series, .ugrid, EnSight .case, Exodus II .exo, "
+                         ".cgns, Gmsh .msh, Fluent .cas [.dat...], an OpenFOAM case directory or its .foam file) to a "
+                         "volstream dataset");
   cmd->add_option("inputs", a->inputs,
                   "plotfile directories (several = time steps) | FILE.cells SCALARS... | raw files (several = fields, "
                   "or steps with --series) | mesh files (several = time steps) or one .pvd or .series")
       ->required();
   cmd->add_option("-o,--output", a->out, "output dataset directory")->required();
-  cmd->add_option(
-         "--format", in.format,
-         "auto | plotfile | exabrick | raw | mesh (.vtu .pvtu .vtm .vtk .pvd .series .ugrid .case .exo .cgns .msh)")
+  cmd->add_option("--format", in.format,
+                  "auto | plotfile | exabrick | raw | mesh (.vtu .pvtu .vtm .vtk .pvd .series .ugrid .case .exo .cgns "
+                  ".msh .cas, "
+                  "OpenFOAM case)")
       ->check(CLI::IsMember({"auto", "plotfile", "exabrick", "raw", "mesh"}))
       ->capture_default_str();
   cmd->add_option("--dims", in.dims, "raw grid dimensions X,Y,Z")->delimiter(',')->expected(3);

@@ -31,7 +31,8 @@ fs::path scratch(const char* name) {
 void copy_file_contents(const fs::path& from, const fs::path& to) {
   std::ifstream in(from, std::ios::binary);
   std::ofstream out(to, std::ios::binary | std::ios::trunc);
-  out << in.rdbuf();
+  // An empty file (an OpenFOAM case's CASE.foam) copies as nothing: `<<` of an empty buffer fails.
+  if (in.peek() != std::ifstream::traits_type::eof()) out << in.rdbuf();
   if (!in || !out) throw std::runtime_error("fuzz harness: cannot copy " + from.string());
 }
 

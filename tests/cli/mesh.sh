@@ -280,6 +280,26 @@ head -c 3000 "$FL/fluent_mixed_bin-2.dat" >cut.dat
 expect_bad_input "a Fluent data file cut short" convert "$FL/fluent_mixed_bin.cas" cut.dat -o cut_fluent
 sed 's/^(2 3)$/(2 2)/' "$FL/fluent_mixed.cas" >flat.cas
 expect_bad_input "a 2D Fluent case" convert flat.cas -o flat_fluent
+# OpenFOAM (tests/data/openfoam/make_openfoam_files.sh, made with OpenFOAM itself): the ascii
+# case's directory is 3 steps at its time directories' values; its binary copy, given by its .foam
+# file, probes as the ascii one at the last step; a decomposed case and a faces file cut short are
+# one line and exit 2.
+OF="$DATA/../openfoam"
+"$VS" convert "$OF/box_ascii" -o of_ascii -q
+"$VS" info of_ascii | grep -q "steps     3 (t = 0 .. 0.2)" || fail "OpenFOAM: not 3 steps from 0 to 0.2"
+"$VS" info of_ascii | grep -q "OpenFOAM case box_ascii (232 cells, 842 faces; fields C, T, U, V; left out" ||
+  fail "OpenFOAM: info does not describe the case"
+"$VS" convert "$OF/box_binary/box_binary.foam" -o of_binary -q
+random_points of_ascii 2000 14 >of_points.txt
+"$VS" probe of_ascii --field T --step 2 --points of_points.txt >of_t.txt
+"$VS" probe of_binary --field T --points of_points.txt >of_t_want.txt
+echo -n "OpenFOAM binary case against the ascii one: "
+compare_probes of_t.txt of_t_want.txt || fail "the OpenFOAM binary case probes otherwise than the ascii one"
+mkdir -p of_decomposed/processor0/constant of_cut
+expect_bad_input "a decomposed OpenFOAM case" convert of_decomposed -o of_decomposed_out
+cp -r "$OF/box_ascii/constant" "$OF/box_ascii/system" of_cut/
+head -c 5000 "$OF/box_ascii/constant/polyMesh/faces" >of_cut/constant/polyMesh/faces
+expect_bad_input "an OpenFOAM faces file cut short" convert of_cut -o of_cut_out
 
 # Bad input: a truncated file, a .pvd whose steps have different meshes, an unknown scalars spec.
 head -c 3000 m.vtu >trunc.vtu

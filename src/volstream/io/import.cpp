@@ -4,6 +4,7 @@
 
 #include "volstream/core/error.h"
 #include "volstream/io/exabrick.h"
+#include "volstream/io/openfoam.h"
 #include "volstream/io/plotfile.h"
 #include "volstream/io/raw_grid.h"
 
@@ -56,7 +57,10 @@ std::string import_format(const ImportRequest& r) {
   if (fs::is_directory(first, ec)) {
     if (fs::exists(first / "manifest.json", ec)) input_error(first.string(), "is already a volstream dataset");
     if (is_plotfile(first)) return "plotfile";
-    input_error(first.string(), "directory is not an AMReX plotfile (no plotfile Header)");
+    if (is_openfoam_input(first)) return "mesh";
+    input_error(first.string(),
+                "directory is neither an AMReX plotfile (no plotfile Header) nor an OpenFOAM case "
+                "(no constant/polyMesh, system/controlDict or processor0)");
   }
   if (!fs::exists(first, ec)) input_error(first.string(), "does not exist");
   if (first.extension() == ".cells") return "exabrick";

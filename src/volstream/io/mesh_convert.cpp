@@ -16,6 +16,7 @@
 #include "volstream/io/exodus.h"
 #include "volstream/io/fluent.h"
 #include "volstream/io/gmsh.h"
+#include "volstream/io/openfoam.h"
 #include "volstream/io/ugrid.h"
 #include "volstream/io/vtk_legacy.h"
 #include "volstream/io/vtu.h"
@@ -75,7 +76,7 @@ MeshData read_mesh_file(const fs::path& file, SeriesSplits* splits = nullptr) {
   if (ext == ".msh") return read_gmsh_step(file);
   input_error(file.string(),
               "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, .msh, or a .pvd or .series of them; or an EnSight "
-              ".case or an Exodus II .exo, or a .cgns, or a Fluent .cas and its .dat files)");
+              ".case or an Exodus II .exo, or a .cgns, or a Fluent .cas and its .dat files, or an OpenFOAM case)");
 }
 
 // A step's parts (a .pvd's entries of one time: a parallel run's pieces) as one mesh, read in
@@ -264,6 +265,31 @@ std::unique_ptr<MeshSeries> open_fluent_files(const std::vector<fs::path>& files
   return std::make_unique<FluentSeries>(files.front(), data, std::move(scalars));
 }
 
+// An OpenFOAM case (io/openfoam.h): the mesh read and split once, each time directory a step.
+class OpenFoamSeries : public MeshSeries {
+ public:
+  OpenFoamSeries(const fs::path& input, std::vector<RawScalars> scalars) : case_(input), scalars_(std::move(scalars)) {}
+  int step_count() const override { return int(case_.step_count()); }
+  double step_time(int step) const override { return case_.step_time(size_t(step)); }
+  MeshData read_step(int step) override {
+    MeshData m = case_.read_step(size_t(step));
+    for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
+    return m;
+  }
+  std::string origin(int step) const override { return case_.step_file(size_t(step)).string(); }
+  std::string description() const override {
+    const size_t steps = case_.step_count();
+    const fs::path dir = fs::absolute(case_.case_directory()).lexically_normal();
+    const std::string name = (dir.has_filename() ? dir : dir.parent_path()).filename().string();
+    return "OpenFOAM case " + name + " (" + case_.summary() +
+           (steps > 1 ? "; " + std::to_string(steps) + " steps)" : ")");
+  }
+
+ private:
+  OpenFoamCase case_;
+  std::vector<RawScalars> scalars_;
+};
+
 bool is_cgns_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   return ext == ".cgns" || ext == ".cgn";
@@ -287,7 +313,7 @@ bool is_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   return ext == ".vtu" || ext == ".pvtu" || ext == ".vtm" || ext == ".vtk" || ext == ".pvd" || ext == ".series" ||
          ext == ".ugrid" || ext == ".case" || ext == ".msh" || is_exodus_file(file) || is_cgns_file(file) ||
-         is_fluent_case_file(file);
+         is_fluent_case_file(file) || is_openfoam_input(file);
 }
 
 RawScalars parse_raw_scalars(const std::string& spec) {
@@ -325,6 +351,11 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
     return std::make_unique<SolverFileSeries<CgnsFile>>(files, scalars, "CGNS");
   }
   if (is_fluent_case_file(files.front())) return open_fluent_files(files, scalars);
+  if (is_openfoam_input(files.front())) {
+    if (files.size() > 1)
+      throw UsageError("an OpenFOAM case is converted on its own (its time directories are its steps)");
+    return std::make_unique<OpenFoamSeries>(files.front(), scalars);
+  }
   if (ext == ".msh" && files.size() == 1) return std::make_unique<SolverFileSeries<GmshFile>>(files, scalars, "Gmsh");
   if (ext == ".pvd" || ext == ".series") {
     if (files.size() > 1) throw UsageError("a .pvd collection or .series file is converted on its own");

@@ -29,7 +29,8 @@ std::unique_ptr<MeshSeries> make_mesh_demo_series(const MeshDemoOptions& options
 // ParaView file series of them), .ugrid (any UGRID encoding), .case (EnSight Gold, io/ensight.h),
 // .exo, .e, .ex2, .exii, .g, .gen (Exodus II, io/exodus.h) and their rank files (NAME.N.R),
 // .cgns, .cgn (CGNS, io/cgns.h), .msh (Gmsh, io/gmsh.h), .cas, .cas.gz
-// (a Fluent case, io/fluent.h).
+// (a Fluent case, io/fluent.h), an OpenFOAM case's directory, its .foam or .OpenFOAM file or its
+// system/controlDict (io/openfoam.h).
 bool is_mesh_file(const std::filesystem::path& file);
 
 // Raw float32 per-point scalars for a UGRID grid (`--scalars NAME=FILE`).
@@ -47,7 +48,8 @@ RawScalars parse_raw_scalars(const std::string& spec);
 // steps; the mesh read once), or one or all rank files NAME.N.R of one (joined), or one CGNS
 // file (its steps), or one Gmsh .msh file (its views' steps; several .msh files of one step
 // each are a series like .vtu files), or one Fluent .cas and its .dat files (a step each, in the
-// order given; none: the .dat of the case's name, if any). `scalars` are attached to every
+// order given; none: the .dat of the case's name, if any), or one OpenFOAM case (its time
+// directories; the mesh read and split once). `scalars` are attached to every
 // step (UGRID carries no data of its own). Headers are read when a step is read.
 std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<std::filesystem::path>& files,
                                             const std::vector<RawScalars>& scalars = {});

@@ -1,0 +1,33 @@
+// OpenFOAM: the test cases of tests/data/openfoam (a refined box: ascii, binary with a
+// faceCompactList, gzipped) with one of their mesh files or the last step's fields patched or
+// truncated, read step by step as `convert` reads them.
+#include <iterator>
+#include <string>
+
+#include "fuzz_util.h"
+#include "volstream/io/openfoam.h"
+
+namespace {
+const char* const kCases[] = {"box_ascii", "box_binary", "box_gz"};
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace vs;
+  namespace fs = std::filesystem;
+  static const auto dir = fuzz::scratch("openfoam");
+  const fs::path base = fs::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "openfoam";
+  if (size < 1) return 0;
+  const std::string name = kCases[(data[0] & 0x7f) % std::size(kCases)];
+  const fs::path work = dir / "case";
+  fuzz::copy_tree(base / name, work);
+  const std::string gz = name == "box_gz" ? ".gz" : "";
+  const fs::path mesh = work / "constant" / "polyMesh";
+  const std::vector<fs::path> files = {mesh / ("points" + gz),    mesh / ("faces" + gz),     mesh / ("owner" + gz),
+                                       mesh / ("neighbour" + gz), work / "0.2" / ("T" + gz), work / "0.2" / ("U" + gz)};
+  if (!fuzz::apply_patch(files, data + 1, size - 1)) return 0;
+  fuzz::expect_clean([&] {
+    OpenFoamCase foam(work);
+    for (size_t step = 0; step < foam.step_count(); ++step) foam.read_step(step);
+  });
+  return 0;
+}

@@ -1,0 +1,57 @@
+// OpenFOAM case directories (the OpenFOAM User Guide's "OpenFOAM file format" and "Mesh
+// description"), read natively, without foamToVTK: the mesh of constant/polyMesh (points,
+// faces, owner, neighbour; each possibly .gz), ascii or binary as each file's FoamFile header
+// says (format, and arch "label=32|64;scalar=32|64", MSB or LSB), faces as faceList or
+// faceCompactList; each cell built from the faces that name it as their owner or neighbour and
+// split as VTK's polyhedra are (umesh/polyhedra.h: a cell whose faces are those of a tet,
+// pyramid, wedge or hex stays one), once for the whole series. Time steps: the numeric
+// directories beside constant that hold volScalarField or volVectorField files (their
+// internalField uniform or nonuniform, ascii or binary), by value, "0" included; the values are
+// cell data named by their file (a volVectorField a 3-component array). A field missing from
+// some step is left out, and point, surface and tensor fields are skipped (summary() says
+// which). Refused with one line: a decomposed case without constant/polyMesh (run
+// reconstructPar), a moving or changing mesh (a polyMesh with points or faces in a time
+// directory), unknown formats or classes, lists cut short or larger than their file, face
+// vertices, owners or neighbours out of range, faces of fewer than 3 vertices, cells of fewer
+// than 4 faces, unbalanced parentheses.
+#pragma once
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "volstream/umesh/mesh_data.h"
+
+namespace vs {
+
+// An input that names an OpenFOAM case: its directory (holding constant/polyMesh, a
+// system/controlDict or a processor0 directory), a file named *.foam or *.OpenFOAM in it
+// (ParaView's convention), or its system/controlDict.
+bool is_openfoam_input(const std::filesystem::path& input);
+
+class OpenFoamCase {
+ public:
+  // Reads the mesh and finds the time steps (InputError naming the file for anything it does
+  // not read).
+  explicit OpenFoamCase(const std::filesystem::path& input);
+  ~OpenFoamCase();
+  OpenFoamCase(const OpenFoamCase&) = delete;
+  OpenFoamCase& operator=(const OpenFoamCase&) = delete;
+
+  size_t step_count() const;            // at least 1 (the mesh alone where no time directory holds fields)
+  double step_time(size_t step) const;  // the time directory's value
+  // The mesh with the step's cell values, polyhedra split (once for the series), checked.
+  MeshData read_step(size_t step);
+  // The step's time directory (the polyMesh directory for the mesh alone).
+  std::filesystem::path step_file(size_t step) const;
+  std::filesystem::path case_directory() const;
+  // "1234 cells, 3800 faces; fields p, U", the fields left out and skipped, for `info`.
+  std::string summary() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vs

@@ -1,0 +1,173 @@
+#!/usr/bin/env bash
+# Rebuilds tests/data/openfoam from scratch with OpenFOAM itself (Debian 12's `openfoam`
+# package, OpenFOAM v1912; its tools are in /usr/bin) and checks it with VTK's own reader
+# (make_openfoam_reference.py, /usr/bin/python3 with python3-vtk9):
+#   box_ascii   a 6x5x4 blockMesh box, its corner cells refined (topoSet + refineMesh), so the
+#               cells beside them are polyhedra (faces split to meet the smaller cells); three
+#               time steps 0, 0.1, 0.2 of scalarTransportFoam (T, U; phi a surface field,
+#               skipped), cell centres C and volumes V (postProcess) in every step, mag(U) in
+#               the last only (left out); ascii files, faces a faceList
+#   box_binary  the same case, foamFormatConvert'ed to binary (faces a faceCompactList)
+#   box_gz      the same case, ascii, every file gzipped (writeCompression on)
+#   reference.vtu  VTK's cells (polyhedra not decomposed) and cell values of the last step, the
+#               same for all three copies
+# Usage: bash make_openfoam_files.sh   (in this directory; takes a few seconds)
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+# The tools find their etc/ files (controlDict, cellModels) under WM_PROJECT_DIR.
+if [ -z "${WM_PROJECT_DIR:-}" ] && [ -f /usr/share/openfoam/etc/bashrc ]; then
+  export WM_PROJECT_DIR=/usr/share/openfoam
+fi
+for tool in blockMesh topoSet refineMesh setFields scalarTransportFoam postProcess foamFormatConvert; do
+  command -v $tool >/dev/null || { echo "needs OpenFOAM ($tool): apt-get install openfoam" >&2; exit 1; }
+done
+version=$(dpkg-query -W -f='${Version}' openfoam 2>/dev/null || echo unknown)
+
+header() {  # header CLASS LOCATION OBJECT
+  cat <<H
+FoamFile
+{
+    version     2.0;
+    format      ascii;
+    class       $1;
+    location    "$2";
+    object      $3;
+}
+H
+}
+
+c=$work/box
+mkdir -p $c/system $c/constant $c/0
+{ header dictionary system blockMeshDict; cat <<'D'
+convertToMeters 1;
+vertices ((0 0 0) (1.2 0 0) (1.2 1 0) (0 1 0) (0 0 0.8) (1.2 0 0.8) (1.2 1 0.8) (0 1 0.8));
+blocks (hex (0 1 2 3 4 5 6 7) (6 5 4) simpleGrading (1 1 1));
+edges ();
+boundary
+(
+    inlet  { type patch; faces ((0 4 7 3)); }
+    outlet { type patch; faces ((1 2 6 5)); }
+    walls  { type wall; faces ((0 1 5 4) (3 7 6 2) (0 3 2 1) (4 5 6 7)); }
+);
+mergePatchPairs ();
+D
+} > $c/system/blockMeshDict
+{ header dictionary system controlDict; cat <<'D'
+application     scalarTransportFoam;
+startFrom       startTime;
+startTime       0;
+stopAt          endTime;
+endTime         0.2;
+deltaT          0.05;
+writeControl    timeStep;
+writeInterval   2;
+purgeWrite      0;
+writeFormat     ascii;
+writePrecision  10;
+writeCompression off;
+timeFormat      general;
+timePrecision   6;
+runTimeModifiable false;
+D
+} > $c/system/controlDict
+{ header dictionary system fvSchemes; cat <<'D'
+ddtSchemes { default Euler; }
+gradSchemes { default Gauss linear; }
+divSchemes { default none; div(phi,T) Gauss linearUpwind grad(T); }
+laplacianSchemes { default none; laplacian(DT,T) Gauss linear corrected; }
+interpolationSchemes { default linear; }
+snGradSchemes { default corrected; }
+D
+} > $c/system/fvSchemes
+{ header dictionary system fvSolution; cat <<'D'
+solvers { T { solver PBiCGStab; preconditioner DILU; tolerance 1e-09; relTol 0; } }
+SIMPLE { nNonOrthogonalCorrectors 0; }
+D
+} > $c/system/fvSolution
+{ header dictionary system topoSetDict; cat <<'D'
+actions
+(
+    { name corner; type cellSet; action new; source boxToCell; box (-1 -1 -1) (0.41 0.41 0.41); }
+    { name corner; type cellSet; action add; source boxToCell; box (0.79 0.59 0.39) (2 2 2); }
+);
+D
+} > $c/system/topoSetDict
+{ header dictionary system refineMeshDict; cat <<'D'
+set corner;
+coordinateSystem global;
+globalCoeffs { tan1 (1 0 0); tan2 (0 1 0); }
+directions (tan1 tan2 normal);
+useHexTopology true;
+geometricCut false;
+writeMesh false;
+D
+} > $c/system/refineMeshDict
+{ header dictionary system setFieldsDict; cat <<'D'
+defaultFieldValues ( volScalarFieldValue T 0 volVectorFieldValue U (1 0.2 0.1) );
+regions
+(
+    boxToCell { box (-1 -1 -1) (0.5 0.6 0.5); fieldValues ( volScalarFieldValue T 1 volVectorFieldValue U (0.5 0.4 0.3) ); }
+);
+D
+} > $c/system/setFieldsDict
+{ header dictionary constant transportProperties; echo "DT 0.02;"; } > $c/constant/transportProperties
+{ header volScalarField 0 T; cat <<'D'
+dimensions [0 0 0 0 0 0 0];
+internalField uniform 0;
+boundaryField
+{
+    inlet  { type fixedValue; value uniform 1; }
+    outlet { type zeroGradient; }
+    walls  { type zeroGradient; }
+}
+D
+} > $c/0/T
+{ header volVectorField 0 U; cat <<'D'
+dimensions [0 1 -1 0 0 0 0];
+internalField uniform (1 0.2 0.1);
+boundaryField
+{
+    inlet  { type fixedValue; value uniform (1 0.2 0.1); }
+    outlet { type zeroGradient; }
+    walls  { type slip; }
+}
+D
+} > $c/0/U
+
+run() { "$@" -case $c > $work/log.$1 2>&1 || { cat $work/log.$1 >&2; exit 1; }; }
+run blockMesh
+run topoSet
+run refineMesh -overwrite
+run setFields
+run scalarTransportFoam
+run postProcess -func writeCellCentres
+run postProcess -func writeCellVolumes
+run postProcess -func 'mag(U)' -time 0.2
+rm -rf $c/constant/polyMesh/sets $c/constant/polyMesh/*Level* $c/constant/polyMesh/*Zones* $c/constant/polyMesh/refinementHistory
+rm -f $c/*/Cx $c/*/Cy $c/*/Cz
+rm -rf $c/*/uniform $c/postProcessing
+
+rm -rf "$here"/box_ascii "$here"/box_binary "$here"/box_gz "$here"/reference*.vtu
+mkdir -p "$here"/box_ascii
+cp -r $c/0 $c/0.1 $c/0.2 $c/constant $c/system "$here"/box_ascii/
+touch "$here"/box_ascii/box_ascii.foam
+cp -r "$here"/box_ascii "$here"/box_binary
+mv "$here"/box_binary/box_ascii.foam "$here"/box_binary/box_binary.foam
+sed -i 's/^writeFormat .*/writeFormat     binary;/' "$here"/box_binary/system/controlDict
+foamFormatConvert -case "$here"/box_binary > $work/log.convert 2>&1 || { cat $work/log.convert >&2; exit 1; }
+cp -r "$here"/box_ascii "$here"/box_gz
+mv "$here"/box_gz/box_ascii.foam "$here"/box_gz/box_gz.foam
+sed -i 's/^writeCompression .*/writeCompression on;/' "$here"/box_gz/system/controlDict
+find "$here"/box_gz/constant "$here"/box_gz/0* -type f | xargs gzip -9n
+# boundary stays as it is: VTK's reader needs it (volstream does not read it).
+for d in "$here"/box_gz; do gunzip "$d"/constant/polyMesh/boundary.gz; done
+# Kept small: the binary and gzipped copies hold the mesh and the last step only, and only the
+# ascii case's last step keeps phi (a surface field, skipped).
+rm -rf "$here"/box_binary/0 "$here"/box_binary/0.1 "$here"/box_gz/0 "$here"/box_gz/0.1
+rm -f "$here"/box_ascii/0.1/phi* "$here"/box_binary/0.2/phi* "$here"/box_gz/0.2/phi*
+rm -rf "$here"/box_*/system/{fvSchemes,fvSolution,topoSetDict,refineMeshDict,setFieldsDict,blockMeshDict}
+echo "$version" > "$here"/OPENFOAM_VERSION
+/usr/bin/python3 "$here"/make_openfoam_reference.py "$here"
+du -sh "$here"

@@ -1,0 +1,409 @@
+// OpenFOAM cases made by OpenFOAM v1912 itself (tests/data/openfoam/make_openfoam_files.sh: a
+// 6x5x4 box with two corners refined, so the cells beside them are polyhedra; ascii, binary and
+// gzipped copies) read as VTK's own OpenFOAM reader read them (reference.vtu); each cell's split
+// pieces fill it (their volumes sum to its volume, computed here from the faces by the
+// divergence theorem, and to OpenFOAM's own cell volumes V; their centroid is OpenFOAM's cell
+// centre C); and damaged copies, edited here, refused with one line.
+#include "volstream/io/openfoam.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "test_util.h"
+#include "volstream/core/error.h"
+#include "volstream/io/mesh_convert.h"
+#include "volstream/io/vtu.h"
+#include "volstream/umesh/from_mesh_data.h"
+
+namespace vs {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kDir = fs::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "openfoam";
+constexpr uint64_t kCells = 232;
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+void spit(const fs::path& file, const std::string& bytes) { std::ofstream(file, std::ios::binary) << bytes; }
+
+void expect_cell_values_equal(const MeshData& a, const MeshData& b, double tolerance = 0) {
+  for (const char* name : {"T", "U", "C", "V"}) {
+    SCOPED_TRACE(name);
+    const MeshArray &x = test::array_named(a.cell_data, name), &y = test::array_named(b.cell_data, name);
+    ASSERT_EQ(x.components, y.components);
+    ASSERT_EQ(x.values.size(), y.values.size());
+    for (size_t i = 0; i < x.values.size(); ++i) EXPECT_NEAR(x.values[i], y.values[i], tolerance) << i;
+  }
+}
+
+// An ascii OpenFOAM list file's numbers after its header, parentheses dropped: a few lines to
+// read the ascii case's mesh here without the reader under test.
+std::vector<double> numbers_of(const fs::path& file) {
+  std::string t = slurp(file);
+  t = t.substr(t.find('}', t.find("FoamFile")) + 1);
+  for (size_t c; (c = t.find("//")) != std::string::npos;) t.erase(c, t.find('\n', c) - c);
+  for (char& c : t)
+    if (c == '(' || c == ')') c = ' ';
+  std::istringstream in(t);
+  std::vector<double> v;
+  for (double x; in >> x;) v.push_back(x);
+  return v;
+}
+
+using P = std::array<double, 3>;
+double det(P a, P b, P c) {
+  return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+// The volume a closed surface of polygons (each given by its points, in order) encloses, and
+// its centroid (times the volume): the divergence theorem over triangles fanned from each
+// polygon's vertex mean, their tets against the origin. `sign` flips a polygon.
+struct Moments {
+  double volume = 0;
+  P first{0, 0, 0};
+  void add_polygon(const std::vector<P>& v, double sign) {
+    P c{0, 0, 0};
+    for (const P& p : v)
+      for (int k = 0; k < 3; ++k) c[k] += p[k] / double(v.size());
+    for (size_t i = 0; i < v.size(); ++i) {
+      const P &a = c, &b = v[i], &d = v[(i + 1) % v.size()];
+      const double vol = sign * det(a, b, d) / 6;
+      volume += vol;
+      for (int k = 0; k < 3; ++k) first[k] += vol * (a[k] + b[k] + d[k]) / 4;
+    }
+  }
+};
+
+// Each element's volume and centroid from its faces (VTK's orders, faces outward).
+Moments element_moments(const MeshData& m, uint64_t e) {
+  static const std::map<int, std::vector<std::vector<int>>> kFaces = {
+      {10, {{0, 1, 3}, {1, 2, 3}, {2, 0, 3}, {0, 2, 1}}},
+      {14, {{0, 3, 2, 1}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}}},
+      {13, {{0, 1, 2}, {3, 5, 4}, {0, 3, 4, 1}, {1, 4, 5, 2}, {2, 5, 3, 0}}},
+      {12, {{0, 4, 7, 3}, {1, 2, 6, 5}, {0, 1, 5, 4}, {3, 7, 6, 2}, {0, 3, 2, 1}, {4, 5, 6, 7}}}};
+  Moments mo;
+  const auto& faces = kFaces.at(m.cell_types[e]);
+  for (const auto& f : faces) {
+    std::vector<P> v;
+    for (int k : f) {
+      const vec3d p = m.points[m.connectivity[m.cell_offsets[e] + uint64_t(k)]];
+      v.push_back({p[0], p[1], p[2]});
+    }
+    mo.add_polygon(v, 1);
+  }
+  return mo;
+}
+
+// A copy of a case in a scratch directory (for edits).
+fs::path case_copy(const std::string& name, const std::string& scratch) {
+  const fs::path dir = test::scratch_dir(scratch) / name;
+  fs::copy(kDir / name, dir, fs::copy_options::recursive);
+  return dir;
+}
+
+TEST(OpenFoam, AsciiCaseIsWhatVtkRead) {
+  OpenFoamCase foam(kDir / "box_ascii");
+  ASSERT_EQ(foam.step_count(), 3u);
+  EXPECT_EQ(foam.step_time(0), 0.0);
+  EXPECT_EQ(foam.step_time(1), 0.1);
+  EXPECT_EQ(foam.step_time(2), 0.2);
+  EXPECT_EQ(foam.step_file(2), kDir / "box_ascii" / "0.2");
+  EXPECT_EQ(foam.summary(),
+            "232 cells, 842 faces; fields C, T, U, V; left out (not in every time step): mag(U); "
+            "skipped: phi (surfaceScalarField)");
+  const MeshData m = foam.read_step(2), vtu = read_vtu(kDir / "reference.vtu");
+  // The same points first (VTK's and the file's), the same cells split the same way; VTK's
+  // reader keeps OpenFOAM's scalars as float32.
+  ASSERT_GE(m.points.size(), 406u);
+  ASSERT_GE(vtu.points.size(), 406u);
+  for (size_t p = 0; p < 406; ++p)
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(m.points[p][k], vtu.points[p][k], 1e-7) << p;
+  EXPECT_EQ(m.cell_count(), vtu.cell_count());
+  EXPECT_EQ(m.cell_types, vtu.cell_types);
+  expect_cell_values_equal(m, vtu, 1e-6);
+  test::expect_probes_alike(vtu, "T", m, "T");
+  test::expect_probes_alike(vtu, "U", m, "U");
+  EXPECT_NO_THROW(make_umesh(m, mesh_transform(m), "openfoam"));  // every element the right way round
+  // Some cells are polyhedra (not hexes): more elements than cells.
+  EXPECT_GT(m.cell_count(), kCells);
+}
+
+TEST(OpenFoam, AsciiBinaryAndGzippedAreTheSame) {
+  OpenFoamCase ascii(kDir / "box_ascii" / "box_ascii.foam");  // ParaView's way in
+  OpenFoamCase binary(kDir / "box_binary" / "system" / "controlDict");
+  OpenFoamCase gz(kDir / "box_gz");
+  ASSERT_EQ(binary.step_count(), 1u);
+  ASSERT_EQ(gz.step_count(), 1u);
+  EXPECT_EQ(binary.step_time(0), 0.2);
+  const MeshData a = ascii.read_step(2), b = binary.read_step(0), g = gz.read_step(0);
+  for (const MeshData* other : {&b, &g}) {
+    EXPECT_EQ(other->points, a.points);
+    EXPECT_EQ(other->cell_types, a.cell_types);
+    EXPECT_EQ(other->cell_offsets, a.cell_offsets);
+    EXPECT_EQ(other->connectivity, a.connectivity);
+    expect_cell_values_equal(*other, a, 1e-9);  // ascii values are written to 10 digits
+  }
+  EXPECT_EQ(test::array_named(g.cell_data, "mag(U)").components, 1);  // in its one step, not left out
+}
+
+TEST(OpenFoam, PiecesFillTheirCellsAndKeepItsCentre) {
+  // A field of each cell's index (written here, as OpenFOAM writes one) tells which cell a piece
+  // is of.
+  const fs::path dir = case_copy("box_ascii", "openfoam_pieces");
+  std::string ids =
+      "FoamFile { version 2.0; format ascii; class volScalarField; object id; }\n"
+      "dimensions [0 0 0 0 0 0 0];\ninternalField nonuniform List<scalar> " +
+      std::to_string(kCells) + "\n(\n";
+  for (uint64_t c = 0; c < kCells; ++c) ids += std::to_string(c) + "\n";
+  ids += ");\nboundaryField { }\n";
+  for (const char* t : {"0", "0.1", "0.2"}) spit(dir / t / "id", ids);
+  OpenFoamCase foam(dir);
+  const MeshData m = foam.read_step(2);
+  const std::vector<double>& id = test::array_named(m.cell_data, "id").values;
+  const std::vector<double>& volume = test::array_named(m.cell_data, "V").values;
+  const std::vector<double>& centre = test::array_named(m.cell_data, "C").values;
+  std::vector<Moments> pieces(kCells);
+  std::vector<uint64_t> any_piece(kCells);
+  for (uint64_t e = 0; e < m.cell_count(); ++e) {
+    const uint64_t c = uint64_t(id[e]);
+    ASSERT_LT(c, kCells);
+    const Moments mo = element_moments(m, e);
+    EXPECT_GT(mo.volume, 0) << "element " << e << " of cell " << c;
+    pieces[c].volume += mo.volume;
+    for (int k = 0; k < 3; ++k) pieces[c].first[k] += mo.first[k];
+    any_piece[c] = e;
+  }
+
+  // Each cell's volume and centroid from its faces (face normals point out of the owner).
+  const std::vector<double> xyz = numbers_of(dir / "constant" / "polyMesh" / "points");
+  const std::vector<double> faces = numbers_of(dir / "constant" / "polyMesh" / "faces");
+  const std::vector<double> owner = numbers_of(dir / "constant" / "polyMesh" / "owner");
+  const std::vector<double> neighbour = numbers_of(dir / "constant" / "polyMesh" / "neighbour");
+  std::vector<Moments> cells(kCells);
+  size_t at = 1;
+  for (size_t f = 0; f < size_t(faces[0]); ++f) {
+    std::vector<P> v;
+    const size_t n = size_t(faces[at++]);
+    for (size_t k = 0; k < n; ++k, ++at) {
+      const size_t p = size_t(faces[at]);
+      v.push_back({xyz[1 + 3 * p], xyz[2 + 3 * p], xyz[3 + 3 * p]});
+    }
+    cells[size_t(owner[1 + f])].add_polygon(v, 1);
+    if (f < size_t(neighbour[0])) cells[size_t(neighbour[1 + f])].add_polygon(v, -1);
+  }
+  ASSERT_EQ(at, faces.size());
+
+  for (uint64_t c = 0; c < kCells; ++c) {
+    SCOPED_TRACE("cell " + std::to_string(c));
+    EXPECT_NEAR(pieces[c].volume, cells[c].volume, 1e-12);
+    EXPECT_NEAR(pieces[c].volume, volume[any_piece[c]], 1e-9);  // OpenFOAM's own volume
+    for (int k = 0; k < 3; ++k) {
+      // A linear field (the position) stays exact: the pieces' centroid is the cell's, and
+      // OpenFOAM's cell centre.
+      EXPECT_NEAR(pieces[c].first[k] / pieces[c].volume, cells[c].first[k] / cells[c].volume, 1e-12);
+      EXPECT_NEAR(pieces[c].first[k] / pieces[c].volume, centre[3 * any_piece[c] + uint64_t(k)], 1e-9);
+    }
+  }
+}
+
+TEST(OpenFoam, ConvertReadsTheCaseDirectory) {
+  const auto series = open_mesh_files({kDir / "box_ascii"});
+  EXPECT_EQ(series->step_count(), 3);
+  EXPECT_EQ(series->step_time(1), 0.1);
+  EXPECT_EQ(series->description(),
+            "OpenFOAM case box_ascii (232 cells, 842 faces; fields C, T, U, V; left out (not in every time step): "
+            "mag(U); skipped: phi (surfaceScalarField); 3 steps)");
+  EXPECT_TRUE(is_mesh_file(kDir / "box_gz" / "box_gz.foam"));
+  EXPECT_TRUE(is_mesh_file(kDir / "box_gz"));
+  EXPECT_FALSE(is_mesh_file(kDir));
+  EXPECT_THROW(open_mesh_files({kDir / "box_ascii", kDir / "box_gz"}), UsageError);
+}
+
+// A one-tet case written here in binary with 64-bit labels and 32-bit scalars (`arch`), little-
+// or big-endian, faces as a faceCompactList: what OpenFOAM built with WM_LABEL_SIZE=64 and
+// WM_PRECISION_OPTION=SP (or on a big-endian machine) writes.
+template <typename T>
+std::string raw(std::initializer_list<T> values, bool big_endian) {
+  std::string bytes;
+  for (T v : values) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    if (big_endian) std::reverse(b, b + sizeof(T));
+    bytes.append(b, sizeof(T));
+  }
+  return bytes;
+}
+void write_tet_case(const fs::path& dir, bool big_endian) {
+  fs::create_directories(dir / "constant" / "polyMesh");
+  fs::create_directories(dir / "1.5");
+  const auto header = [&](const char* cls) {
+    return std::string("FoamFile\n{\n    format binary;\n    class ") + cls + ";\n    arch \"" +
+           (big_endian ? "MSB" : "LSB") + ";label=64;scalar=32\";\n}\n// a comment\n";
+  };
+  const fs::path m = dir / "constant" / "polyMesh";
+  spit(m / "points",
+       header("vectorField") + "4\n(" + raw<float>({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, big_endian) + ")\n");
+  spit(m / "faces", header("faceCompactList") + "5\n(" + raw<int64_t>({0, 3, 6, 9, 12}, big_endian) + ")\n12\n(" +
+                        raw<int64_t>({0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2}, big_endian) + ")\n");
+  spit(m / "owner", header("labelList") + "4\n(" + raw<int64_t>({0, 0, 0, 0}, big_endian) + ")\n");
+  spit(m / "neighbour", header("labelList") + "0()\n");
+  spit(dir / "1.5" / "T", header("volScalarField") + "dimensions [0 0 0 1 0 0 0];\ninternalField nonuniform " +
+                              "List<scalar> 1(" + raw<float>({2.5f}, big_endian) + ");\nboundaryField {}\n");
+  spit(dir / "1.5" / "U", header("volVectorField") + "internalField uniform (1 2 3);\n");
+}
+
+TEST(OpenFoam, BinaryOf64BitLabelsAnd32BitScalarsEitherEndian) {
+  for (bool big_endian : {false, true}) {
+    SCOPED_TRACE(big_endian ? "MSB" : "LSB");
+    const fs::path dir = test::scratch_dir(big_endian ? "openfoam_tet_msb" : "openfoam_tet_lsb") / "tet";
+    write_tet_case(dir, big_endian);
+    OpenFoamCase foam(dir);
+    ASSERT_EQ(foam.step_count(), 1u);
+    EXPECT_EQ(foam.step_time(0), 1.5);
+    const MeshData m = foam.read_step(0);
+    ASSERT_EQ(m.cell_count(), 1u);
+    EXPECT_EQ(m.cell_types[0], 10);  // the faces of a tet: a tet
+    ASSERT_EQ(m.points.size(), 4u);
+    EXPECT_EQ(m.points[3], (vec3d{0, 0, 1}));
+    EXPECT_EQ(test::array_named(m.cell_data, "T").values, std::vector<double>{2.5});
+    EXPECT_EQ(test::array_named(m.cell_data, "U").values, (std::vector<double>{1, 2, 3}));
+  }
+}
+
+// A copy of the ascii case, its files edited, read step by step as `convert` reads it.
+class EditedOpenFoam : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = case_copy("box_ascii", "openfoam_edit"); }
+  fs::path mesh(const std::string& name) const { return dir_ / "constant" / "polyMesh" / name; }
+  void replace(const fs::path& file, const std::string& from, const std::string& to) {
+    std::string t = slurp(file);
+    const size_t at = t.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    t.replace(at, from.size(), to);
+    spit(file, t);
+  }
+  std::string error(const fs::path& input = {}) {
+    return test::input_error_line([&] {
+      OpenFoamCase f(input.empty() ? dir_ : input);
+      for (size_t s = 0; s < f.step_count(); ++s) f.read_step(s);
+    });
+  }
+  fs::path dir_;
+};
+
+TEST_F(EditedOpenFoam, CutShortAnywhere) {
+  for (const char* name : {"points", "faces", "owner", "neighbour"}) {
+    const std::string full = slurp(mesh(name));
+    for (size_t cut : {size_t(0), size_t(1), size_t(20), size_t(700), full.size() / 2, full.size() - 120}) {
+      SCOPED_TRACE(std::string(name) + " cut at " + std::to_string(cut));
+      spit(mesh(name), full.substr(0, cut));
+      const std::string e = error();
+      EXPECT_NE(e, "accepted");
+      EXPECT_NE(e.find(name), std::string::npos) << e;
+    }
+    spit(mesh(name), full);
+  }
+  const std::string field = slurp(dir_ / "0.1" / "T");
+  spit(dir_ / "0.1" / "T", field.substr(0, field.size() / 2));
+  EXPECT_NE(error().find("0.1/T"), std::string::npos) << error();
+}
+
+TEST_F(EditedOpenFoam, BinaryCutShortOrCountTooLarge) {
+  dir_ = case_copy("box_binary", "openfoam_edit_binary");
+  const std::string full = slurp(mesh("faces"));
+  spit(mesh("faces"), full.substr(0, full.size() * 3 / 4));
+  EXPECT_NE(error().find("faces"), std::string::npos) << error();
+  std::string t = full;
+  const size_t at = t.find("\n843\n(");
+  ASSERT_NE(at, std::string::npos);
+  t.replace(at, 5, "\n999999999999\n");
+  spit(mesh("faces"), t);
+  EXPECT_NE(error().find("faces"), std::string::npos) << error();
+}
+
+TEST_F(EditedOpenFoam, FaceVertexOutOfRange) {
+  replace(mesh("faces"), "\n4(390 226 398 210)\n", "\n4(390 226 398 4300)\n");
+  EXPECT_NE(error().find("point 4300 out of range 0..405"), std::string::npos) << error();
+}
+
+TEST_F(EditedOpenFoam, FaceOfTwoVertices) {
+  replace(mesh("faces"), "\n4(390 226 398 210)\n", "\n2(390 226)\n");
+  EXPECT_NE(error().find("of 2 vertices"), std::string::npos) << error();
+}
+
+TEST_F(EditedOpenFoam, OwnerOutOfRange) {
+  replace(mesh("owner"), "\n(\n0\n", "\n(\n-3\n");
+  EXPECT_NE(error().find("owner of face 0: cell -3 out of range 0..231"), std::string::npos) << error();
+  replace(mesh("owner"), "\n(\n-3\n", "\n(\n232\n");
+  EXPECT_NE(error().find("cell 232 out of range"), std::string::npos) << error();
+}
+
+TEST_F(EditedOpenFoam, MissingNeighbourFile) {
+  fs::remove(mesh("neighbour"));
+  EXPECT_NE(error().find("neighbour: missing"), std::string::npos) << error();
+}
+
+TEST_F(EditedOpenFoam, UnbalancedParentheses) {
+  replace(mesh("faces"), "\n4(390 226 398 210)\n", "\n4(390 226 398 210\n");
+  EXPECT_NE(error().find("faces"), std::string::npos) << error();
+  replace(mesh("faces"), "\n4(390 226 398 210\n", "\n4(390 226 398 210)\n");
+  replace(dir_ / "0" / "T", "dimensions", "dimensions (");
+  EXPECT_NE(error(), "accepted");
+  fs::copy_file(kDir / "box_ascii" / "0" / "T", dir_ / "0" / "T", fs::copy_options::overwrite_existing);
+  replace(dir_ / "0" / "T", "dimensions", ") dimensions");
+  EXPECT_NE(error().find("unbalanced"), std::string::npos) << error();
+}
+
+TEST_F(EditedOpenFoam, UnknownFormatOrClass) {
+  replace(mesh("points"), "format      ascii;", "format      hdf5;");
+  EXPECT_NE(error().find("unknown format 'hdf5'"), std::string::npos) << error();
+  replace(mesh("points"), "format      hdf5;", "format      ascii;");
+  replace(mesh("faces"), "class       faceList;", "class       cellList;");
+  EXPECT_NE(error().find("class 'cellList'"), std::string::npos) << error();
+}
+
+TEST_F(EditedOpenFoam, CellOfTooFewFacesNamesTheOwnerFile) {
+  // Face 0 (internal: cells 0 and 120) given to a new cell 232, which then has one face. (The
+  // mesh alone: the fields have 232 values.)
+  for (const char* t : {"0", "0.1", "0.2"}) fs::remove_all(dir_ / t);
+  replace(mesh("owner"), "nCells:232", "nCells:233");
+  replace(mesh("neighbour"), "\n(\n120\n", "\n(\n232\n");
+  const std::string e = error();
+  EXPECT_NE(e.find("polyhedron cell"), std::string::npos) << e;
+  EXPECT_NE(e.find("polyMesh/owner"), std::string::npos) << e;
+}
+
+TEST_F(EditedOpenFoam, FieldOfAnotherLength) {
+  replace(dir_ / "0.1" / "T", "List<scalar> \n232", "List<scalar> \n231");
+  EXPECT_NE(error().find("not 232"), std::string::npos) << error();
+}
+
+TEST_F(EditedOpenFoam, MovingMeshAndDecomposedCaseAreRefused) {
+  fs::copy_file(mesh("points"), dir_ / "0" / "polyMesh" / "points");
+  EXPECT_NE(error().find("moving or changing mesh"), std::string::npos) << error();
+  fs::remove(dir_ / "0" / "polyMesh" / "points");
+  fs::create_directories(dir_ / "processor0");
+  fs::remove_all(dir_ / "constant" / "polyMesh");
+  EXPECT_NE(error().find("reconstructPar"), std::string::npos) << error();
+}
+
+TEST_F(EditedOpenFoam, CutShortGzipStream) {
+  dir_ = case_copy("box_gz", "openfoam_edit_gz");
+  std::string damaged = slurp(mesh("points.gz"));
+  damaged.resize(damaged.size() / 2);
+  spit(mesh("points.gz"), damaged);
+  EXPECT_NE(error().find("points.gz"), std::string::npos) << error();
+}
+
+}  // namespace
+}  // namespace vs

@@ -96,8 +96,12 @@ uint64_t half_the_memory() {
   return pages > 0 && page > 0 ? uint64_t(pages) * uint64_t(page) / 2 : uint64_t(4) << 30;
 }
 
+// Deflate inflates at most 1032:1, so a gzip stream (one member or several) that inflates to
+// more than that times its file is damaged.
+constexpr uint64_t kMaxInflation = 1032;
+
 std::string read_gzip_stream(const std::filesystem::path& path, uint64_t max_bytes, uint64_t inflate_cap) {
-  file_size_checked(path);
+  const uint64_t ratio_cap = file_size_checked(path) * kMaxInflation + (1 << 16);
   const std::unique_ptr<gzFile_s, int (*)(gzFile)> gz(gzopen(path.string().c_str(), "rb"), gzclose);
   if (!gz) input_error(path.string(), "cannot open the gzip stream");
   std::string bytes;
@@ -105,6 +109,9 @@ std::string read_gzip_stream(const std::filesystem::path& path, uint64_t max_byt
   int got = 0;
   while (bytes.size() < max_bytes && (got = gzread(gz.get(), buffer, sizeof buffer)) > 0) {
     bytes.append(buffer, size_t(got));
+    if (bytes.size() > ratio_cap)
+      input_error(path.string(), "the gzip stream inflates to more than " + std::to_string(kMaxInflation) +
+                                     " times its size: a damaged stream");
     if (bytes.size() > inflate_cap)
       input_error(path.string(), "the gzip stream inflates past " + std::to_string(inflate_cap >> 20) +
                                      " MiB, more than this reader holds at once; gunzip it first if it is meant");

@@ -26,9 +26,10 @@ void read_runs(const std::filesystem::path& path, const std::vector<ByteRun>& ru
 // A whole text file (manifest, colour map, points, trace, plotfile header), at most max_bytes.
 std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes = 64u << 20);
 // A whole file (its first max_bytes), inflated through zlib where its name ends in ".gz" (any
-// case; a gzip stream). InputError for a damaged stream, and for one that inflates past
-// `inflate_cap` bytes (by default half of this machine's memory: a small file can inflate a
-// thousandfold, and would otherwise fill the memory before anything notices).
+// case; a gzip stream). InputError for a damaged stream (one inflating to more than deflate's
+// 1032 times its size), and for one that inflates past `inflate_cap` bytes (by default half of
+// this machine's memory: a small file can inflate a thousandfold, and would otherwise fill the
+// memory before anything notices).
 std::string read_file_inflating(const std::filesystem::path& path, uint64_t max_bytes = UINT64_MAX,
                                 uint64_t inflate_cap = 0);
 // ASCII letters in lower case, as the text readers compare keywords.

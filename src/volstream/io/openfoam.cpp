@@ -1,7 +1,5 @@
 #include "volstream/io/openfoam.h"
 
-#include <zlib.h>
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -23,38 +21,6 @@ namespace {
 
 bool ends_with_lower(const fs::path& file, std::string_view suffix) {
   return lower_case(file.filename().string()).ends_with(suffix);
-}
-
-// Deflate inflates at most 1032:1; a gzip stream that inflates to more is damaged (or several
-// members glued together to look small), and is refused before it can fill the memory.
-constexpr uint64_t kMaxInflation = 1032;
-
-// The file (its first max_bytes), inflated for a .gz name.
-std::string read_whole_file(const fs::path& file, uint64_t max_bytes = UINT64_MAX) {
-  const uint64_t on_disk = file_size_checked(file);
-  if (!ends_with_lower(file, ".gz")) {
-    const uint64_t size = std::min(on_disk, max_bytes);
-    std::string bytes(size, '\0');
-    read_exact(file, 0, bytes.data(), size);
-    return bytes;
-  }
-  const uint64_t cap = std::min(max_bytes, on_disk * kMaxInflation + (1 << 16));
-  gzFile gz = gzopen(file.string().c_str(), "rb");
-  if (!gz) input_error(file.string(), "cannot open the gzip stream");
-  std::string bytes;
-  char buffer[1 << 16];
-  int got = 0;
-  while (bytes.size() < cap && (got = gzread(gz, buffer, sizeof buffer)) > 0) bytes.append(buffer, size_t(got));
-  int status = Z_OK;
-  const std::string message = gzerror(gz, &status);
-  gzclose(gz);
-  input_check(got >= 0 && (status == Z_OK || status == Z_STREAM_END), file.string(),
-              "a damaged gzip stream (" + message + ")");
-  if (bytes.size() >= cap && cap < max_bytes)
-    input_error(file.string(), "the gzip stream inflates to more than " + std::to_string(kMaxInflation) +
-                                   " times its size: a damaged stream");
-  if (bytes.size() > max_bytes) bytes.resize(max_bytes);
-  return bytes;
 }
 
 // `dir/name`, or `dir/name.gz` where only that exists (writeCompression on); nullopt for neither.
@@ -306,7 +272,7 @@ struct PolyMesh {
 Cursor open_mesh_file(const fs::path& dir, const char* name, Header& h) {
   const std::optional<fs::path> file = find_file(dir, name);
   if (!file) input_error((dir / name).string(), "missing: an OpenFOAM mesh is points, faces, owner and neighbour");
-  Cursor in(read_whole_file(*file), file->string());
+  Cursor in(read_file_inflating(*file), file->string());
   h = in.header();
   return in;
 }
@@ -442,20 +408,11 @@ PolyMesh read_poly_mesh(const fs::path& dir) {
 // Each cell a polyhedron of the faces that name it (owner or neighbour), for split_polyhedra;
 // the faces' vertices move there (nothing else needs them).
 PolyhedronFaces cell_faces(PolyMesh& m) {
-  PolyhedronFaces p;
-  p.face_offsets = std::move(m.face_offsets);
-  p.face_vertices = std::move(m.face_vertices);
-  p.cell_face_offsets.assign(m.cell_count + 1, 0);
-  for (int64_t c : m.owner) ++p.cell_face_offsets[size_t(c) + 1];
-  for (int64_t c : m.neighbour) ++p.cell_face_offsets[size_t(c) + 1];
-  for (uint64_t c = 0; c < m.cell_count; ++c) p.cell_face_offsets[c + 1] += p.cell_face_offsets[c];
-  p.cell_faces.resize(p.cell_face_offsets.back());
-  std::vector<uint64_t> next(p.cell_face_offsets.begin(), p.cell_face_offsets.end() - 1);
-  for (uint64_t f = 0; f < m.owner.size(); ++f) {
-    p.cell_faces[next[size_t(m.owner[f])]++] = f;
-    if (f < m.neighbour.size()) p.cell_faces[next[size_t(m.neighbour[f])]++] = f;
-  }
-  return p;
+  std::vector<FaceCells> sides(m.owner.size());
+  for (size_t f = 0; f < sides.size(); ++f)
+    sides[f] = {uint64_t(m.owner[f]) + 1, f < m.neighbour.size() ? uint64_t(m.neighbour[f]) + 1 : 0};
+  return polyhedra_from_face_cells(std::move(m.face_offsets), std::move(m.face_vertices), sides, m.cell_count,
+                                   m.owner_file.string());
 }
 
 bool is_time_name(const std::string& name, double& time) {
@@ -476,7 +433,7 @@ std::optional<FieldFile> field_file(const fs::path& file) {
   std::string name = file.filename().string();
   if (name.empty() || name.front() == '.' || name.back() == '~' || name.ends_with(".orig")) return std::nullopt;
   if (ends_with_lower(file, ".gz")) name.erase(name.size() - 3);
-  Cursor in(read_whole_file(file, 4096), file.string());
+  Cursor in(read_file_inflating(file, 4096), file.string());
   in.skip_space_and_comments();
   if (!in.rest().starts_with("FoamFile")) return std::nullopt;  // not an OpenFOAM file
   Header h;
@@ -493,7 +450,7 @@ std::optional<FieldFile> field_file(const fs::path& file) {
 
 // A volScalarField's or volVectorField's internalField, for `cells` cells.
 std::vector<double> read_field(const FieldFile& f, uint64_t cells) {
-  Cursor in(read_whole_file(f.file), f.file.string());
+  Cursor in(read_file_inflating(f.file), f.file.string());
   const Header h = in.header();
   if (h.class_name != f.class_name) in.fail("class '" + h.class_name + "' changed while reading");
   for (;;) {

@@ -388,6 +388,19 @@ TEST_F(EditedOpenFoam, FieldOfAnotherLength) {
   EXPECT_NE(error().find("not 232"), std::string::npos) << error();
 }
 
+// A value below the smallest double reads as the subnormal it is, one above the largest as
+// infinity (which convert refuses when it writes the values), not as 0: from_chars calls both
+// out of range and leaves its result alone.
+TEST_F(EditedOpenFoam, ValuesOutOfDoubleRange) {
+  for (const auto& [text, value] : {std::pair{"1e-320", 1e-320}, {"1e400", HUGE_VAL}}) {
+    const std::string file = slurp(dir_ / "0.1" / "T");
+    replace(dir_ / "0.1" / "T", "(\n0.9181658193\n", std::string("(\n") + text + "\n");
+    OpenFoamCase foam(dir_);
+    EXPECT_EQ(test::array_named(foam.read_step(1).cell_data, "T").values.front(), value) << text;
+    spit(dir_ / "0.1" / "T", file);
+  }
+}
+
 TEST_F(EditedOpenFoam, MovingMeshAndDecomposedCaseAreRefused) {
   fs::copy_file(mesh("points"), dir_ / "0" / "polyMesh" / "points");
   EXPECT_NE(error().find("moving or changing mesh"), std::string::npos) << error();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <optional>
 #include <set>
@@ -118,6 +119,9 @@ class Cursor : public ParseCursor {
       seek(position() - t.size());
       fail(std::string("expected a number (") + what + ")");
     }
+    // from_chars leaves v alone out of range: strtod gives the subnormal, zero or infinity (the
+    // last refused when convert writes the values).
+    if (ec == std::errc::result_out_of_range) v = std::strtod(std::string(t).c_str(), nullptr);
     return v;
   }
 
@@ -609,7 +613,7 @@ MeshData OpenFoamCase::read_step(size_t step) {
   m.cell_offsets.assign(c.mesh.cell_count + 1, 0);  // a polyhedron's vertices are its faces'
   for (const FieldFile& f : c.steps[step].fields)
     m.cell_data.push_back({f.name, f.components, read_field(f, c.mesh.cell_count)});
-  split_polyhedra(m, c.faces, c.mesh.owner_file.string(), &impl_->polyhedra_split);
+  split_polyhedra(m, c.faces, c.mesh.owner_file.string(), step_count() > 1 ? &impl_->polyhedra_split : nullptr);
   check_mesh(m, c.steps[step].dir.string());
   return m;
 }

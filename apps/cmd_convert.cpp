@@ -36,8 +36,7 @@ void add_convert_command(CLI::App& app) {
   cmd->add_option("-o,--output", a->out, "output dataset directory")->required();
   cmd->add_option("--format", in.format,
                   "auto | plotfile | exabrick | raw | mesh (.vtu .pvtu .vtm .vtk .pvd .series .ugrid .case .exo .cgns "
-                  ".msh .cas, "
-                  "OpenFOAM case)")
+                  ".msh .cas, an OpenFOAM case)")
       ->check(CLI::IsMember({"auto", "plotfile", "exabrick", "raw", "mesh"}))
       ->capture_default_str();
   cmd->add_option("--dims", in.dims, "raw grid dimensions X,Y,Z")->delimiter(',')->expected(3);

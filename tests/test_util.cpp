@@ -18,6 +18,15 @@ std::filesystem::path scratch_dir(const std::string& name) {
   return dir;
 }
 
+std::string file_bytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_bytes(const std::filesystem::path& file, const std::string& bytes) {
+  std::ofstream(file, std::ios::binary) << bytes;
+}
+
 std::filesystem::path damaged_copy(const std::filesystem::path& from, const std::string& name, const std::string& file,
                                    const std::function<void(std::vector<char>&)>& damage) {
   namespace fs = std::filesystem;

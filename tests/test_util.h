@@ -6,6 +6,9 @@
 namespace vs::test {
 // A fresh empty directory under the build tree's temp area, unique per test.
 std::filesystem::path scratch_dir(const std::string& name);
+// A whole file's bytes ("" for a missing one), and a file written with exactly `bytes`.
+std::string file_bytes(const std::filesystem::path& file);
+void write_bytes(const std::filesystem::path& file, const std::string& bytes);
 }  // namespace vs::test
 
 #include <functional>

@@ -7,9 +7,6 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
-
 #include "test_util.h"
 #include "volstream/core/error.h"
 #include "volstream/io/mesh_convert.h"
@@ -21,14 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kDir = fs::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "fluent";
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-void spit(const fs::path& file, const std::string& bytes) { std::ofstream(file, std::ios::binary) << bytes; }
 
 void expect_cell_values_equal(const MeshData& a, const MeshData& b, double tolerance = 0) {
   for (const char* name : {"pressure", "temperature", "velocity"}) {
@@ -122,21 +111,21 @@ class EditedFluent : public ::testing::Test {
       fs::copy_file(kDir / f, dir_ / f);
   }
   void replace(const std::string& name, const std::string& from, const std::string& to) {
-    std::string t = slurp(dir_ / name);
+    std::string t = test::file_bytes(dir_ / name);
     const size_t at = t.find(from);
     ASSERT_NE(at, std::string::npos) << from;
     t.replace(at, from.size(), to);
-    spit(dir_ / name, t);
+    test::write_bytes(dir_ / name, t);
   }
   // The `token`th number (0-based) of the first row after `header` replaced by `to`.
   void replace_in_first_row(const std::string& name, const std::string& header, int token, const std::string& to) {
-    std::string t = slurp(dir_ / name);
+    std::string t = test::file_bytes(dir_ / name);
     size_t at = t.find(header);
     ASSERT_NE(at, std::string::npos) << header;
     at = t.find('\n', at) + 1;
     for (int k = 0; k < token; ++k) at = t.find(' ', at) + 1;
     t.replace(at, t.find_first_of(" \n", at) - at, to);
-    spit(dir_ / name, t);
+    test::write_bytes(dir_ / name, t);
   }
   // The error of reading every step of `case_name` (with its data file of the same name).
   std::string error(const std::string& case_name = "fluent_mixed.cas") {
@@ -150,16 +139,16 @@ class EditedFluent : public ::testing::Test {
 
 TEST_F(EditedFluent, CutShortAnywhere) {
   for (const char* name : {"fluent_mixed.cas", "fluent_mixed_bin.cas", "fluent_mixed.dat", "fluent_mixed_bin.dat"}) {
-    const std::string full = slurp(kDir / name);
+    const std::string full = test::file_bytes(kDir / name);
     for (size_t cut : {size_t(0), size_t(1), size_t(7), size_t(60), size_t(120), full.size() / 3, full.size() / 2,
                        full.size() * 3 / 4, full.size() - 2}) {
       SCOPED_TRACE(std::string(name) + " cut at " + std::to_string(cut));
-      spit(dir_ / name, full.substr(0, cut));
+      test::write_bytes(dir_ / name, full.substr(0, cut));
       const std::string e =
           error(std::string(name).find("bin") == std::string::npos ? "fluent_mixed.cas" : "fluent_mixed_bin.cas");
       EXPECT_NE(e, "accepted");
     }
-    spit(dir_ / name, full);
+    test::write_bytes(dir_ / name, full);
   }
 }
 
@@ -209,11 +198,11 @@ TEST_F(EditedFluent, DataOutsideItsZone) {
 // A solid zone without velocity (as Fluent writes a conjugate heat transfer case): the vector is
 // left out, and the summary says so; the other fields are read.
 TEST_F(EditedFluent, VariableMissingOnAZoneIsLeftOut) {
-  std::string t = slurp(dir_ / "fluent_mixed.dat");
+  std::string t = test::file_bytes(dir_ / "fluent_mixed.dat");
   const size_t at = t.find("(300 (111 3 1 0 0 57 120)(");
   ASSERT_NE(at, std::string::npos);
   t.erase(at, t.find("))\n", at) + 3 - at);
-  spit(dir_ / "fluent_mixed.dat", t);
+  test::write_bytes(dir_ / "fluent_mixed.dat", t);
   FluentFile fluent(dir_ / "fluent_mixed.cas");
   const MeshData m = fluent.read_step(0);
   EXPECT_EQ(m.cell_data.size(), 4u);  // pressure, temperature, y_velocity, z_velocity

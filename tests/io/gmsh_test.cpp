@@ -26,11 +26,6 @@ namespace fs = std::filesystem;
 const fs::path kDir = fs::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "gmsh";
 const char* const kTetFiles[] = {"gmsh_tets_41a.msh", "gmsh_tets_41b.msh", "gmsh_tets_22a.msh", "gmsh_tets_22b.msh"};
 
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 fs::path write_scratch(const std::string& bytes, const std::string& name) {
   const fs::path path = test::scratch_dir("gmsh") / name;
   std::ofstream(path, std::ios::binary) << bytes;
@@ -218,14 +213,14 @@ TEST(Gmsh, ConvertsAsOneFileOrASeriesOfFiles) {
 // Sections not read are skipped to their end line; $ElementNodeData views are left out, and the
 // summary says so.
 TEST(Gmsh, SectionsNotReadAreSkipped) {
-  const std::string file = slurp(kDir / "gmsh_tets_22a.msh") +
+  const std::string file = test::file_bytes(kDir / "gmsh_tets_22a.msh") +
                            "$Comments\n$Nodes inside another section\n$EndComments\n" +
                            "$ElementNodeData\n1\n\"stress\"\n1\n0.5\n3\n0\n1\n1\n1 4 1 2 3 4\n$EndElementNodeData\n";
   GmshFile msh(write_scratch(file, "extra.msh"));
   EXPECT_EQ(msh.summary(), "MSH 2.2 ascii: tet4 x 261; $ElementNodeData 'stress' left out");
   ASSERT_EQ(msh.step_count(), 3u);
   expect_views_of_step(msh.read_step(2), 2);
-  EXPECT_EQ(refusal(write_scratch(slurp(kDir / "gmsh_tets_22a.msh") + "$Comments\nno end\n", "open.msh")),
+  EXPECT_EQ(refusal(write_scratch(test::file_bytes(kDir / "gmsh_tets_22a.msh") + "$Comments\nno end\n", "open.msh")),
             "truncated: no $EndComments after $Comments");
 }
 
@@ -233,7 +228,7 @@ TEST(Gmsh, SectionsNotReadAreSkipped) {
 // a section's end) read as the sections before.
 TEST(Gmsh, FilesCutShortAreRefusedWithOneLine) {
   for (const char* name : kTetFiles) {
-    const std::string full = slurp(kDir / name);
+    const std::string full = test::file_bytes(kDir / name);
     int refused = 0;
     for (int k = 1; k < 60; ++k) {
       const size_t cut = full.size() * size_t(k) / 60;
@@ -255,7 +250,7 @@ TEST(Gmsh, FilesCutShortAreRefusedWithOneLine) {
 
 // A copy of the 2.2 ascii file with `from` replaced by `to` (the first occurrence after `after`).
 fs::path patched(const std::string& after, const std::string& from, const std::string& to, const std::string& name) {
-  std::string s = slurp(kDir / "gmsh_tets_22a.msh");
+  std::string s = test::file_bytes(kDir / "gmsh_tets_22a.msh");
   const size_t at = s.find(from, s.find(after));
   EXPECT_NE(at, std::string::npos) << from;
   return write_scratch(s.replace(at, from.size(), to), name);
@@ -267,7 +262,7 @@ TEST(Gmsh, DamagedFilesAreRefusedWithOneLine) {
   EXPECT_EQ(refusal(patched("$MeshFormat", "2.2 0 8", "2.2 0 4", "size4.msh")), "data size 4 (8 is read)");
   EXPECT_EQ(refusal(write_scratch("$Nodes\n", "nohead.msh")), "not a Gmsh MSH file (no $MeshFormat at its start)");
   // The first tet's first node: a tag no node has.
-  const std::string text = slurp(kDir / "gmsh_tets_22a.msh");
+  const std::string text = test::file_bytes(kDir / "gmsh_tets_22a.msh");
   std::istringstream lines(text.substr(text.find("$Elements")));
   std::string tet_line;
   for (std::string l; std::getline(lines, l);) {
@@ -294,7 +289,7 @@ TEST(Gmsh, DamagedFilesAreRefusedWithOneLine) {
   EXPECT_EQ(refusal(patched("$NodeData", "\n3\n0\n1\n102\n", "\n3\n0\n2\n102\n", "comps.msh")),
             "$NodeData 'f': 2 components (1, 3 or 9 are read)");
   // A view without a value on a node of the volume.
-  std::string partial = slurp(kDir / "gmsh_tets_22a.msh");
+  std::string partial = test::file_bytes(kDir / "gmsh_tets_22a.msh");
   const size_t counts = partial.find("\n3\n0\n1\n102\n", partial.find("$NodeData"));
   const size_t entry = counts + 11;  // the first entry's line
   partial.erase(entry, partial.find('\n', entry) + 1 - entry);
@@ -302,14 +297,14 @@ TEST(Gmsh, DamagedFilesAreRefusedWithOneLine) {
   EXPECT_EQ(refusal(write_scratch(partial, "partial.msh")).substr(0, 39), "$NodeData 'f' step 0: no value for node");
 
   // Many empty view blocks of new steps, each of which would hold a value per node.
-  std::string steps = slurp(kDir / "gmsh_tets_22a.msh");
+  std::string steps = test::file_bytes(kDir / "gmsh_tets_22a.msh");
   for (int step = 3; step < 3000; ++step)
     steps += "$NodeData\n1\n\"f\"\n1\n0\n3\n" + std::to_string(step) + "\n1\n0\n$EndNodeData\n";
   EXPECT_NE(refusal(write_scratch(steps, "steps.msh")).find("more view steps than the file holds values for"),
             std::string::npos);
 
   // 4.1 binary: the node count (size_t) of $Nodes' header made huge.
-  std::string binary = slurp(kDir / "gmsh_tets_41b.msh");
+  std::string binary = test::file_bytes(kDir / "gmsh_tets_41b.msh");
   const size_t nodes = binary.find("$Nodes\n") + 7 + 8;
   binary.replace(nodes, 8, std::string("\xff\xff\xff\xff\xff\xff\xff\x0f", 8));
   EXPECT_EQ(refusal(write_scratch(binary, "huge41.msh")).substr(0, 9), "$Nodes: 1");

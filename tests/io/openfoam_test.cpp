@@ -12,7 +12,6 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -29,14 +28,6 @@ namespace fs = std::filesystem;
 const fs::path kDir = fs::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "openfoam";
 constexpr uint64_t kCells = 232;
 
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-void spit(const fs::path& file, const std::string& bytes) { std::ofstream(file, std::ios::binary) << bytes; }
-
 void expect_cell_values_equal(const MeshData& a, const MeshData& b, double tolerance = 0) {
   for (const char* name : {"T", "U", "C", "V"}) {
     SCOPED_TRACE(name);
@@ -50,7 +41,7 @@ void expect_cell_values_equal(const MeshData& a, const MeshData& b, double toler
 // An ascii OpenFOAM list file's numbers after its header, parentheses dropped: a few lines to
 // read the ascii case's mesh here without the reader under test.
 std::vector<double> numbers_of(const fs::path& file) {
-  std::string t = slurp(file);
+  std::string t = test::file_bytes(file);
   t = t.substr(t.find('}', t.find("FoamFile")) + 1);
   for (size_t c; (c = t.find("//")) != std::string::npos;) t.erase(c, t.find('\n', c) - c);
   for (char& c : t)
@@ -166,7 +157,7 @@ TEST(OpenFoam, PiecesFillTheirCellsAndKeepItsCentre) {
       std::to_string(kCells) + "\n(\n";
   for (uint64_t c = 0; c < kCells; ++c) ids += std::to_string(c) + "\n";
   ids += ");\nboundaryField { }\n";
-  for (const char* t : {"0", "0.1", "0.2"}) spit(dir / t / "id", ids);
+  for (const char* t : {"0", "0.1", "0.2"}) test::write_bytes(dir / t / "id", ids);
   OpenFoamCase foam(dir);
   const MeshData m = foam.read_step(2);
   const std::vector<double>& id = test::array_named(m.cell_data, "id").values;
@@ -251,15 +242,17 @@ void write_tet_case(const fs::path& dir, bool big_endian) {
            (big_endian ? "MSB" : "LSB") + ";label=64;scalar=32\";\n}\n// a comment\n";
   };
   const fs::path m = dir / "constant" / "polyMesh";
-  spit(m / "points",
-       header("vectorField") + "4\n(" + raw<float>({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, big_endian) + ")\n");
-  spit(m / "faces", header("faceCompactList") + "5\n(" + raw<int64_t>({0, 3, 6, 9, 12}, big_endian) + ")\n12\n(" +
-                        raw<int64_t>({0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2}, big_endian) + ")\n");
-  spit(m / "owner", header("labelList") + "4\n(" + raw<int64_t>({0, 0, 0, 0}, big_endian) + ")\n");
-  spit(m / "neighbour", header("labelList") + "0()\n");
-  spit(dir / "1.5" / "T", header("volScalarField") + "dimensions [0 0 0 1 0 0 0];\ninternalField nonuniform " +
-                              "List<scalar> 1(" + raw<float>({2.5f}, big_endian) + ");\nboundaryField {}\n");
-  spit(dir / "1.5" / "U", header("volVectorField") + "internalField uniform (1 2 3);\n");
+  test::write_bytes(m / "points", header("vectorField") + "4\n(" +
+                                      raw<float>({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, big_endian) + ")\n");
+  test::write_bytes(m / "faces", header("faceCompactList") + "5\n(" + raw<int64_t>({0, 3, 6, 9, 12}, big_endian) +
+                                     ")\n12\n(" + raw<int64_t>({0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2}, big_endian) +
+                                     ")\n");
+  test::write_bytes(m / "owner", header("labelList") + "4\n(" + raw<int64_t>({0, 0, 0, 0}, big_endian) + ")\n");
+  test::write_bytes(m / "neighbour", header("labelList") + "0()\n");
+  test::write_bytes(dir / "1.5" / "T",
+                    header("volScalarField") + "dimensions [0 0 0 1 0 0 0];\ninternalField nonuniform " +
+                        "List<scalar> 1(" + raw<float>({2.5f}, big_endian) + ");\nboundaryField {}\n");
+  test::write_bytes(dir / "1.5" / "U", header("volVectorField") + "internalField uniform (1 2 3);\n");
 }
 
 TEST(OpenFoam, BinaryOf64BitLabelsAnd32BitScalarsEitherEndian) {
@@ -286,11 +279,11 @@ class EditedOpenFoam : public ::testing::Test {
   void SetUp() override { dir_ = case_copy("box_ascii", "openfoam_edit"); }
   fs::path mesh(const std::string& name) const { return dir_ / "constant" / "polyMesh" / name; }
   void replace(const fs::path& file, const std::string& from, const std::string& to) {
-    std::string t = slurp(file);
+    std::string t = test::file_bytes(file);
     const size_t at = t.find(from);
     ASSERT_NE(at, std::string::npos) << from;
     t.replace(at, from.size(), to);
-    spit(file, t);
+    test::write_bytes(file, t);
   }
   std::string error(const fs::path& input = {}) {
     return test::input_error_line([&] {
@@ -303,31 +296,31 @@ class EditedOpenFoam : public ::testing::Test {
 
 TEST_F(EditedOpenFoam, CutShortAnywhere) {
   for (const char* name : {"points", "faces", "owner", "neighbour"}) {
-    const std::string full = slurp(mesh(name));
+    const std::string full = test::file_bytes(mesh(name));
     for (size_t cut : {size_t(0), size_t(1), size_t(20), size_t(700), full.size() / 2, full.size() - 120}) {
       SCOPED_TRACE(std::string(name) + " cut at " + std::to_string(cut));
-      spit(mesh(name), full.substr(0, cut));
+      test::write_bytes(mesh(name), full.substr(0, cut));
       const std::string e = error();
       EXPECT_NE(e, "accepted");
       EXPECT_NE(e.find(name), std::string::npos) << e;
     }
-    spit(mesh(name), full);
+    test::write_bytes(mesh(name), full);
   }
-  const std::string field = slurp(dir_ / "0.1" / "T");
-  spit(dir_ / "0.1" / "T", field.substr(0, field.size() / 2));
+  const std::string field = test::file_bytes(dir_ / "0.1" / "T");
+  test::write_bytes(dir_ / "0.1" / "T", field.substr(0, field.size() / 2));
   EXPECT_NE(error().find("0.1/T"), std::string::npos) << error();
 }
 
 TEST_F(EditedOpenFoam, BinaryCutShortOrCountTooLarge) {
   dir_ = case_copy("box_binary", "openfoam_edit_binary");
-  const std::string full = slurp(mesh("faces"));
-  spit(mesh("faces"), full.substr(0, full.size() * 3 / 4));
+  const std::string full = test::file_bytes(mesh("faces"));
+  test::write_bytes(mesh("faces"), full.substr(0, full.size() * 3 / 4));
   EXPECT_NE(error().find("faces"), std::string::npos) << error();
   std::string t = full;
   const size_t at = t.find("\n843\n(");
   ASSERT_NE(at, std::string::npos);
   t.replace(at, 5, "\n999999999999\n");
-  spit(mesh("faces"), t);
+  test::write_bytes(mesh("faces"), t);
   EXPECT_NE(error().find("faces"), std::string::npos) << error();
 }
 
@@ -393,11 +386,11 @@ TEST_F(EditedOpenFoam, FieldOfAnotherLength) {
 // out of range and leaves its result alone.
 TEST_F(EditedOpenFoam, ValuesOutOfDoubleRange) {
   for (const auto& [text, value] : {std::pair{"1e-320", 1e-320}, {"1e400", HUGE_VAL}}) {
-    const std::string file = slurp(dir_ / "0.1" / "T");
+    const std::string file = test::file_bytes(dir_ / "0.1" / "T");
     replace(dir_ / "0.1" / "T", "(\n0.9181658193\n", std::string("(\n") + text + "\n");
     OpenFoamCase foam(dir_);
     EXPECT_EQ(test::array_named(foam.read_step(1).cell_data, "T").values.front(), value) << text;
-    spit(dir_ / "0.1" / "T", file);
+    test::write_bytes(dir_ / "0.1" / "T", file);
   }
 }
 
@@ -412,9 +405,9 @@ TEST_F(EditedOpenFoam, MovingMeshAndDecomposedCaseAreRefused) {
 
 TEST_F(EditedOpenFoam, CutShortGzipStream) {
   dir_ = case_copy("box_gz", "openfoam_edit_gz");
-  std::string damaged = slurp(mesh("points.gz"));
+  std::string damaged = test::file_bytes(mesh("points.gz"));
   damaged.resize(damaged.size() / 2);
-  spit(mesh("points.gz"), damaged);
+  test::write_bytes(mesh("points.gz"), damaged);
   EXPECT_NE(error().find("points.gz"), std::string::npos) << error();
 }
 

@@ -4,8 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-
 #include "mixed_mesh.h"
 #include "test_util.h"
 #include "volstream/core/error.h"
@@ -14,12 +12,6 @@
 namespace vs {
 namespace {
 namespace fs = std::filesystem;
-
-void spit(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::binary) << s; }
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 struct EncodingCase {
   UgridEncoding encoding;
@@ -78,11 +70,11 @@ TEST(Ugrid, CommittedFilesReadWithKnownValues) {
 // right-hand normal points out of the element, as UGRID orders them.
 TEST(Ugrid, PyramidAndPrismComeOutInVtkOrder) {
   const auto dir = test::scratch_dir("order");
-  spit(dir / "order.ugrid",
-       "11 0 0 0 1 1 0\n"
-       "0 0 0\n0 1 0\n0.5 0.5 1\n1 0 0\n1 1 0\n"     // pyramid nodes 1-5
-       "0 0 5\n0 1 5\n1 0 5\n0 0 6\n0 1 6\n1 0 6\n"  // prism nodes 6-11
-       "1 2 3 4 5\n6 7 8 9 10 11\n");
+  test::write_bytes(dir / "order.ugrid",
+                    "11 0 0 0 1 1 0\n"
+                    "0 0 0\n0 1 0\n0.5 0.5 1\n1 0 0\n1 1 0\n"     // pyramid nodes 1-5
+                    "0 0 5\n0 1 5\n1 0 5\n0 0 6\n0 1 6\n1 0 6\n"  // prism nodes 6-11
+                    "1 2 3 4 5\n6 7 8 9 10 11\n");
   const MeshData m = read_ugrid(dir / "order.ugrid");
   ASSERT_EQ(m.cell_types, (std::vector<uint8_t>{14, 13}));
   const auto p = [&](uint64_t cell, int v) { return m.points[m.connectivity[m.cell_offsets[cell] + uint64_t(v)]]; };
@@ -107,7 +99,7 @@ TEST(Ugrid, PyramidAndPrismComeOutInVtkOrder) {
 TEST(Ugrid, WriterStoresPyramidsInUgridOrder) {
   const auto dir = test::scratch_dir("writer");
   write_ugrid(dir / "m.ugrid", mixed_geometry(), UgridEncoding::ascii);
-  const std::string text = slurp(dir / "m.ugrid");
+  const std::string text = test::file_bytes(dir / "m.ugrid");
   // Lines: header, 12 points, tet, pyramid. VTK pyramid 4 5 6 7 | 8 is UGRID (1-based) 6 5 9 7 8.
   size_t line_start = 0;
   for (int i = 0; i < 14; ++i) line_start = text.find('\n', line_start) + 1;
@@ -119,14 +111,14 @@ TEST(Ugrid, RawScalarsAttachToPoints) {
   MeshData m = mixed_geometry();
   std::string bytes;
   for (size_t i = 0; i < m.points.size(); ++i) append_value(bytes, float(i) * 0.5f - 1.0f, false);
-  spit(dir / "t.raw", bytes);
+  test::write_bytes(dir / "t.raw", bytes);
   attach_raw_scalars(m, "t", dir / "t.raw");
   ASSERT_EQ(m.point_data.size(), 1u);
   EXPECT_EQ(m.point_data[0].name, "t");
   EXPECT_EQ(m.point_data[0].values[3], 0.5);
   check_mesh(m, "t");
 
-  spit(dir / "short.raw", bytes.substr(4));
+  test::write_bytes(dir / "short.raw", bytes.substr(4));
   try {
     attach_raw_scalars(m, "t", dir / "short.raw");
     ADD_FAILURE() << "no error";
@@ -137,7 +129,7 @@ TEST(Ugrid, RawScalarsAttachToPoints) {
 }
 
 std::string error_of(const std::string& content, const fs::path& file) {
-  spit(file, content);
+  test::write_bytes(file, content);
   try {
     read_ugrid(file);
   } catch (const InputError& e) {
@@ -153,7 +145,7 @@ const std::string kOneTet = "4 0 0 1 0 0 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 2 3 4\
 TEST(Ugrid, BadInputIsAnInputError) {
   const auto dir = test::scratch_dir("bad");
   const fs::path f = dir / "bad.ugrid";
-  spit(f, kOneTet);
+  test::write_bytes(f, kOneTet);
   EXPECT_EQ(read_ugrid(f).cell_count(), 1u);
   EXPECT_NE(error_of("4 0 0 1 0 0 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 2 3 4\n", f).find("node index 0"),
             std::string::npos);
@@ -172,16 +164,16 @@ TEST(Ugrid, BadInputIsAnInputError) {
 TEST(Ugrid, TruncatedOrPaddedBinaryFiles) {
   const auto dir = test::scratch_dir("binary");
   write_ugrid(dir / "m.b8.ugrid", mixed_geometry(), UgridEncoding::b8);
-  const std::string full = slurp(dir / "m.b8.ugrid");
+  const std::string full = test::file_bytes(dir / "m.b8.ugrid");
   for (size_t cut : {size_t(0), size_t(10), size_t(28), full.size() / 2, full.size() - 1}) {
     SCOPED_TRACE(cut);
     error_of(full.substr(0, cut), dir / "cut.b8.ugrid");
   }
   // Trailing optional records (AFLR's BL data) are ignored.
-  spit(dir / "padded.b8.ugrid", full + std::string(64, '\0'));
+  test::write_bytes(dir / "padded.b8.ugrid", full + std::string(64, '\0'));
   EXPECT_EQ(read_ugrid(dir / "padded.b8.ugrid").cell_count(), 4u);
   // Read as little endian, the counts are absurd: refused before allocating.
-  spit(dir / "swapped.lb8.ugrid", full);
+  test::write_bytes(dir / "swapped.lb8.ugrid", full);
   EXPECT_FALSE(error_of(full, dir / "swapped.lb8.ugrid").empty());
 }
 

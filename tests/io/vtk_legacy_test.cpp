@@ -4,9 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
-
 #include "mixed_mesh.h"
 #include "test_util.h"
 #include "volstream/core/error.h"
@@ -14,12 +11,6 @@
 namespace vs {
 namespace {
 namespace fs = std::filesystem;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-void spit(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::binary) << s; }
 
 std::string option_name(const VtkLegacyWriteOptions& o) {
   return std::string(o.binary ? "binary" : "ascii") + (o.version51 ? "_51" : "_42") +
@@ -81,18 +72,19 @@ TEST(VtkLegacy, CommittedFilesReadWithKnownValues) {
 // count and without LOOKUP_TABLE, blank lines, lower-case keywords.
 TEST(VtkLegacy, ReadsHandWrittenAscii) {
   const auto dir = test::scratch_dir("hand");
-  spit(dir / "t.vtk",
-       "# vtk DataFile Version 5.1\nhand written\nASCII\nDATASET UNSTRUCTURED_GRID\n"
-       "FIELD FieldData 1\nTIME 1 1 double\n2.5\n"
-       "POINTS 4 float\n0 0 0 1 0 0 0 1 0\n0 0 1\n"
-       "METADATA\nINFORMATION 2\nNAME L2_NORM_RANGE LOCATION vtkDataArray\nDATA 2 0 1\n"
-       "NAME L2_NORM_FINITE_RANGE LOCATION vtkDataArray\nDATA 2 0 1\n\n"
-       "CELLS 2 4\nOFFSETS vtktypeint64\n0 4\nCONNECTIVITY vtktypeint64\n0 1 2 3\n"
-       "cell_types 1\n10\n\n"
-       "POINT_DATA 4\nSCALARS pair float 2\n1 2 3 4 5 6 7 8\n"
-       "FIELD FieldData 3\nids 1 4 int\n9 8 7 6\nMETADATA\nINFORMATION 0\n\nNULL_ARRAY\nvel 3 4 double\n0 0 0 1 1 1 2 "
-       "2 2 3 3 3\n"
-       "CELL_DATA 1\nSCALARS c int\nLOOKUP_TABLE default\n42\n");
+  test::write_bytes(
+      dir / "t.vtk",
+      "# vtk DataFile Version 5.1\nhand written\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+      "FIELD FieldData 1\nTIME 1 1 double\n2.5\n"
+      "POINTS 4 float\n0 0 0 1 0 0 0 1 0\n0 0 1\n"
+      "METADATA\nINFORMATION 2\nNAME L2_NORM_RANGE LOCATION vtkDataArray\nDATA 2 0 1\n"
+      "NAME L2_NORM_FINITE_RANGE LOCATION vtkDataArray\nDATA 2 0 1\n\n"
+      "CELLS 2 4\nOFFSETS vtktypeint64\n0 4\nCONNECTIVITY vtktypeint64\n0 1 2 3\n"
+      "cell_types 1\n10\n\n"
+      "POINT_DATA 4\nSCALARS pair float 2\n1 2 3 4 5 6 7 8\n"
+      "FIELD FieldData 3\nids 1 4 int\n9 8 7 6\nMETADATA\nINFORMATION 0\n\nNULL_ARRAY\nvel 3 4 double\n0 0 0 1 1 1 2 "
+      "2 2 3 3 3\n"
+      "CELL_DATA 1\nSCALARS c int\nLOOKUP_TABLE default\n42\n");
   const MeshData m = read_vtk_legacy(dir / "t.vtk");
   ASSERT_EQ(m.point_data.size(), 3u);
   EXPECT_EQ(m.point_data[0].components, 2);
@@ -108,7 +100,7 @@ const std::string kGoodAscii42 =
     "0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n";
 
 std::string error_of(const std::string& content, const fs::path& file) {
-  spit(file, content);
+  test::write_bytes(file, content);
   try {
     read_vtk_legacy(file);
   } catch (const InputError& e) {
@@ -129,7 +121,7 @@ std::string replaced(std::string s, const std::string& from, const std::string& 
 TEST(VtkLegacy, BadInputIsAnInputError) {
   const auto dir = test::scratch_dir("bad");
   const fs::path f = dir / "bad.vtk";
-  spit(f, kGoodAscii42);
+  test::write_bytes(f, kGoodAscii42);
   EXPECT_EQ(read_vtk_legacy(f).cell_count(), 1u);  // the base case is fine
 
   EXPECT_NE(error_of(kGoodAscii42.substr(0, kGoodAscii42.size() - 3), f).find("cell types"), std::string::npos);
@@ -157,7 +149,7 @@ TEST(VtkLegacy, TruncatedBinaryFilesAreInputErrors) {
   const auto dir = test::scratch_dir("trunc");
   for (bool v51 : {false, true}) {
     write_vtk_legacy(dir / "m.vtk", test::mixed_mesh(), {true, v51, true});
-    const std::string full = slurp(dir / "m.vtk");
+    const std::string full = test::file_bytes(dir / "m.vtk");
     for (size_t cut : {size_t(120), full.size() / 2, full.size() - 9}) {
       SCOPED_TRACE(cut);
       error_of(full.substr(0, cut), dir / "cut.vtk");

@@ -260,6 +260,13 @@ struct CgnsFile::Impl {
     if (cg_get_cgio(fn, &cgio) != CG_OK || cg_root_id(fn, &root) != CG_OK ||
         cgio_get_node_id(cgio, root, path.c_str(), &node) != CGIO_ERR_NONE)
       return;
+    // The node id is an open HDF5 object: released on every way out, or HDF5 finds it open at
+    // exit (and complains on stderr).
+    const struct Release {
+      int cgio;
+      double node;
+      ~Release() { cgio_release_id(cgio, node); }
+    } release{cgio, node};
     int dimensions = 0;
     cgsize_t size[CGIO_MAX_DIMENSIONS] = {};
     if (cgio_get_dimensions(cgio, node, &dimensions, size) != CGIO_ERR_NONE ||

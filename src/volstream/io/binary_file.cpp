@@ -127,12 +127,16 @@ std::string read_gzip_stream(const std::filesystem::path& path, uint64_t max_byt
 }  // namespace
 
 std::string read_file_inflating(const std::filesystem::path& path, uint64_t max_bytes, uint64_t inflate_cap) {
-  if (lower_case(path.filename().string()).ends_with(".gz"))
+  if (name_ends_with(path, ".gz"))
     return read_gzip_stream(path, max_bytes, inflate_cap ? inflate_cap : half_the_memory());
   const uint64_t size = std::min(file_size_checked(path), max_bytes);
   std::string bytes(size, '\0');
   read_exact(path, 0, bytes.data(), size);
   return bytes;
+}
+
+bool name_ends_with(const std::filesystem::path& file, std::string_view suffix) {
+  return lower_case(file.filename().string()).ends_with(suffix);
 }
 
 std::string lower_case(std::string_view s) {

@@ -32,6 +32,8 @@ std::string read_text_file(const std::filesystem::path& path, uint64_t max_bytes
 // memory before anything notices).
 std::string read_file_inflating(const std::filesystem::path& path, uint64_t max_bytes = UINT64_MAX,
                                 uint64_t inflate_cap = 0);
+// Whether the file's name ends with `suffix` (lower case) in any case (".cas.gz" for "RUN.CAS.GZ").
+bool name_ends_with(const std::filesystem::path& file, std::string_view suffix);
 // ASCII letters in lower case, as the text readers compare keywords.
 std::string lower_case(std::string_view s);
 // Whether a file format's "MAJOR.MINOR" version (the leading part of `version`; "5.1", "2.2") is

@@ -122,6 +122,7 @@ struct CgnsFile::Impl {
 
   std::string file;
   int fn = -1, base = 0;
+  std::string base_name;  // the node path's first part (read_parent_elements)
   std::vector<Zone> zones;
   std::vector<double> times{0.0};
   std::map<std::string, uint64_t> element_counts;  // of structured zones' hexahedra, and cells by ParentElements
@@ -154,7 +155,10 @@ struct CgnsFile::Impl {
       char name[33] = {};
       int cell_dim = 0, phys_dim = 0;
       check(cg_base_read(fn, b, name, &cell_dim, &phys_dim), "base");
-      if (cell_dim == 3 && phys_dim == 3) base = b;
+      if (cell_dim == 3 && phys_dim == 3) {
+        base = b;
+        base_name = name;
+      }
     }
     input_check(base > 0, file, "no base of cell dimension 3: volstream renders volumes");
   }
@@ -252,11 +256,9 @@ struct CgnsFile::Impl {
   // library's element reads give them only beside ParentElementsPosition.
   void read_parent_elements(Zone& zone, const std::string& section, size_t faces, const std::string& where) {
     if (zone.face_parents.size() != zone.faces.face_offsets.size() - 1 - faces) return;  // a section before had none
-    char base_name[33] = {};
-    int cell_dim = 0, phys_dim = 0, cgio = 0;
+    int cgio = 0;
     double root = 0, node = 0;
-    check(cg_base_read(fn, base, base_name, &cell_dim, &phys_dim), "base");
-    const std::string path = "/" + std::string(base_name) + "/" + zone.name + "/" + section + "/ParentElements";
+    const std::string path = "/" + base_name + "/" + zone.name + "/" + section + "/ParentElements";
     if (cg_get_cgio(fn, &cgio) != CG_OK || cg_root_id(fn, &root) != CG_OK ||
         cgio_get_node_id(cgio, root, path.c_str(), &node) != CGIO_ERR_NONE)
       return;

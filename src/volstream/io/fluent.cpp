@@ -19,10 +19,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool ends_with_lower(const fs::path& file, std::string_view suffix) {
-  return lower_case(file.filename().string()).ends_with(suffix);
-}
-
 // Fluent's files are lists in parentheses: "(INDEX BODY...)", BODY holding a header list of
 // numbers and, for the mesh and data sections, a list of values, as text or as bytes (section
 // indices of four digits, 2xxx single and 3xxx double precision, end with "End of Binary Section
@@ -582,17 +578,17 @@ std::optional<double> flow_time(const fs::path& file) {
 
 std::string case_stem(const fs::path& case_file) {
   std::string name = case_file.filename().string();
-  name.erase(name.size() - (ends_with_lower(case_file, ".gz") ? 7 : 4));  // ".cas.gz" or ".cas"
+  name.erase(name.size() - (name_ends_with(case_file, ".gz") ? 7 : 4));  // ".cas.gz" or ".cas"
   return name;
 }
 
 }  // namespace
 
 bool is_fluent_case_file(const fs::path& file) {
-  return ends_with_lower(file, ".cas") || ends_with_lower(file, ".cas.gz");
+  return name_ends_with(file, ".cas") || name_ends_with(file, ".cas.gz");
 }
 bool is_fluent_data_file(const fs::path& file) {
-  return ends_with_lower(file, ".dat") || ends_with_lower(file, ".dat.gz");
+  return name_ends_with(file, ".dat") || name_ends_with(file, ".dat.gz");
 }
 
 struct FluentFile::Impl {

@@ -182,6 +182,11 @@ std::vector<fs::path> exodus_rank_files(const fs::path& file) {
   return files;
 }
 
+// A summary and, for more than one, the step count after it ("...; 8 steps").
+std::string with_step_count(const std::string& summary, size_t steps) {
+  return steps > 1 ? summary + "; " + std::to_string(steps) + " steps" : summary;
+}
+
 // A solver's file holding its time steps (an Exodus II, CGNS or Gmsh file), or the rank files of one
 // (Exodus): the mesh read once, each step's values from the same files; rank files' meshes joined
 // (umesh/mesh_pieces.h: the nodes they share welded).
@@ -213,8 +218,7 @@ class SolverFileSeries : public MeshSeries {
                                  ? pieces_.front()->summary()
                                  : std::to_string(pieces_.size()) + " rank files, " +
                                        pieces_.front()->summary().substr(0, pieces_.front()->summary().find(':'));
-    return format_ + " " + files_.front().filename().string() + " (" + what +
-           (steps > 1 ? "; " + std::to_string(steps) + " steps)" : ")");
+    return format_ + " " + files_.front().filename().string() + " (" + with_step_count(what, steps) + ")";
   }
 
  private:
@@ -230,28 +234,29 @@ class SolverFileSeries : public MeshSeries {
   std::string format_;
 };
 
-// A Fluent case and its data files, a step each (io/fluent.h): the mesh read once.
-class FluentSeries : public MeshSeries {
+// A solver's case whose mesh is read once and whose steps' values come from files of their own
+// (a Fluent case and its data files, io/fluent.h; an OpenFOAM case's time directories,
+// io/openfoam.h): `title` names it in the description.
+template <class Case>
+class CaseSeries : public MeshSeries {
  public:
-  FluentSeries(const fs::path& case_file, std::vector<fs::path> data_files, std::vector<RawScalars> scalars)
-      : file_(case_file, std::move(data_files)), name_(case_file.filename().string()), scalars_(std::move(scalars)) {}
-  int step_count() const override { return int(file_.step_count()); }
-  double step_time(int step) const override { return file_.step_time(size_t(step)); }
+  CaseSeries(std::unique_ptr<Case> c, std::string title, std::vector<RawScalars> scalars)
+      : case_(std::move(c)), title_(std::move(title)), scalars_(std::move(scalars)) {}
+  int step_count() const override { return int(case_->step_count()); }
+  double step_time(int step) const override { return case_->step_time(size_t(step)); }
   MeshData read_step(int step) override {
-    MeshData m = file_.read_step(size_t(step));
+    MeshData m = case_->read_step(size_t(step));
     for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
     return m;
   }
-  std::string origin(int step) const override { return file_.step_file(size_t(step)).string(); }
+  std::string origin(int step) const override { return case_->step_file(size_t(step)).string(); }
   std::string description() const override {
-    const size_t steps = file_.step_count();
-    return "Fluent case " + name_ + " (" + file_.summary() +
-           (steps > 1 ? "; " + std::to_string(steps) + " steps)" : ")");
+    return title_ + " (" + with_step_count(case_->summary(), case_->step_count()) + ")";
   }
 
  private:
-  FluentFile file_;
-  std::string name_;
+  std::unique_ptr<Case> case_;
+  std::string title_;
   std::vector<RawScalars> scalars_;
 };
 
@@ -262,33 +267,18 @@ std::unique_ptr<MeshSeries> open_fluent_files(const std::vector<fs::path>& files
     if (!is_fluent_data_file(f))
       throw UsageError(f.string() +
                        " is not a Fluent data file (.dat, .dat.gz): a .cas is converted with its data files");
-  return std::make_unique<FluentSeries>(files.front(), data, std::move(scalars));
+  return std::make_unique<CaseSeries<FluentFile>>(std::make_unique<FluentFile>(files.front(), data),
+                                                  "Fluent case " + files.front().filename().string(),
+                                                  std::move(scalars));
 }
 
-// An OpenFOAM case (io/openfoam.h): the mesh read and split once, each time directory a step.
-class OpenFoamSeries : public MeshSeries {
- public:
-  OpenFoamSeries(const fs::path& input, std::vector<RawScalars> scalars) : case_(input), scalars_(std::move(scalars)) {}
-  int step_count() const override { return int(case_.step_count()); }
-  double step_time(int step) const override { return case_.step_time(size_t(step)); }
-  MeshData read_step(int step) override {
-    MeshData m = case_.read_step(size_t(step));
-    for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
-    return m;
-  }
-  std::string origin(int step) const override { return case_.step_file(size_t(step)).string(); }
-  std::string description() const override {
-    const size_t steps = case_.step_count();
-    const fs::path dir = fs::absolute(case_.case_directory()).lexically_normal();
-    const std::string name = (dir.has_filename() ? dir : dir.parent_path()).filename().string();
-    return "OpenFOAM case " + name + " (" + case_.summary() +
-           (steps > 1 ? "; " + std::to_string(steps) + " steps)" : ")");
-  }
-
- private:
-  OpenFoamCase case_;
-  std::vector<RawScalars> scalars_;
-};
+// An OpenFOAM case, named by its directory (io/openfoam.h).
+std::unique_ptr<MeshSeries> open_openfoam_case(const fs::path& input, std::vector<RawScalars> scalars) {
+  auto c = std::make_unique<OpenFoamCase>(input);
+  const fs::path dir = fs::absolute(c->case_directory()).lexically_normal();
+  const std::string name = (dir.has_filename() ? dir : dir.parent_path()).filename().string();
+  return std::make_unique<CaseSeries<OpenFoamCase>>(std::move(c), "OpenFOAM case " + name, std::move(scalars));
+}
 
 bool is_cgns_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
@@ -354,7 +344,7 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
   if (is_openfoam_input(files.front())) {
     if (files.size() > 1)
       throw UsageError("an OpenFOAM case is converted on its own (its time directories are its steps)");
-    return std::make_unique<OpenFoamSeries>(files.front(), scalars);
+    return open_openfoam_case(files.front(), scalars);
   }
   if (ext == ".msh" && files.size() == 1) return std::make_unique<SolverFileSeries<GmshFile>>(files, scalars, "Gmsh");
   if (ext == ".pvd" || ext == ".series") {

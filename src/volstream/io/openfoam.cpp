@@ -20,10 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool ends_with_lower(const fs::path& file, std::string_view suffix) {
-  return lower_case(file.filename().string()).ends_with(suffix);
-}
-
 // `dir/name`, or `dir/name.gz` where only that exists (writeCompression on); nullopt for neither.
 std::optional<fs::path> find_file(const fs::path& dir, const std::string& name) {
   std::error_code ec;
@@ -268,7 +264,7 @@ std::vector<double> read_scalars(Cursor& in, const Header& h, int components, st
 struct PolyMesh {
   std::vector<vec3d> points;
   std::vector<uint64_t> face_offsets{0}, face_vertices;  // moved to the PolyhedronFaces once read
-  std::vector<int64_t> owner, neighbour;
+  std::vector<int64_t> owner, neighbour;                 // dropped once the cells' faces are built
   uint64_t cell_count = 0;
   fs::path owner_file;
 };
@@ -410,11 +406,14 @@ PolyMesh read_poly_mesh(const fs::path& dir) {
 }
 
 // Each cell a polyhedron of the faces that name it (owner or neighbour), for split_polyhedra;
-// the faces' vertices move there (nothing else needs them).
+// the faces' vertices move there, and the owners and neighbours are dropped (nothing else needs
+// them).
 PolyhedronFaces cell_faces(PolyMesh& m) {
   std::vector<FaceCells> sides(m.owner.size());
   for (size_t f = 0; f < sides.size(); ++f)
     sides[f] = {uint64_t(m.owner[f]) + 1, f < m.neighbour.size() ? uint64_t(m.neighbour[f]) + 1 : 0};
+  m.owner = {};
+  m.neighbour = {};
   return polyhedra_from_face_cells(std::move(m.face_offsets), std::move(m.face_vertices), sides, m.cell_count,
                                    m.owner_file.string());
 }
@@ -436,7 +435,7 @@ struct FieldFile {
 std::optional<FieldFile> field_file(const fs::path& file) {
   std::string name = file.filename().string();
   if (name.empty() || name.front() == '.' || name.back() == '~' || name.ends_with(".orig")) return std::nullopt;
-  if (ends_with_lower(file, ".gz")) name.erase(name.size() - 3);
+  if (name_ends_with(file, ".gz")) name.erase(name.size() - 3);
   Cursor in(read_file_inflating(file, 4096), file.string());
   in.skip_space_and_comments();
   if (!in.rest().starts_with("FoamFile")) return std::nullopt;  // not an OpenFOAM file
@@ -514,7 +513,7 @@ bool is_openfoam_input(const fs::path& input) {
   if (fs::is_directory(input, ec))
     return fs::is_directory(input / "constant" / "polyMesh", ec) ||
            fs::is_regular_file(input / "system" / "controlDict", ec) || fs::is_directory(input / "processor0", ec);
-  return ends_with_lower(input, ".foam") || ends_with_lower(input, ".openfoam") ||
+  return name_ends_with(input, ".foam") || name_ends_with(input, ".openfoam") ||
          (input.filename() == "controlDict" && input.parent_path().filename() == "system");
 }
 
@@ -620,7 +619,8 @@ MeshData OpenFoamCase::read_step(size_t step) {
 
 std::string OpenFoamCase::summary() const {
   const Impl& c = *impl_;
-  std::string s = std::to_string(c.mesh.cell_count) + " cells, " + std::to_string(c.mesh.owner.size()) + " faces";
+  std::string s =
+      std::to_string(c.mesh.cell_count) + " cells, " + std::to_string(c.faces.face_offsets.size() - 1) + " faces";
   const char* sep = "; fields ";
   for (const FieldFile& f : c.steps.front().fields) {
     s += sep + f.name;

@@ -64,6 +64,10 @@ TEST(Fluent, DataFilesAreStepsInTheOrderGiven) {
   EXPECT_EQ(fluent.step_time(1), 1.25);
   expect_cell_values_equal(fluent.read_step(1), read_vtu(kDir / "fluent_mixed_2.vtu"));
   expect_cell_values_equal(fluent.read_step(0), read_vtu(kDir / "fluent_mixed.vtu"));
+  // A later step's values alone (what convert reads) are those of its whole step.
+  MeshData values_alone = fluent.read_step(0);
+  values_alone.cell_data = fluent.read_cell_data(1);
+  expect_cell_values_equal(values_alone, read_vtu(kDir / "fluent_mixed_2.vtu"));
   // The CLI's way in: the case, then its data files.
   const auto series = open_mesh_files({kDir / "fluent_mixed_bin.cas", kDir / "fluent_mixed_bin-2.dat"});
   EXPECT_EQ(series->step_count(), 1);

@@ -214,6 +214,15 @@ TEST(OpenFoam, ConvertReadsTheCaseDirectory) {
   EXPECT_EQ(series->description(),
             "OpenFOAM case box_ascii (232 cells, 842 faces; fields C, T, U, V; left out (not in every time step): "
             "mag(U); skipped: phi (surfaceScalarField); 3 steps)");
+  // A later step's values alone (what convert reads) are those of its whole step.
+  const MeshData first = series->read_step(0);
+  for (int step : {1, 2}) {
+    const MeshData whole = series->read_step(step);
+    const StepData alone = series->read_step_data(step, first);
+    ASSERT_EQ(alone.cell_data.size(), whole.cell_data.size());
+    for (size_t a = 0; a < whole.cell_data.size(); ++a) EXPECT_EQ(alone.cell_data[a].values, whole.cell_data[a].values);
+    EXPECT_TRUE(alone.point_data.empty());
+  }
   EXPECT_TRUE(is_mesh_file(kDir / "box_gz" / "box_gz.foam"));
   EXPECT_TRUE(is_mesh_file(kDir / "box_gz"));
   EXPECT_FALSE(is_mesh_file(kDir));

@@ -1,7 +1,8 @@
 // SplitMemo (umesh/cell_rebuild.h): a series' next step on the same points and cells reuses the
 // split of the step before, and gives exactly the mesh and values its own split gives; a step on
 // other points, cells or faces is split anew. Checked for polyhedra (a cube whose top is two
-// triangles: a centroid added) and a quadratic hexahedron (face and body centres added).
+// triangles: a centroid added) and a quadratic hexahedron (face and body centres added). And
+// FixedMeshSplit, a solver case's split made once, against split_polyhedra.
 #include "volstream/umesh/cell_rebuild.h"
 
 #include <gtest/gtest.h>
@@ -96,6 +97,44 @@ TEST(SplitMemo, PolyhedraOfTheNextStepAreSplitAsItsOwnSplitWould) {
                            std::span<const uint64_t>(turned.cell_faces), std::span<const uint64_t>(turned.face_offsets),
                            std::span<const uint64_t>(turned.face_vertices)};
   EXPECT_FALSE(memo.reuse(other, turned_key, "other"));
+}
+
+// FixedMeshSplit (polyhedra.h), for a solver case's steps: its mesh and each step's data combined
+// are split_polyhedra's, exactly; arrays of the wrong length are refused; a mesh without
+// polyhedra keeps its cells and data.
+TEST(FixedMeshSplit, EachStepIsWhatItsOwnSplitGives) {
+  PolyhedronFaces faces;
+  const MeshData mesh = cube_and_tet(faces);
+  const FixedMeshSplit split(mesh, faces, "case");
+  for (int step : {0, 1, 2}) {
+    MeshData own = with_step_values(mesh, step);
+    split_polyhedra(own, faces, "step");
+    MeshData kept = split.mesh();
+    MeshData values = with_step_values(mesh, step);
+    split.split_data(values.point_data, values.cell_data, "step");
+    kept.point_data = values.point_data;
+    kept.cell_data = values.cell_data;
+    expect_same_mesh(kept, own);
+  }
+  MeshData short_cells = with_step_values(mesh, 1);
+  short_cells.cell_data[0].values.pop_back();
+  EXPECT_THROW(split.split_data(short_cells.point_data, short_cells.cell_data, "step"), InputError);
+  MeshData split_points = with_step_values(split.mesh(), 1);  // the split's points, not the case's
+  EXPECT_THROW(split.split_data(split_points.point_data, split_points.cell_data, "step"), InputError);
+
+  MeshData tet;
+  tet.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  tet.cell_types = {10};
+  tet.cell_offsets = {0, 4};
+  tet.connectivity = {0, 1, 2, 3};
+  PolyhedronFaces none;
+  none.add_other_cell();
+  const FixedMeshSplit unsplit(tet, none, "tet");
+  MeshData values = with_step_values(tet, 2);
+  const MeshData before = values;
+  unsplit.split_data(values.point_data, values.cell_data, "tet");
+  expect_same_mesh(values, before);
+  EXPECT_EQ(unsplit.mesh().connectivity, tet.connectivity);
 }
 
 // A quadratic hexahedron on the 3x3x3 grid of the cube [0, 1]^3 (VTK's node order), one node

@@ -595,8 +595,8 @@ struct FluentFile::Impl {
   fs::path case_file;
   std::vector<fs::path> data_files;
   CaseMesh mesh;
-  PolyhedronFaces faces;      // each cell's, from the mesh's faces
-  SplitMemo polyhedra_split;  // the last step's, for the next
+  PolyhedronFaces faces;                // each cell's, from the mesh's faces; released once split
+  std::optional<FixedMeshSplit> split;  // made at the first step read
   std::vector<double> times;
   std::vector<std::string> left_out;  // of the last step read
 
@@ -632,16 +632,30 @@ fs::path FluentFile::step_file(size_t step) const {
   return impl_->data_files.empty() ? impl_->case_file : impl_->data_files.at(step);
 }
 
-MeshData FluentFile::read_step(size_t step) {
-  const std::string file = impl_->case_file.string();
-  input_check(step < step_count(), file, "no time step " + std::to_string(step));
-  MeshData m = unsplit_mesh(impl_->mesh);
+const FixedMeshSplit& FluentFile::split_mesh() {
+  if (!impl_->split) {
+    impl_->split.emplace(unsplit_mesh(impl_->mesh), impl_->faces, impl_->case_file.string());
+    impl_->faces = {};
+  }
+  return *impl_->split;
+}
+
+std::vector<MeshArray> FluentFile::read_cell_data(size_t step) {
+  input_check(step < step_count(), impl_->case_file.string(), "no time step " + std::to_string(step));
+  std::vector<MeshArray> cell_data, no_point_data;
   if (!impl_->data_files.empty()) {
     impl_->left_out.clear();
-    m.cell_data = cell_arrays(DataReader(impl_->data_files[step], impl_->mesh).read(impl_->left_out));
+    cell_data = cell_arrays(DataReader(impl_->data_files[step], impl_->mesh).read(impl_->left_out));
   }
-  split_polyhedra(m, impl_->faces, file, step_count() > 1 ? &impl_->polyhedra_split : nullptr);
-  check_mesh(m, file);
+  split_mesh().split_data(no_point_data, cell_data, step_file(step).string());
+  return cell_data;
+}
+
+MeshData FluentFile::read_step(size_t step) {
+  std::vector<MeshArray> cell_data = read_cell_data(step);
+  MeshData m = split_mesh().mesh();
+  m.cell_data = std::move(cell_data);
+  check_mesh(m, impl_->case_file.string());
   return m;
 }
 

@@ -21,6 +21,8 @@
 
 namespace vs {
 
+class FixedMeshSplit;  // umesh/polyhedra.h
+
 // A case file's name: .cas or .cas.gz (any case). A data file's: .dat or .dat.gz.
 bool is_fluent_case_file(const std::filesystem::path& file);
 bool is_fluent_data_file(const std::filesystem::path& file);
@@ -40,14 +42,19 @@ class FluentFile {
   // The data file's flow time ("(flow-time T)" among its settings, section 37) where every data
   // file has one; else the step's index.
   double step_time(size_t step) const;
-  // The mesh with the step's cell values, polyhedra split, checked (check_mesh).
+  // The mesh with the step's cell values, polyhedra split (once for the series), checked
+  // (check_mesh).
   MeshData read_step(size_t step);
+  // The step's cell values alone, on read_step's cells.
+  std::vector<MeshArray> read_cell_data(size_t step);
   // The file a step's values come from (the case file for a mesh alone).
   std::filesystem::path step_file(size_t step) const;
   // "2 cell zones (fluid, solid): hex x 8, tet x 48", and the variables left out, for `info`.
   std::string summary() const;
 
  private:
+  const FixedMeshSplit& split_mesh();  // made at the first call
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

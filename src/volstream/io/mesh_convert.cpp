@@ -249,6 +249,11 @@ class CaseSeries : public MeshSeries {
     for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
     return m;
   }
+  StepData read_step_data(int step, const MeshData& first) override {
+    StepData data{{}, case_->read_cell_data(size_t(step))};
+    for (const RawScalars& s : scalars_) data.point_data.push_back(read_raw_scalars(first.points.size(), s.name, s.file));
+    return data;
+  }
   std::string origin(int step) const override { return case_->step_file(size_t(step)).string(); }
   std::string description() const override {
     return title_ + " (" + with_step_count(case_->summary(), case_->step_count()) + ")";
@@ -358,6 +363,12 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
   return std::make_unique<FileSeries>(std::move(steps), scalars, description);
 }
 
+StepData MeshSeries::read_step_data(int step, const MeshData& first) {
+  MeshData m = read_step(step);
+  check_same_mesh(first, m, origin(step));
+  return {std::move(m.point_data), std::move(m.cell_data)};
+}
+
 std::unique_ptr<MeshSeries> make_mesh_demo_series(const MeshDemoOptions& options) {
   return std::make_unique<DemoSeries>(options);
 }
@@ -413,8 +424,7 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
   for (int step = 0; step < series.step_count(); ++step) {
     if (step > 0) {
       watch.lap();
-      MeshData data = series.read_step(step);
-      check_same_mesh(first, data, series.origin(step));
+      StepData data = series.read_step_data(step, first);
       first.point_data = std::move(data.point_data);
       first.cell_data = std::move(data.cell_data);
       stats.read_seconds += watch.lap();

@@ -13,12 +13,21 @@
 
 namespace vs {
 
+// The data of a time step on a mesh known already.
+struct StepData {
+  std::vector<MeshArray> point_data, cell_data;
+};
+
 class MeshSeries {
  public:
   virtual ~MeshSeries() = default;
   virtual int step_count() const = 0;
   virtual double step_time(int step) const { return double(step); }
   virtual MeshData read_step(int step) = 0;        // checked with check_mesh
+  // The data of a step whose mesh must be `first`'s (read_step(0)'s; InputError naming
+  // origin(step) when it is not). By default the whole step is read and its mesh compared; a
+  // solver's case, whose mesh is read once for every step, reads only the data.
+  virtual StepData read_step_data(int step, const MeshData& first);
   virtual std::string origin(int step) const = 0;  // the file named in errors about that step
   virtual std::string description() const = 0;     // for `info` ("VTK XML .vtu", "demo tets", ...)
 };

@@ -520,8 +520,9 @@ bool is_openfoam_input(const fs::path& input) {
 struct OpenFoamCase::Impl {
   fs::path dir, mesh_dir;
   PolyMesh mesh;
-  PolyhedronFaces faces;
-  SplitMemo polyhedra_split;
+  PolyhedronFaces faces;                // released once split
+  uint64_t face_count = 0;
+  std::optional<FixedMeshSplit> split;  // made at the first step read
   struct Step {
     double time = 0;
     fs::path dir;
@@ -594,6 +595,7 @@ OpenFoamCase::OpenFoamCase(const fs::path& input) : impl_(std::make_unique<Impl>
   }
   c.mesh = read_poly_mesh(c.mesh_dir);
   c.faces = cell_faces(c.mesh);
+  c.face_count = c.faces.face_offsets.size() - 1;
   c.find_steps();
 }
 OpenFoamCase::~OpenFoamCase() = default;
@@ -603,24 +605,41 @@ double OpenFoamCase::step_time(size_t step) const { return impl_->steps.at(step)
 fs::path OpenFoamCase::step_file(size_t step) const { return impl_->steps.at(step).dir; }
 fs::path OpenFoamCase::case_directory() const { return impl_->dir; }
 
-MeshData OpenFoamCase::read_step(size_t step) {
+const FixedMeshSplit& OpenFoamCase::split_mesh() {
+  Impl& c = *impl_;
+  if (!c.split) {
+    MeshData m;
+    m.points = c.mesh.points;
+    m.cell_types.assign(c.mesh.cell_count, kVtkPolyhedron);
+    m.cell_offsets.assign(c.mesh.cell_count + 1, 0);  // a polyhedron's vertices are its faces'
+    c.split.emplace(std::move(m), c.faces, c.mesh.owner_file.string());
+    c.faces = {};
+  }
+  return *c.split;
+}
+
+std::vector<MeshArray> OpenFoamCase::read_cell_data(size_t step) {
   const Impl& c = *impl_;
   input_check(step < step_count(), c.dir.string(), "no time step " + std::to_string(step));
-  MeshData m;
-  m.points = c.mesh.points;
-  m.cell_types.assign(c.mesh.cell_count, kVtkPolyhedron);
-  m.cell_offsets.assign(c.mesh.cell_count + 1, 0);  // a polyhedron's vertices are its faces'
+  std::vector<MeshArray> cell_data, no_point_data;
   for (const FieldFile& f : c.steps[step].fields)
-    m.cell_data.push_back({f.name, f.components, read_field(f, c.mesh.cell_count)});
-  split_polyhedra(m, c.faces, c.mesh.owner_file.string(), step_count() > 1 ? &impl_->polyhedra_split : nullptr);
-  check_mesh(m, c.steps[step].dir.string());
+    cell_data.push_back({f.name, f.components, read_field(f, c.mesh.cell_count)});
+  split_mesh().split_data(no_point_data, cell_data, c.steps[step].dir.string());
+  return cell_data;
+}
+
+MeshData OpenFoamCase::read_step(size_t step) {
+  std::vector<MeshArray> cell_data = read_cell_data(step);
+  MeshData m = split_mesh().mesh();
+  m.cell_data = std::move(cell_data);
+  check_mesh(m, impl_->steps[step].dir.string());
   return m;
 }
 
 std::string OpenFoamCase::summary() const {
   const Impl& c = *impl_;
   std::string s =
-      std::to_string(c.mesh.cell_count) + " cells, " + std::to_string(c.faces.face_offsets.size() - 1) + " faces";
+      std::to_string(c.mesh.cell_count) + " cells, " + std::to_string(c.face_count) + " faces";
   const char* sep = "; fields ";
   for (const FieldFile& f : c.steps.front().fields) {
     s += sep + f.name;

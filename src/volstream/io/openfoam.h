@@ -25,6 +25,8 @@
 
 namespace vs {
 
+class FixedMeshSplit;  // umesh/polyhedra.h
+
 // An input that names an OpenFOAM case: its directory (holding constant/polyMesh, a
 // system/controlDict or a processor0 directory), a file named *.foam or *.OpenFOAM in it
 // (ParaView's convention), or its system/controlDict.
@@ -43,6 +45,8 @@ class OpenFoamCase {
   double step_time(size_t step) const;  // the time directory's value
   // The mesh with the step's cell values, polyhedra split (once for the series), checked.
   MeshData read_step(size_t step);
+  // The step's cell values alone, on read_step's cells.
+  std::vector<MeshArray> read_cell_data(size_t step);
   // The step's time directory (the polyMesh directory for the mesh alone).
   std::filesystem::path step_file(size_t step) const;
   std::filesystem::path case_directory() const;
@@ -50,6 +54,8 @@ class OpenFoamCase {
   std::string summary() const;
 
  private:
+  const FixedMeshSplit& split_mesh();  // made at the first call
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -243,19 +243,23 @@ void write_ugrid(const fs::path& file, const MeshData& mesh, UgridEncoding encod
   write_file(file, bytes.data(), bytes.size());
 }
 
-void attach_raw_scalars(MeshData& mesh, const std::string& name, const fs::path& raw_f32) {
+MeshArray read_raw_scalars(uint64_t points, const std::string& name, const fs::path& raw_f32) {
   const uint64_t size = file_size_checked(raw_f32);
-  const uint64_t expected = mesh.points.size() * 4;
+  const uint64_t expected = points * 4;
   if (size != expected)
     input_error(raw_f32.string(), "size " + std::to_string(size) + " bytes, expected " + std::to_string(expected) +
-                                      " (one float32 per point, " + std::to_string(mesh.points.size()) + " points)");
+                                      " (one float32 per point, " + std::to_string(points) + " points)");
   std::string bytes(size, '\0');
   read_exact(raw_f32, 0, bytes.data(), size);
   MeshArray a;
   a.name = name;
-  a.values.resize(mesh.points.size());
+  a.values.resize(points);
   for (size_t i = 0; i < a.values.size(); ++i) a.values[i] = load_value<float>(bytes.data() + 4 * i, false);
-  mesh.point_data.push_back(std::move(a));
+  return a;
+}
+
+void attach_raw_scalars(MeshData& mesh, const std::string& name, const fs::path& raw_f32) {
+  mesh.point_data.push_back(read_raw_scalars(mesh.points.size(), name, raw_f32));
 }
 
 }  // namespace vs

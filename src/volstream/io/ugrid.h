@@ -40,8 +40,10 @@ enum class UgridEncoding { ascii, b8, lb8, lb4, b4 };
 // Point and cell data are not part of the format. UsageError for other cell types.
 void write_ugrid(const std::filesystem::path& file, const MeshData& mesh, UgridEncoding encoding);
 
-// Appends a point array `name` read from a raw little-endian float32 file holding exactly one
-// value per point (else InputError naming the file, with expected and actual sizes).
+// A point array `name` read from a raw little-endian float32 file holding exactly one value for
+// each of `points` (else InputError naming the file, with expected and actual sizes).
+MeshArray read_raw_scalars(uint64_t points, const std::string& name, const std::filesystem::path& raw_f32);
+// The same array appended to the mesh's point data.
 void attach_raw_scalars(MeshData& mesh, const std::string& name, const std::filesystem::path& raw_f32);
 
 }  // namespace vs

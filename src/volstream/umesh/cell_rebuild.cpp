@@ -6,17 +6,18 @@
 
 namespace vs {
 
+bool arrays_match(const std::vector<MeshArray>& arrays, uint64_t tuples) {
+  return std::all_of(arrays.begin(), arrays.end(), [&](const MeshArray& a) {
+    return a.components >= 1 && a.values.size() == tuples * uint64_t(a.components);
+  });
+}
+
 void check_rebuild_input(const MeshData& m, const char* what, const std::string& file) {
   input_check(m.cell_offsets.size() == m.cell_count() + 1 && m.cell_offsets.back() == m.connectivity.size(), file,
               std::string(what) + ": the cell offsets do not match the cells");
   for (uint64_t c = 0; c < m.cell_count(); ++c)
     input_check(m.cell_offsets[c] <= m.cell_offsets[c + 1], file, std::string(what) + ": the cell offsets decrease");
-  const auto match = [](const std::vector<MeshArray>& arrays, uint64_t tuples) {
-    return std::all_of(arrays.begin(), arrays.end(), [&](const MeshArray& a) {
-      return a.components >= 1 && a.values.size() == tuples * uint64_t(a.components);
-    });
-  };
-  input_check(match(m.point_data, m.points.size()) && match(m.cell_data, m.cell_count()), file,
+  input_check(arrays_match(m.point_data, m.points.size()) && arrays_match(m.cell_data, m.cell_count()), file,
               std::string(what) + ": a data array does not match the points or cells");
 }
 
@@ -44,9 +45,9 @@ void CellRebuild::keep(const MeshData& m, uint64_t cell) {
 }
 
 // In order, so that a point combined from points added before it finds their data.
-void CellRebuild::add_point_data(MeshData& m) const {
+void CellRebuild::add_point_data(std::vector<MeshArray>& point_data) const {
   if (added_vertices_.empty()) return;
-  for (MeshArray& a : m.point_data) {
+  for (MeshArray& a : point_data) {
     const auto components = size_t(a.components);
     a.values.resize(first_added_ * components);
     for (size_t p = 0; p + 1 < added_offsets_.size(); ++p)
@@ -59,32 +60,37 @@ void CellRebuild::add_point_data(MeshData& m) const {
   }
 }
 
-void CellRebuild::gather_cell_data(MeshData& m) const {
-  for (MeshArray& a : m.cell_data) {
+void CellRebuild::gather_cell_data(std::vector<MeshArray>& cell_data) const {
+  for (MeshArray& a : cell_data) {
     const auto components = size_t(a.components);
-    std::vector<double> values;
-    values.reserve(source_.size() * components);
-    for (uint64_t c : source_)
-      values.insert(values.end(), a.values.begin() + int64_t(c * components),
-                    a.values.begin() + int64_t((c + 1) * components));
+    std::vector<double> values(source_.size() * components);
+    double* out = values.data();
+    for (uint64_t c : source_) out = std::copy_n(a.values.data() + c * components, components, out);
     a.values = std::move(values);
   }
+}
+
+void CellRebuild::finish_data(std::vector<MeshArray>& point_data, std::vector<MeshArray>& cell_data) const {
+  add_point_data(point_data);
+  gather_cell_data(cell_data);
 }
 
 void CellRebuild::finish(MeshData& m) const& {
   m.cell_types = types_;
   m.cell_offsets = offsets_;
   m.connectivity = connectivity_;
-  add_point_data(m);
-  gather_cell_data(m);
+  finish_data(m.point_data, m.cell_data);
 }
 
-void CellRebuild::finish(MeshData& m) && {
+void CellRebuild::move_cells(MeshData& m) {
   m.cell_types = std::move(types_);
   m.cell_offsets = std::move(offsets_);
   m.connectivity = std::move(connectivity_);
-  add_point_data(m);
-  gather_cell_data(m);
+}
+
+void CellRebuild::finish(MeshData& m) && {
+  move_cells(m);
+  finish_data(m.point_data, m.cell_data);
 }
 
 namespace {

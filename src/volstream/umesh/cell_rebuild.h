@@ -17,6 +17,9 @@ namespace vs {
 // by them before check_mesh runs.
 void check_rebuild_input(const MeshData& mesh, const char* what, const std::string& file);
 
+// True when each array has at least one component and `tuples` tuples of them.
+bool arrays_match(const std::vector<MeshArray>& arrays, uint64_t tuples);
+
 // The new cells of a mesh, and the points they add, collected in order; finish() puts them in
 // the mesh's place, each cell with the cell data of the cell it came from, each added point's data
 // the same sum of its vertices' data as its place. finish() leaves the rebuild as it was, so a
@@ -31,9 +34,15 @@ class CellRebuild {
   void finish(MeshData& mesh) const&;              // the rebuild kept (for a SplitMemo)
   void finish(MeshData& mesh) &&;                  // its cells moved into the mesh
 
+  // finish() in two halves, for a mesh whose every step has the same cells (FixedMeshSplit in
+  // polyhedra.h): the cells moved into `mesh` once, then each step's data (on the points and
+  // cells before the rebuild) combined as finish() combines them.
+  void move_cells(MeshData& mesh);
+  void finish_data(std::vector<MeshArray>& point_data, std::vector<MeshArray>& cell_data) const;
+
  private:
-  void add_point_data(MeshData& mesh) const;
-  void gather_cell_data(MeshData& mesh) const;
+  void add_point_data(std::vector<MeshArray>& point_data) const;
+  void gather_cell_data(std::vector<MeshArray>& cell_data) const;
 
   std::vector<uint8_t> types_;
   std::vector<uint64_t> offsets_{0}, connectivity_, source_;

@@ -334,14 +334,16 @@ PolyhedronFaces polyhedra_from_face_cells(std::vector<uint64_t> face_offsets, st
   return p;
 }
 
-void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::string& file, SplitMemo* memo) {
-  if (std::find(m.cell_types.begin(), m.cell_types.end(), kVtkPolyhedron) == m.cell_types.end()) return;
-  const auto key = {std::span<const uint64_t>(faces.cell_face_offsets), std::span<const uint64_t>(faces.cell_faces),
-                    std::span<const uint64_t>(faces.face_offsets), std::span<const uint64_t>(faces.face_vertices)};
-  if (memo && memo->reuse(m, key, file)) return;
+namespace {
+
+bool has_polyhedra(const MeshData& m) {
+  return std::find(m.cell_types.begin(), m.cell_types.end(), kVtkPolyhedron) != m.cell_types.end();
+}
+
+// The cells of `m` with its polyhedra split, their added points already in m.points.
+CellRebuild split_cells(MeshData& m, const PolyhedronFaces& faces, const std::string& file) {
   check_faces(faces, m.cell_count(), m.points.size(), file);
   check_rebuild_input(m, "polyhedra", file);
-  if (memo) memo->split_begins(m, key);
   CellRebuild cells;
   PolyhedronSplitter splitter(m, cells, faces, file);
   for (uint64_t c = 0; c < m.cell_count(); ++c) {
@@ -351,9 +353,35 @@ void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::strin
     }
     for (const Piece& p : splitter.split(c)) cells.add(uint8_t(type_of(p)), std::span(p.v.data(), size_t(p.count)), c);
   }
+  return cells;
+}
+
+}  // namespace
+
+void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::string& file, SplitMemo* memo) {
+  if (!has_polyhedra(m)) return;
+  const auto key = {std::span<const uint64_t>(faces.cell_face_offsets), std::span<const uint64_t>(faces.cell_faces),
+                    std::span<const uint64_t>(faces.face_offsets), std::span<const uint64_t>(faces.face_vertices)};
+  if (memo && memo->reuse(m, key, file)) return;
+  if (memo) memo->split_begins(m, key);
+  CellRebuild cells = split_cells(m, faces, file);
   if (!memo) return std::move(cells).finish(m);
   cells.finish(m);
   memo->split_ends(std::move(cells), m.points);
+}
+
+FixedMeshSplit::FixedMeshSplit(MeshData unsplit, const PolyhedronFaces& faces, const std::string& file)
+    : mesh_(std::move(unsplit)), unsplit_points_(mesh_.points.size()), unsplit_cells_(mesh_.cell_count()) {
+  if (!has_polyhedra(mesh_)) return;  // nothing to split: the data stay as they are
+  rebuild_ = split_cells(mesh_, faces, file);
+  rebuild_->move_cells(mesh_);
+}
+
+void FixedMeshSplit::split_data(std::vector<MeshArray>& point_data, std::vector<MeshArray>& cell_data,
+                                const std::string& file) const {
+  input_check(arrays_match(point_data, unsplit_points_) && arrays_match(cell_data, unsplit_cells_), file,
+              "a data array does not match the mesh's points or cells");
+  if (rebuild_) rebuild_->finish_data(point_data, cell_data);
 }
 
 }  // namespace vs

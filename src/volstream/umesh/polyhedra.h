@@ -4,6 +4,7 @@
 // their smaller neighbours), and ParaView writes them from Fluent and CGNS polyhedral meshes.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -66,5 +67,25 @@ PolyhedronFaces faces_in_connectivity(const MeshData& mesh, const std::string& f
 // its series), a mesh with the points, cells and faces of the one split last is split as that
 // one was, only its data combined.
 void split_polyhedra(MeshData& mesh, const PolyhedronFaces& faces, const std::string& file, SplitMemo* memo = nullptr);
+
+// The polyhedra of a mesh that every step of a series has by construction (a solver's case, whose
+// mesh is read once: Fluent, OpenFOAM) split once, as split_polyhedra splits them: the split mesh,
+// and each step's data, given on the unsplit mesh's points and cells, combined as the split
+// combines them. Unlike a SplitMemo, nothing is compared with the first step or copied per step.
+class FixedMeshSplit {
+ public:
+  // `unsplit`: points and cells, without data. InputError as split_polyhedra.
+  FixedMeshSplit(MeshData unsplit, const PolyhedronFaces& faces, const std::string& file);
+  const MeshData& mesh() const { return mesh_; }  // the split mesh, without data
+  // A step's arrays, on the unsplit points and cells, as the split mesh's. InputError naming
+  // `file` when an array does not match the unsplit points or cells.
+  void split_data(std::vector<MeshArray>& point_data, std::vector<MeshArray>& cell_data,
+                  const std::string& file) const;
+
+ private:
+  MeshData mesh_;
+  std::optional<CellRebuild> rebuild_;  // its cells moved into mesh_; none where nothing was split
+  uint64_t unsplit_points_ = 0, unsplit_cells_ = 0;
+};
 
 }  // namespace vs

@@ -2,14 +2,17 @@
 # Whole `volstream convert` of time series, two binaries side by side in one run (hyperfine,
 # REPEATS runs each after a warm-up, the dataset removed before each): a foamToVTK-like .vtu
 # series of polyhedra (bench/make_refined_polyhedra.py N --all-polyhedra, then
-# bench/vtu_series.py, STEPS steps) and a Fluent case of N^3 hexes with STEPS data files
-# (bench/fluent_box.py). The inputs are made once in OUT and reused.
+# bench/vtu_series.py, STEPS steps), a Fluent case of N^3 hexes with STEPS data files
+# (bench/fluent_box.py) and, where OpenFOAM's tools are installed (apt-get install openfoam), an
+# OpenFOAM case of FOAM_N^3 cells with refined corners and 3 time steps
+# (tests/data/openfoam/make_openfoam_files.sh with BENCH_N). The inputs are made once in OUT
+# and reused.
 #
 # usage: bench/series_convert_paired.sh BASE_BIN NEW_BIN OUT [POLY_N=64] [FLUENT_N=100]
-#        REPEATS=3 STEPS=8
-# Writes OUT/{vtu_series,fluent}.{txt,json} and prints hyperfine's summaries.
+#        REPEATS=3 STEPS=8 FOAM_N=100
+# Writes OUT/{vtu_series,fluent,openfoam}.{txt,json} and prints hyperfine's summaries.
 set -euo pipefail
-[ $# -ge 3 ] || { sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -ge 3 ] || { sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 HERE="$(cd "$(dirname "$0")" && pwd)"
 BASE="$(realpath "$1")" NEW="$(realpath "$2")" OUT="$3"
 POLY_N="${4:-64}" FLUENT_N="${5:-100}" REPEATS="${REPEATS:-3}" STEPS="${STEPS:-8}"
@@ -34,3 +37,10 @@ paired() {  # NAME ARGS...: both binaries converting ARGS
 }
 paired vtu_series "$series"
 paired fluent "$OUT/box.cas" $dats
+if command -v blockMesh >/dev/null; then
+  foam="$OUT/foam_box"
+  [ -d "$foam" ] || BENCH_N="${FOAM_N:-100}" BENCH_CASE="$foam" bash "$HERE/../tests/data/openfoam/make_openfoam_files.sh"
+  paired openfoam "$foam"
+else
+  echo "no OpenFOAM tools (apt-get install openfoam): the OpenFOAM case is left out" >&2
+fi

@@ -12,7 +12,17 @@
 #   reference.vtu  VTK's cells (polyhedra not decomposed) and cell values of the last step, the
 #               same for all three copies
 # Usage: bash make_openfoam_files.sh   (in this directory; takes a few seconds)
+# For bench/: BENCH_N=100 BENCH_CASE=DIR bash make_openfoam_files.sh writes instead the same case
+# at N^3 cells with smaller corners refined (1,396,578 cells at N=100), in binary, time steps 0,
+# 0.05 and 0.1, to DIR (about 420 MB and two minutes at N=100), and leaves the test data alone.
 set -euo pipefail
+bench_n=${BENCH_N:-}
+if [ -n "$bench_n" ]; then
+  [ -n "${BENCH_CASE:-}" ] || { echo "BENCH_N needs BENCH_CASE=DIR" >&2; exit 2; }
+  blocks="$bench_n $bench_n $bench_n" low=0.3 high="0.9 0.7 0.5" end_time=0.1 interval=1
+else
+  blocks="6 5 4" low=0.41 high="0.79 0.59 0.39" end_time=0.2 interval=2
+fi
 here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -40,10 +50,10 @@ H
 
 c=$work/box
 mkdir -p $c/system $c/constant $c/0
-{ header dictionary system blockMeshDict; cat <<'D'
+{ header dictionary system blockMeshDict; cat <<D
 convertToMeters 1;
 vertices ((0 0 0) (1.2 0 0) (1.2 1 0) (0 1 0) (0 0 0.8) (1.2 0 0.8) (1.2 1 0.8) (0 1 0.8));
-blocks (hex (0 1 2 3 4 5 6 7) (6 5 4) simpleGrading (1 1 1));
+blocks (hex (0 1 2 3 4 5 6 7) ($blocks) simpleGrading (1 1 1));
 edges ();
 boundary
 (
@@ -54,15 +64,15 @@ boundary
 mergePatchPairs ();
 D
 } > $c/system/blockMeshDict
-{ header dictionary system controlDict; cat <<'D'
+{ header dictionary system controlDict; cat <<D
 application     scalarTransportFoam;
 startFrom       startTime;
 startTime       0;
 stopAt          endTime;
-endTime         0.2;
+endTime         $end_time;
 deltaT          0.05;
 writeControl    timeStep;
-writeInterval   2;
+writeInterval   $interval;
 purgeWrite      0;
 writeFormat     ascii;
 writePrecision  10;
@@ -86,11 +96,11 @@ solvers { T { solver PBiCGStab; preconditioner DILU; tolerance 1e-09; relTol 0; 
 SIMPLE { nNonOrthogonalCorrectors 0; }
 D
 } > $c/system/fvSolution
-{ header dictionary system topoSetDict; cat <<'D'
+{ header dictionary system topoSetDict; cat <<D
 actions
 (
-    { name corner; type cellSet; action new; source boxToCell; box (-1 -1 -1) (0.41 0.41 0.41); }
-    { name corner; type cellSet; action add; source boxToCell; box (0.79 0.59 0.39) (2 2 2); }
+    { name corner; type cellSet; action new; source boxToCell; box (-1 -1 -1) ($low $low $low); }
+    { name corner; type cellSet; action add; source boxToCell; box ($high) (2 2 2); }
 );
 D
 } > $c/system/topoSetDict
@@ -144,10 +154,21 @@ run setFields
 run scalarTransportFoam
 run postProcess -func writeCellCentres
 run postProcess -func writeCellVolumes
-run postProcess -func 'mag(U)' -time 0.2
+[ -n "$bench_n" ] || run postProcess -func 'mag(U)' -time 0.2
 rm -rf $c/constant/polyMesh/sets $c/constant/polyMesh/*Level* $c/constant/polyMesh/*Zones* $c/constant/polyMesh/refinementHistory
 rm -f $c/*/Cx $c/*/Cy $c/*/Cz
 rm -rf $c/*/uniform $c/postProcessing
+
+if [ -n "$bench_n" ]; then
+  rm -rf "$BENCH_CASE" && mkdir -p "$BENCH_CASE"
+  cp -r $c/0 $c/0.05 $c/0.1 $c/constant $c/system "$BENCH_CASE"/
+  touch "$BENCH_CASE"/"$(basename "$BENCH_CASE")".foam
+  sed -i 's/^writeFormat .*/writeFormat     binary;/' "$BENCH_CASE"/system/controlDict
+  foamFormatConvert -case "$BENCH_CASE" > $work/log.convert 2>&1 || { cat $work/log.convert >&2; exit 1; }
+  rm -f "$BENCH_CASE"/*/phi*
+  du -sh "$BENCH_CASE"
+  exit 0
+fi
 
 rm -rf "$here"/box_ascii "$here"/box_binary "$here"/box_gz "$here"/reference*.vtu
 mkdir -p "$here"/box_ascii

@@ -251,7 +251,8 @@ class CaseSeries : public MeshSeries {
   }
   StepData read_step_data(int step, const MeshData& first) override {
     StepData data{{}, case_->read_cell_data(size_t(step))};
-    for (const RawScalars& s : scalars_) data.point_data.push_back(read_raw_scalars(first.points.size(), s.name, s.file));
+    for (const RawScalars& s : scalars_)
+      data.point_data.push_back(read_raw_scalars(first.points.size(), s.name, s.file));
     return data;
   }
   std::string origin(int step) const override { return case_->step_file(size_t(step)).string(); }

@@ -23,7 +23,7 @@ class MeshSeries {
   virtual ~MeshSeries() = default;
   virtual int step_count() const = 0;
   virtual double step_time(int step) const { return double(step); }
-  virtual MeshData read_step(int step) = 0;        // checked with check_mesh
+  virtual MeshData read_step(int step) = 0;  // checked with check_mesh
   // The data of a step whose mesh must be `first`'s (read_step(0)'s; InputError naming
   // origin(step) when it is not). By default the whole step is read and its mesh compared; a
   // solver's case, whose mesh is read once for every step, reads only the data.

@@ -520,7 +520,7 @@ bool is_openfoam_input(const fs::path& input) {
 struct OpenFoamCase::Impl {
   fs::path dir, mesh_dir;
   PolyMesh mesh;
-  PolyhedronFaces faces;                // released once split
+  PolyhedronFaces faces;  // released once split
   uint64_t face_count = 0;
   std::optional<FixedMeshSplit> split;  // made at the first step read
   struct Step {
@@ -638,8 +638,7 @@ MeshData OpenFoamCase::read_step(size_t step) {
 
 std::string OpenFoamCase::summary() const {
   const Impl& c = *impl_;
-  std::string s =
-      std::to_string(c.mesh.cell_count) + " cells, " + std::to_string(c.face_count) + " faces";
+  std::string s = std::to_string(c.mesh.cell_count) + " cells, " + std::to_string(c.face_count) + " faces";
   const char* sep = "; fields ";
   for (const FieldFile& f : c.steps.front().fields) {
     s += sep + f.name;

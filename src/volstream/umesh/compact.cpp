@@ -7,6 +7,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <unordered_map>
 
 #include "volstream/backend/parallel.h"
@@ -113,36 +114,86 @@ int apex_off_shared_face(const UElement& x, const UElement& y) {
   return shared == 3 ? apex : -1;
 }
 
+// For each of a leaf's tets, the others it shares exactly a face with, in increasing order (CSR:
+// tet i's are list[offsets[i] .. offsets[i + 1])).
+struct FacePartners {
+  std::vector<uint32_t> offsets, list;
+  std::span<const uint32_t> of(size_t i) const { return {list.data() + offsets[i], list.data() + offsets[i + 1]}; }
+};
+
+// Faces matched by their vertices in a small hash table (a sort of a leaf's 256 faces cost more
+// than the rest of the leaf's encoding); a face of more than two tets, as a non-manifold mesh
+// may have, gives every pair of them, each checked as apex_off_shared_face checks it (a
+// repeated tet shares four vertices, not a face).
+FacePartners face_partners(const UMesh& mesh, const std::vector<uint32_t>& tets) {
+  struct Face {
+    uint32_t v[3];
+    uint32_t tet;
+    int32_t next;  // the previous face of the same vertices, or -1
+  };
+  const size_t faces_count = 4 * tets.size();
+  size_t slots = 16;
+  while (slots < 2 * faces_count) slots *= 2;
+  std::vector<int32_t> head(slots, -1);
+  std::vector<Face> faces;
+  faces.reserve(faces_count);
+  std::vector<uint64_t> pairs;  // (i << 32 | j), both ways
+  for (uint32_t i = 0; i < tets.size(); ++i) {
+    const uint32_t* v = mesh.elements[tets[i]].v;
+    for (int off = 0; off < 4; ++off) {
+      Face f{{v[(off + 1) % 4], v[(off + 2) % 4], v[(off + 3) % 4]}, i, -1};
+      std::sort(f.v, f.v + 3);
+      size_t h = (f.v[0] * 0x9E3779B1u ^ f.v[1] * 0x85EBCA77u ^ f.v[2] * 0xC2B2AE3Du) & (slots - 1);
+      while (head[h] >= 0 && !std::equal(f.v, f.v + 3, faces[size_t(head[h])].v)) h = (h + 1) & (slots - 1);
+      for (int32_t k = head[h]; k >= 0; k = faces[size_t(k)].next) {
+        const uint32_t j = faces[size_t(k)].tet;
+        if (j != i && apex_off_shared_face(mesh.elements[tets[i]], mesh.elements[tets[j]]) >= 0)
+          pairs.insert(pairs.end(), {uint64_t(i) << 32 | j, uint64_t(j) << 32 | i});
+      }
+      f.next = head[h];
+      head[h] = int32_t(faces.size());
+      faces.push_back(f);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  FacePartners p;
+  p.offsets.assign(tets.size() + 1, 0);
+  for (const uint64_t pair : pairs) {
+    ++p.offsets[(pair >> 32) + 1];
+    p.list.push_back(uint32_t(pair));
+  }
+  for (size_t i = 0; i < tets.size(); ++i) p.offsets[i + 1] += p.offsets[i];
+  return p;
+}
+
 // Pairs the tets that share a face: repeatedly the unpaired tet with the fewest unpaired
 // face neighbours with its neighbour of fewest (the greedy rule for matchings: tets with few
 // options go first, so fewer are left single); the others stay single.
 void pair_tets(const UMesh& mesh, const std::vector<uint32_t>& tets, std::vector<TetPair>& pairs,
                std::vector<uint32_t>& singles) {
   const size_t n = tets.size();
-  std::vector<std::vector<size_t>> partners(n);
-  for (size_t i = 0; i < n; ++i)
-    for (size_t j = i + 1; j < n; ++j)
-      if (apex_off_shared_face(mesh.elements[tets[i]], mesh.elements[tets[j]]) >= 0) {
-        partners[i].push_back(j);
-        partners[j].push_back(i);
-      }
-  std::vector<bool> used(n, false);
-  const auto options = [&](size_t i) {
-    size_t count = 0;
-    for (const size_t j : partners[i]) count += used[j] ? 0 : 1;
-    return count;
+  const FacePartners partners = face_partners(mesh, tets);
+  std::vector<uint8_t> used(n, 0);
+  std::vector<uint32_t> options(n);  // each tet's unpaired partners, kept as tets are paired
+  for (size_t i = 0; i < n; ++i) options[i] = partners.of(i).size();
+  const auto take = [&](size_t i) {
+    used[i] = 1;
+    for (const uint32_t j : partners.of(i)) --options[j];
   };
   for (;;) {
-    size_t best = n, best_options = SIZE_MAX;
+    size_t best = n;
+    uint32_t best_options = UINT32_MAX;
     for (size_t i = 0; i < n; ++i)
-      if (!used[i] && options(i) > 0 && options(i) < best_options) best = i, best_options = options(i);
+      if (!used[i] && options[i] > 0 && options[i] < best_options) best = i, best_options = options[i];
     if (best == n) break;
-    size_t mate = n, mate_options = SIZE_MAX;
-    for (const size_t j : partners[best])
-      if (!used[j] && options(j) < mate_options) mate = j, mate_options = options(j);
+    size_t mate = n;
+    uint32_t mate_options = UINT32_MAX;
+    for (const uint32_t j : partners.of(best))
+      if (!used[j] && options[j] < mate_options) mate = j, mate_options = options[j];
     const UElement &a = mesh.elements[tets[best]], &b = mesh.elements[tets[mate]];
     pairs.push_back({tets[best], tets[mate], apex_off_shared_face(a, b), apex_off_shared_face(b, a)});
-    used[best] = used[mate] = true;
+    take(best);
+    take(mate);
   }
   for (size_t i = 0; i < n; ++i)
     if (!used[i]) singles.push_back(tets[i]);

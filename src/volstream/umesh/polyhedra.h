@@ -79,8 +79,7 @@ class FixedMeshSplit {
   const MeshData& mesh() const { return mesh_; }  // the split mesh, without data
   // A step's arrays, on the unsplit points and cells, as the split mesh's. InputError naming
   // `file` when an array does not match the unsplit points or cells.
-  void split_data(std::vector<MeshArray>& point_data, std::vector<MeshArray>& cell_data,
-                  const std::string& file) const;
+  void split_data(std::vector<MeshArray>& point_data, std::vector<MeshArray>& cell_data, const std::string& file) const;
 
  private:
   MeshData mesh_;

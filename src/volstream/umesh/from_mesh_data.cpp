@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "volstream/backend/parallel.h"
 #include "volstream/core/error.h"
 #include "volstream/umesh/shape.h"
 
@@ -68,19 +69,29 @@ UMesh make_umesh(const MeshData& data, const WorldTransform& transform, const st
   m.vertices.resize(data.points.size());
   for (size_t i = 0; i < data.points.size(); ++i) m.vertices[i] = vec3f(transform.to_grid(data.points[i]));
   m.elements.resize(data.cell_count());
+  // The elements and their orientations in parallel (a hex's is a dozen corner volumes); the
+  // checks after them in order, so that a message names the first bad element as a serial loop
+  // would.
   std::vector<int8_t> orientation(data.cell_count());
+  parallel_for_ranges(
+      int64_t(data.cell_count()),
+      [&](int64_t begin, int64_t end) {
+        for (auto e = uint64_t(begin); e < uint64_t(end); ++e) {
+          UElement& el = m.elements[e];
+          const uint64_t first = data.cell_offsets[e];
+          const int n = int(data.cell_offsets[e + 1] - first);
+          vec3d x[8];
+          for (int k = 0; k < 8; ++k) el.v[k] = k < n ? uint32_t(data.connectivity[first + uint64_t(k)]) : kNoVertex;
+          for (int k = 0; k < n; ++k) x[k] = data.points[el.v[k]] - transform.origin;
+          orientation[e] = int8_t(element_orientation(n, x));
+        }
+      },
+      4096);
   int64_t votes[4] = {};
   for (uint64_t e = 0; e < data.cell_count(); ++e) {
-    UElement& el = m.elements[e];
-    const uint64_t first = data.cell_offsets[e];
-    const int n = int(data.cell_offsets[e + 1] - first);
-    vec3d x[8];
-    for (int k = 0; k < 8; ++k) el.v[k] = k < n ? uint32_t(data.connectivity[first + uint64_t(k)]) : kNoVertex;
-    for (int k = 0; k < n; ++k) x[k] = data.points[el.v[k]] - transform.origin;
-    const int o = element_orientation(n, x);
+    const int n = m.elements[e].vertex_count(), o = orientation[e];
     if (o == 0) input_error(file, element_name(e, n) + " is degenerate (no volume)");
     if (o == 2) input_error(file, element_name(e, n) + " is tangled (inverted at some corners)");
-    orientation[e] = int8_t(o);
     votes[type_slot(n)] += o;
     ++m.count_by_type[type_slot(n)];
   }

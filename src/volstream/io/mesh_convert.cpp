@@ -422,6 +422,7 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
   stats.encode_seconds += watch.lap();  // the point-location structures of either encoding
 
   Progress progress("converting", uint64_t(series.step_count()) * fields.size(), !options.quiet);
+  std::optional<PointCells> point_cells;  // for cell arrays averaged to the points
   for (int step = 0; step < series.step_count(); ++step) {
     if (step > 0) {
       watch.lap();
@@ -439,7 +440,8 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
       });
       if (it == here.end()) input_error(series.origin(step), "no field '" + fields[f].name + "' in this step");
       watch.lap();
-      const std::vector<float> file_values = mesh_field_values(first, *it);
+      if (it->cell && !point_cells) point_cells = point_cells_of(first);  // the same for every step
+      const std::vector<float> file_values = mesh_field_values(first, *it, point_cells ? &*point_cells : nullptr);
       check_field_values(file_values, series.origin(step), fields[f].name, step);
       const std::vector<float> values = reordered_values(file_values, order);
       if (compact)  // the step's range over every vertex, as the reference encoding has it

@@ -1,6 +1,7 @@
 #include "volstream/umesh/from_mesh_data.h"
 
 #include <cmath>
+#include <optional>
 
 #include "volstream/backend/parallel.h"
 #include "volstream/core/error.h"
@@ -65,6 +66,7 @@ WorldTransform mesh_transform(const MeshData& data) {
 UMesh make_umesh(const MeshData& data, const WorldTransform& transform, const std::string& file) {
   check_mesh(data, file);
   input_check(data.points.size() < kNoVertex, file, "more than 2^32 - 1 points");
+  input_check(data.cell_count() < kNoVertex, file, "more than 2^32 - 1 cells");  // elements are 32-bit ids
   UMesh m;
   m.vertices.resize(data.points.size());
   for (size_t i = 0; i < data.points.size(); ++i) m.vertices[i] = vec3f(transform.to_grid(data.points[i]));
@@ -135,7 +137,20 @@ double tuple_value(const MeshArray& a, uint64_t tuple, int component) {
 }
 }  // namespace
 
-std::vector<float> mesh_field_values(const MeshData& data, const MeshFieldRef& f) {
+PointCells point_cells_of(const MeshData& data) {
+  PointCells pc;
+  pc.offsets.assign(data.points.size() + 1, 0);
+  for (uint64_t v : data.connectivity) ++pc.offsets[v + 1];
+  for (size_t p = 0; p < data.points.size(); ++p) pc.offsets[p + 1] += pc.offsets[p];
+  pc.cells.resize(data.connectivity.size());
+  std::vector<uint64_t> next(pc.offsets.begin(), pc.offsets.end() - 1);
+  for (uint64_t e = 0; e < data.cell_count(); ++e)
+    for (uint64_t k = data.cell_offsets[e]; k < data.cell_offsets[e + 1]; ++k)
+      pc.cells[next[data.connectivity[k]]++] = uint32_t(e);
+  return pc;
+}
+
+std::vector<float> mesh_field_values(const MeshData& data, const MeshFieldRef& f, const PointCells* cells) {
   std::vector<float> out(data.points.size());
   if (!f.cell) {
     const MeshArray& a = data.point_data.at(f.array);
@@ -143,16 +158,19 @@ std::vector<float> mesh_field_values(const MeshData& data, const MeshFieldRef& f
     return out;
   }
   const MeshArray& a = data.cell_data.at(f.array);
-  std::vector<double> sum(out.size(), 0.0);
-  std::vector<uint32_t> count(out.size(), 0);
-  for (uint64_t e = 0; e < data.cell_count(); ++e) {
-    const double v = tuple_value(a, e, f.component);
-    for (uint64_t k = data.cell_offsets[e]; k < data.cell_offsets[e + 1]; ++k) {
-      sum[data.connectivity[k]] += v;
-      ++count[data.connectivity[k]];
-    }
-  }
-  for (uint64_t i = 0; i < out.size(); ++i) out[i] = count[i] ? float(sum[i] / count[i]) : NAN;
+  std::optional<PointCells> own;
+  if (!cells) cells = &own.emplace(point_cells_of(data));
+  parallel_for_ranges(
+      int64_t(out.size()),
+      [&](int64_t begin, int64_t end) {
+        for (auto p = uint64_t(begin); p < uint64_t(end); ++p) {
+          const uint64_t first = cells->offsets[p], count = cells->offsets[p + 1] - first;
+          double sum = 0.0;
+          for (uint64_t k = first; k < first + count; ++k) sum += tuple_value(a, cells->cells[k], f.component);
+          out[p] = count ? float(sum / double(count)) : NAN;
+        }
+      },
+      4096);
   return out;
 }
 

@@ -32,8 +32,18 @@ struct MeshFieldRef {
   int component = -1;  // -1: the value (1 component) or the magnitude; else that component
 };
 std::vector<MeshFieldRef> mesh_fields(const MeshData& data);
-// One value per point (float; NaN where a vertex belongs to no cell and the field is cell data).
-std::vector<float> mesh_field_values(const MeshData& data, const MeshFieldRef& field);
+// The cells each point is a corner of, in increasing order (CSR: point p's are
+// cells[offsets[p] .. offsets[p + 1])), for averaging cell data to the points.
+struct PointCells {
+  std::vector<uint64_t> offsets;
+  std::vector<uint32_t> cells;
+};
+PointCells point_cells_of(const MeshData& data);  // data checked as make_umesh checks it
+// One value per point (float; NaN where a vertex belongs to no cell and the field is cell data:
+// each point's value the mean of its cells', summed in cell order). `cells` (point_cells_of(data),
+// kept by a caller that averages several arrays) saves finding them again.
+std::vector<float> mesh_field_values(const MeshData& data, const MeshFieldRef& field,
+                                     const PointCells* cells = nullptr);
 
 // InputError naming `file` unless `step` has exactly the mesh of `first` (points, cells).
 void check_same_mesh(const MeshData& first, const MeshData& step, const std::string& file);

@@ -449,8 +449,8 @@ std::vector<fs::path> processor_directories(const fs::path& case_dir) {
 std::vector<int64_t> read_point_addressing(const fs::path& mesh_dir, uint64_t points) {
   if (!find_file(mesh_dir, "pointProcAddressing"))
     input_error((mesh_dir / "pointProcAddressing").string(),
-                "missing: the processors' shared points are joined through it (decomposePar writes it; or run "
-                "reconstructPar)");
+                "missing: the processors' shared points are joined through it (decomposePar writes it; or join "
+                "the case with reconstructPar, after reconstructParMesh where constant/polyMesh is gone)");
   Header h;
   Cursor in = open_mesh_file(mesh_dir, "pointProcAddressing", h);
   std::vector<int64_t> ids = read_label_list(in, h, "point numbers");

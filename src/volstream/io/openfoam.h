@@ -22,10 +22,10 @@
 // directory), unknown formats or classes, lists cut short or larger than their file, face
 // vertices, owners or neighbours out of range, faces of fewer than 3 vertices, cells of fewer
 // than 4 faces, unbalanced parentheses; for a decomposed case also a gap in the processor
-// numbers, a missing pointProcAddressing (decomposePar writes it; or run reconstructPar), one of
-// another length than the points or with numbers out of range, a point of the whole mesh in no
-// processor, a shared point whose processors put it in places more than a relative 1e-9 apart,
-// a time step that some processor lacks.
+// numbers, a missing pointProcAddressing (decomposePar writes it; or run reconstructParMesh and
+// reconstructPar), one of another length than the points or with numbers out of range, a point
+// of the whole mesh in no processor, a shared point whose processors put it in places more than
+// a relative 1e-9 apart, a time step that some processor lacks.
 #pragma once
 #include <cstddef>
 #include <filesystem>

@@ -1,6 +1,7 @@
 // OpenFOAM: the test cases of tests/data/openfoam (a refined box: ascii, binary with a
-// faceCompactList, gzipped) with one of their mesh files or the last step's fields patched or
-// truncated, read step by step as `convert` reads them.
+// faceCompactList, gzipped, decomposed for 3 processors) with one of their mesh files (of the
+// decomposed case, processor1's, its pointProcAddressing too) or the last step's fields patched
+// or truncated, read step by step as `convert` reads them.
 #include <iterator>
 #include <string>
 
@@ -8,7 +9,7 @@
 #include "volstream/io/openfoam.h"
 
 namespace {
-const char* const kCases[] = {"box_ascii", "box_binary", "box_gz"};
+const char* const kCases[] = {"box_ascii", "box_binary", "box_gz", "box_decomposed"};
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -21,9 +22,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const fs::path work = dir / "case";
   fuzz::copy_tree(base / name, work);
   const std::string gz = name == "box_gz" ? ".gz" : "";
-  const fs::path mesh = work / "constant" / "polyMesh";
-  const std::vector<fs::path> files = {mesh / ("points" + gz),    mesh / ("faces" + gz),     mesh / ("owner" + gz),
-                                       mesh / ("neighbour" + gz), work / "0.2" / ("T" + gz), work / "0.2" / ("U" + gz)};
+  const fs::path part = name == "box_decomposed" ? work / "processor1" : work;
+  const fs::path mesh = part / "constant" / "polyMesh";
+  std::vector<fs::path> files = {mesh / ("points" + gz),    mesh / ("faces" + gz),     mesh / ("owner" + gz),
+                                 mesh / ("neighbour" + gz), part / "0.2" / ("T" + gz), part / "0.2" / ("U" + gz)};
+  if (part != work) files.push_back(mesh / "pointProcAddressing");
   if (!fuzz::apply_patch(files, data + 1, size - 1)) return 0;
   fuzz::expect_clean([&] {
     OpenFoamCase foam(work);

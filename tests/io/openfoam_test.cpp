@@ -403,13 +403,14 @@ TEST_F(EditedOpenFoam, ValuesOutOfDoubleRange) {
   }
 }
 
-TEST_F(EditedOpenFoam, MovingMeshAndDecomposedCaseAreRefused) {
+TEST_F(EditedOpenFoam, MovingMeshIsRefused) {
   fs::copy_file(mesh("points"), dir_ / "0" / "polyMesh" / "points");
   EXPECT_NE(error().find("moving or changing mesh"), std::string::npos) << error();
   fs::remove(dir_ / "0" / "polyMesh" / "points");
+  // Without constant/polyMesh, an empty processor0 is a decomposed case without its mesh.
   fs::create_directories(dir_ / "processor0");
   fs::remove_all(dir_ / "constant" / "polyMesh");
-  EXPECT_NE(error().find("reconstructPar"), std::string::npos) << error();
+  EXPECT_NE(error().find("processor0/constant/polyMesh/points: missing"), std::string::npos) << error();
 }
 
 TEST_F(EditedOpenFoam, CutShortGzipStream) {
@@ -418,6 +419,200 @@ TEST_F(EditedOpenFoam, CutShortGzipStream) {
   damaged.resize(damaged.size() / 2);
   test::write_bytes(mesh("points.gz"), damaged);
   EXPECT_NE(error().find("points.gz"), std::string::npos) << error();
+}
+
+// box_decomposed is box_ascii as decomposePar splits it for 3 processors.
+
+// Each element of a split mesh by its vertices' coordinates, sorted, rounded to 1e-9 (the points
+// the split adds are means over a cell's vertices, summed in the order of its faces, which each
+// processor numbers its own way).
+using ElementKey = std::vector<std::array<int64_t, 3>>;
+std::map<ElementKey, uint64_t> elements_by_vertices(const MeshData& m) {
+  std::map<ElementKey, uint64_t> elements;
+  for (uint64_t e = 0; e < m.cell_count(); ++e) {
+    ElementKey key;
+    for (uint64_t i = m.cell_offsets[e]; i < m.cell_offsets[e + 1]; ++i) {
+      const vec3d p = m.points[m.connectivity[i]];
+      key.push_back({std::llround(p[0] * 1e9), std::llround(p[1] * 1e9), std::llround(p[2] * 1e9)});
+    }
+    std::sort(key.begin(), key.end());
+    EXPECT_TRUE(elements.emplace(key, e).second) << "two elements of the same vertices: " << e;
+  }
+  return elements;
+}
+
+TEST(OpenFoam, DecomposedCaseIsTheCaseItCameFrom) {
+  OpenFoamCase whole(kDir / "box_ascii"), decomposed(kDir / "box_decomposed");
+  EXPECT_EQ(decomposed.summary(),
+            "232 cells, 928 faces, decomposed into 3 processors (the faces between them counted in each); fields C, "
+            "T, U, V; left out (not in every time step): mag(U); skipped: phi (surfaceScalarField)");
+  ASSERT_EQ(decomposed.step_count(), 3u);
+  EXPECT_EQ(decomposed.step_file(1), kDir / "box_decomposed" / "processor0" / "0.1");
+  for (size_t step = 0; step < 3; ++step) {
+    SCOPED_TRACE("step " + std::to_string(step));
+    EXPECT_EQ(decomposed.step_time(step), whole.step_time(step));
+    const MeshData a = whole.read_step(step), b = decomposed.read_step(step);
+    // The processors' points joined are the points of the whole case, in its order (each its
+    // pointProcAddressing number), before those the split adds.
+    ASSERT_EQ(b.points.size(), a.points.size());
+    EXPECT_TRUE(std::equal(a.points.begin(), a.points.begin() + 406, b.points.begin()));
+    ASSERT_EQ(b.cell_count(), a.cell_count());
+    const std::map<ElementKey, uint64_t> in_a = elements_by_vertices(a), in_b = elements_by_vertices(b);
+    ASSERT_EQ(in_a.size(), a.cell_count());
+    ASSERT_EQ(in_b.size(), b.cell_count());
+    for (const auto& [key, ea] : in_a) {
+      const auto it = in_b.find(key);
+      ASSERT_NE(it, in_b.end()) << "element " << ea << " of box_ascii is not in box_decomposed";
+      const uint64_t eb = it->second;
+      EXPECT_EQ(a.cell_types[ea], b.cell_types[eb]);
+      for (const char* name : {"T", "U", "C", "V"}) {
+        const MeshArray &x = test::array_named(a.cell_data, name), &y = test::array_named(b.cell_data, name);
+        ASSERT_EQ(x.components, y.components);
+        for (int k = 0; k < x.components; ++k)
+          EXPECT_EQ(x.values[ea * uint64_t(x.components) + uint64_t(k)],
+                    y.values[eb * uint64_t(y.components) + uint64_t(k)])
+              << name << " of element " << ea;
+      }
+    }
+  }
+}
+
+TEST(OpenFoam, DecomposedCaseConvertsAsTheCaseItCameFrom) {
+  const auto whole = open_mesh_files({kDir / "box_ascii"});
+  const auto decomposed = open_mesh_files({kDir / "box_decomposed" / "box_decomposed.foam"});
+  EXPECT_NE(decomposed->description().find("decomposed into 3 processors"), std::string::npos)
+      << decomposed->description();
+  ASSERT_EQ(decomposed->step_count(), whole->step_count());
+  for (int step = 0; step < whole->step_count(); ++step) {
+    SCOPED_TRACE("step " + std::to_string(step));
+    const MeshData a = whole->read_step(step), b = decomposed->read_step(step);
+    for (const char* name : {"T", "U"}) test::expect_probes_alike(a, name, b, name);
+  }
+  const MeshConvertStats a = convert_mesh_to_dataset(
+      *open_mesh_files({kDir / "box_ascii"}), test::scratch_dir("openfoam_convert_whole"), ConvertOptions::silent());
+  const MeshConvertStats b =
+      convert_mesh_to_dataset(*open_mesh_files({kDir / "box_decomposed"}),
+                              test::scratch_dir("openfoam_convert_decomposed"), ConvertOptions::silent());
+  EXPECT_EQ(a.elements, b.elements);
+  EXPECT_EQ(a.vertices, b.vertices);
+}
+
+// An ascii OpenFOAM list file of `items`, as decomposePar writes one.
+void write_list(const fs::path& file, const char* class_name, const std::vector<std::string>& items) {
+  std::string t = std::string("FoamFile\n{\n    version     2.0;\n    format      ascii;\n    class       ") +
+                  class_name + ";\n}\n\n" + std::to_string(items.size()) + "\n(\n";
+  for (const std::string& item : items) t += item + "\n";
+  test::write_bytes(file, t + ")\n");
+}
+std::vector<int64_t> labels_of(const fs::path& file) {
+  const std::vector<double> v = numbers_of(file);
+  return std::vector<int64_t>(v.begin() + 1, v.end());
+}
+void write_labels(const fs::path& file, const std::vector<int64_t>& labels) {
+  std::vector<std::string> items;
+  for (int64_t l : labels) items.push_back(std::to_string(l));
+  write_list(file, "labelList", items);
+}
+
+// A copy of the decomposed case, edited.
+class EditedDecomposedOpenFoam : public EditedOpenFoam {
+ protected:
+  void SetUp() override { dir_ = case_copy("box_decomposed", "openfoam_edit_decomposed"); }
+  fs::path processor_mesh(int k, const std::string& name) const {
+    return dir_ / ("processor" + std::to_string(k)) / "constant" / "polyMesh" / name;
+  }
+};
+
+TEST_F(EditedDecomposedOpenFoam, PointAddressingMissing) {
+  fs::remove(processor_mesh(1, "pointProcAddressing"));
+  const std::string e = error();
+  EXPECT_NE(e.find("processor1/constant/polyMesh/pointProcAddressing: missing"), std::string::npos) << e;
+  EXPECT_NE(e.find("decomposePar"), std::string::npos) << e;
+  EXPECT_NE(e.find("reconstructPar"), std::string::npos) << e;
+}
+
+TEST_F(EditedDecomposedOpenFoam, PointAddressingTooShortOrOutOfRange) {
+  const fs::path file = processor_mesh(2, "pointProcAddressing");
+  std::vector<int64_t> ids = labels_of(file);
+  const size_t points = ids.size();
+  ids.pop_back();
+  write_labels(file, ids);
+  EXPECT_NE(error().find("processor2/constant/polyMesh/pointProcAddressing: offset"), std::string::npos) << error();
+  EXPECT_NE(error().find(std::to_string(points - 1) + " point numbers for the processor's " + std::to_string(points)),
+            std::string::npos)
+      << error();
+  ids = labels_of(processor_mesh(0, "pointProcAddressing"));
+  ids[3] = 5000;
+  write_labels(processor_mesh(0, "pointProcAddressing"), ids);
+  fs::copy_file(kDir / "box_decomposed" / "processor2" / "constant" / "polyMesh" / "pointProcAddressing", file,
+                fs::copy_options::overwrite_existing);
+  EXPECT_NE(error().find("processor0/constant/polyMesh/pointProcAddressing: point 3: number 5000 out of range"),
+            std::string::npos)
+      << error();
+  ids[3] = -1;
+  write_labels(processor_mesh(0, "pointProcAddressing"), ids);
+  EXPECT_NE(error().find("processor0/constant/polyMesh/pointProcAddressing: offset"), std::string::npos) << error();
+  EXPECT_NE(error().find("point 3: a negative number -1"), std::string::npos) << error();
+}
+
+TEST_F(EditedDecomposedOpenFoam, PointInNoProcessor) {
+  // Processor 0's last point numbered 407, past the whole mesh's points 0..405: point 406 is in
+  // no processor.
+  std::vector<int64_t> ids = labels_of(processor_mesh(0, "pointProcAddressing"));
+  ids.back() = 407;
+  write_labels(processor_mesh(0, "pointProcAddressing"), ids);
+  const std::string e = error();
+  EXPECT_NE(e.find("pointProcAddressing"), std::string::npos) << e;
+  EXPECT_NE(e.find("point 406 of the whole mesh is in no processor"), std::string::npos) << e;
+}
+
+TEST_F(EditedDecomposedOpenFoam, GapInProcessorNumbers) {
+  fs::rename(dir_ / "processor1", dir_ / "processor3");
+  EXPECT_NE(error().find("processor1: missing, though processor2 is there"), std::string::npos) << error();
+}
+
+TEST_F(EditedDecomposedOpenFoam, StepMissingInOneProcessor) {
+  fs::remove_all(dir_ / "processor2" / "0.1");
+  EXPECT_NE(error().find("processor2/0.1: missing, though processor0 has time 0.1"), std::string::npos) << error();
+}
+
+TEST_F(EditedDecomposedOpenFoam, FieldMissingInOneProcessorIsLeftOut) {
+  fs::remove(dir_ / "processor1" / "0.1" / "V");
+  OpenFoamCase foam(dir_);
+  EXPECT_NE(foam.summary().find("fields C, T, U; left out (not in every time step): V, mag(U)"), std::string::npos)
+      << foam.summary();
+}
+
+TEST_F(EditedDecomposedOpenFoam, SharedPointsDisagree) {
+  // A point of processor 1 that processor 0 has too, moved by a little (refused) or by a
+  // rounding error (accepted).
+  const std::vector<int64_t> ids0 = labels_of(processor_mesh(0, "pointProcAddressing")),
+                             ids1 = labels_of(processor_mesh(1, "pointProcAddressing"));
+  const auto shared = std::find_if(ids1.begin(), ids1.end(),
+                                   [&](int64_t id) { return std::find(ids0.begin(), ids0.end(), id) != ids0.end(); });
+  ASSERT_NE(shared, ids1.end());
+  const size_t p = size_t(shared - ids1.begin());
+  const std::vector<double> xyz = numbers_of(processor_mesh(1, "points"));
+  for (const double factor : {1 + 1e-6, 1 + 1e-13}) {
+    std::vector<std::string> points;
+    for (size_t q = 0; q + 3 < xyz.size(); q += 3) {
+      char text[100];
+      const double f = q / 3 == p ? factor : 1;
+      std::snprintf(text, sizeof text, "(%.17g %.17g %.17g)", xyz[q + 1] * f, xyz[q + 2] * f, xyz[q + 3] * f);
+      points.push_back(text);
+    }
+    write_list(processor_mesh(1, "points"), "vectorField", points);
+    const std::string e = error();
+    if (factor > 1 + 1e-9) {
+      EXPECT_NE(e.find("processor1/constant/polyMesh/pointProcAddressing: point " + std::to_string(p) + " (point " +
+                       std::to_string(*shared) + " of the whole mesh) is at ("),
+                std::string::npos)
+          << e;
+      EXPECT_NE(e.find("in processor0"), std::string::npos) << e;
+    } else {
+      EXPECT_EQ(e, "accepted");
+    }
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <optional>
@@ -260,11 +261,13 @@ std::vector<double> read_scalars(Cursor& in, const Header& h, int components, st
   return v;
 }
 
-// The mesh of constant/polyMesh.
+// The mesh of constant/polyMesh (or a decomposed case's processors' meshes joined).
 struct PolyMesh {
   std::vector<vec3d> points;
   std::vector<uint64_t> face_offsets{0}, face_vertices;  // moved to the PolyhedronFaces once read
-  std::vector<int64_t> owner, neighbour;                 // dropped once the cells' faces are built
+  // Dropped once the cells' faces are built. A face past the neighbours, or whose neighbour is
+  // -1 (a joined mesh's), has its owner alone.
+  std::vector<int64_t> owner, neighbour;
   uint64_t cell_count = 0;
   fs::path owner_file;
 };
@@ -278,6 +281,14 @@ Cursor open_mesh_file(const fs::path& dir, const char* name, Header& h) {
 }
 void expect_end(Cursor& in) {
   if (!in.at_end()) in.fail("more after the list");
+}
+
+// A mesh file that is one labelList (owner, neighbour, pointProcAddressing).
+std::vector<int64_t> read_label_list(Cursor& in, const Header& h, const char* what) {
+  if (h.class_name != "labelList") in.fail("class '" + h.class_name + "', not labelList");
+  std::vector<int64_t> labels = read_labels(in, h, what);
+  expect_end(in);
+  return labels;
 }
 
 std::vector<vec3d> read_points(const fs::path& dir) {
@@ -362,9 +373,7 @@ void read_owners(const fs::path& dir, PolyMesh& m) {
   const uint64_t faces = m.face_offsets.size() - 1;
   Header h;
   Cursor owner = open_mesh_file(dir, "owner", h);
-  if (h.class_name != "labelList") owner.fail("class '" + h.class_name + "', not labelList");
-  m.owner = read_labels(owner, h, "owners");
-  expect_end(owner);
+  m.owner = read_label_list(owner, h, "owners");
   m.owner_file = owner.file();
   if (m.owner.size() != faces)
     owner.fail(std::to_string(m.owner.size()) + " owners of " + std::to_string(faces) + " faces");
@@ -372,9 +381,7 @@ void read_owners(const fs::path& dir, PolyMesh& m) {
 
   Header hn;
   Cursor neighbour = open_mesh_file(dir, "neighbour", hn);
-  if (hn.class_name != "labelList") neighbour.fail("class '" + hn.class_name + "', not labelList");
-  m.neighbour = read_labels(neighbour, hn, "neighbours");
-  expect_end(neighbour);
+  m.neighbour = read_label_list(neighbour, hn, "neighbours");
   if (m.neighbour.size() > faces)
     neighbour.fail(std::to_string(m.neighbour.size()) + " neighbours of " + std::to_string(faces) + " faces");
 
@@ -405,13 +412,161 @@ PolyMesh read_poly_mesh(const fs::path& dir) {
   return m;
 }
 
+// A decomposed case (decomposePar's layout): processor0 .. processorN-1, each a case of its own
+// cells, whose meshes are joined here as reconstructPar joins them.
+
+// The case's processor directories in order (none where it has none). InputError for a gap in
+// the numbers, or a name with leading zeros (not OpenFOAM's).
+std::vector<fs::path> processor_directories(const fs::path& case_dir) {
+  std::map<uint64_t, fs::path> by_number;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(case_dir, ec)) {
+    const std::string name = e.path().filename().string();
+    const std::string_view digits = std::string_view(name).substr(std::min<size_t>(name.size(), 9));
+    if (!name.starts_with("processor") || digits.empty() || !e.is_directory(ec) ||
+        !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      continue;
+    uint64_t number = 0;
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), number);
+    if (error != std::errc() || std::to_string(number) != digits)
+      input_error(e.path().string(),
+                  "not a processor directory as decomposePar names them (processor0, processor1 ...)");
+    by_number[number] = e.path();
+  }
+  std::vector<fs::path> processors;
+  for (const auto& [number, dir] : by_number) {
+    if (number != processors.size())
+      input_error((case_dir / ("processor" + std::to_string(processors.size()))).string(),
+                  "missing, though processor" + std::to_string(number) +
+                      " is there: a decomposed case is processor0 .. processorN-1, every one");
+    processors.push_back(dir);
+  }
+  return processors;
+}
+
+// A processor's pointProcAddressing: each of its `points` points' number in the whole mesh
+// (decomposePar writes it, and reconstructPar joins the points through it).
+std::vector<int64_t> read_point_addressing(const fs::path& mesh_dir, uint64_t points) {
+  if (!find_file(mesh_dir, "pointProcAddressing"))
+    input_error((mesh_dir / "pointProcAddressing").string(),
+                "missing: the processors' shared points are joined through it (decomposePar writes it; or join "
+                "the case with reconstructPar, after reconstructParMesh where constant/polyMesh is gone)");
+  Header h;
+  Cursor in = open_mesh_file(mesh_dir, "pointProcAddressing", h);
+  std::vector<int64_t> ids = read_label_list(in, h, "point numbers");
+  if (ids.size() != points)
+    in.fail(std::to_string(ids.size()) + " point numbers for the processor's " + std::to_string(points) + " points");
+  for (size_t p = 0; p < ids.size(); ++p)
+    if (ids[p] < 0) in.fail("point " + std::to_string(p) + ": a negative number " + std::to_string(ids[p]));
+  return ids;
+}
+
+// A processor's points, kept until every processor is read: only then is the whole mesh's
+// point count, which bounds their numbers, known.
+struct ProcessorPoints {
+  std::vector<vec3d> points;
+  std::vector<int64_t> ids;  // pointProcAddressing
+  fs::path file;             // pointProcAddressing's
+};
+
+std::string coordinates(const vec3d& p) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.17g %.17g %.17g)", p[0], p[1], p[2]);
+  return text;
+}
+
+// decomposePar writes a shared point's coordinates bitwise alike in each processor; a relative
+// 1e-9 allows for a writer that rounds them differently, not for another point.
+bool same_point(const vec3d& a, const vec3d& b) {
+  double scale = 0;
+  for (int k = 0; k < 3; ++k) scale = std::max({scale, std::abs(a[k]), std::abs(b[k])});
+  for (int k = 0; k < 3; ++k)
+    if (!(std::abs(a[k] - b[k]) <= 1e-9 * scale)) return false;
+  return true;
+}
+
+// The whole mesh's points: processor K's point p is point ids[p], and a point that several
+// processors share is the same point in each. InputError for a number out of range, a point in
+// no processor, or one whose processors disagree on where it is.
+std::vector<vec3d> join_points(const std::vector<ProcessorPoints>& processors, const fs::path& case_dir) {
+  uint64_t bound = 0;  // the whole mesh has no more points than its processors together
+  for (const ProcessorPoints& part : processors) bound += part.points.size();
+  uint64_t count = 0;
+  for (const ProcessorPoints& part : processors)
+    for (size_t p = 0; p < part.ids.size(); ++p) {
+      if (uint64_t(part.ids[p]) >= bound)
+        input_error(part.file.string(), "point " + std::to_string(p) + ": number " + std::to_string(part.ids[p]) +
+                                            " out of range 0.." + std::to_string(bound - 1) +
+                                            " (the processors' points together)");
+      count = std::max(count, uint64_t(part.ids[p]) + 1);
+    }
+  constexpr uint32_t kNone = ~uint32_t(0);
+  std::vector<vec3d> points(count);
+  std::vector<uint32_t> placed_by(count, kNone);  // the first processor that has the point
+  for (uint32_t k = 0; k < processors.size(); ++k) {
+    const ProcessorPoints& part = processors[k];
+    for (size_t p = 0; p < part.ids.size(); ++p) {
+      const uint64_t id = uint64_t(part.ids[p]);
+      if (placed_by[id] == kNone) {
+        placed_by[id] = k;
+        points[id] = part.points[p];
+      } else if (!same_point(points[id], part.points[p])) {
+        input_error(part.file.string(), "point " + std::to_string(p) + " (point " + std::to_string(id) +
+                                            " of the whole mesh) is at " + coordinates(part.points[p]) + ", but at " +
+                                            coordinates(points[id]) + " in processor" + std::to_string(placed_by[id]));
+      }
+    }
+  }
+  const auto unplaced = std::find(placed_by.begin(), placed_by.end(), kNone);
+  if (unplaced != placed_by.end())
+    input_error((case_dir / "processor*" / "constant" / "polyMesh" / "pointProcAddressing").string(),
+                "point " + std::to_string(unplaced - placed_by.begin()) + " of the whole mesh is in no processor");
+  return points;
+}
+
+// A processor's mesh after those of the processors before it: its faces' vertices numbered as
+// the whole mesh's points (`ids`), its cells after theirs. Its faces on the boundary between
+// processors, which the processor on the other side has too (the other way round), have their
+// owner alone, as its other boundary faces: each cell is built from its own processor's faces.
+void append_processor(PolyMesh& whole, const PolyMesh& part, const std::vector<int64_t>& ids) {
+  const uint64_t first_vertex = whole.face_vertices.size();
+  const int64_t first_cell = int64_t(whole.cell_count);
+  for (size_t f = 1; f < part.face_offsets.size(); ++f)
+    whole.face_offsets.push_back(first_vertex + part.face_offsets[f]);
+  for (uint64_t v : part.face_vertices) whole.face_vertices.push_back(uint64_t(ids[v]));
+  for (int64_t c : part.owner) whole.owner.push_back(first_cell + c);
+  for (size_t f = 0; f < part.owner.size(); ++f)
+    whole.neighbour.push_back(f < part.neighbour.size() ? first_cell + part.neighbour[f] : -1);
+  whole.cell_count += part.cell_count;
+}
+
+// The processors' meshes joined into one, their cells in processor order; `cells` gets each
+// processor's cell count.
+PolyMesh read_decomposed_mesh(const fs::path& case_dir, const std::vector<fs::path>& processors,
+                              std::vector<uint64_t>& cells) {
+  PolyMesh whole;
+  std::vector<ProcessorPoints> points;
+  for (const fs::path& processor : processors) {
+    const fs::path mesh_dir = processor / "constant" / "polyMesh";
+    PolyMesh part = read_poly_mesh(mesh_dir);
+    std::vector<int64_t> ids = read_point_addressing(mesh_dir, part.points.size());
+    append_processor(whole, part, ids);
+    cells.push_back(part.cell_count);
+    points.push_back({std::move(part.points), std::move(ids), *find_file(mesh_dir, "pointProcAddressing")});
+  }
+  whole.points = join_points(points, case_dir);
+  whole.owner_file = case_dir / "processor*" / "constant" / "polyMesh" / "owner";
+  return whole;
+}
+
 // Each cell a polyhedron of the faces that name it (owner or neighbour), for split_polyhedra;
 // the faces' vertices move there, and the owners and neighbours are dropped (nothing else needs
 // them).
 PolyhedronFaces cell_faces(PolyMesh& m) {
   std::vector<FaceCells> sides(m.owner.size());
   for (size_t f = 0; f < sides.size(); ++f)
-    sides[f] = {uint64_t(m.owner[f]) + 1, f < m.neighbour.size() ? uint64_t(m.neighbour[f]) + 1 : 0};
+    sides[f] = {uint64_t(m.owner[f]) + 1,
+                f < m.neighbour.size() && m.neighbour[f] >= 0 ? uint64_t(m.neighbour[f]) + 1 : 0};
   m.owner = {};
   m.neighbour = {};
   return polyhedra_from_face_cells(std::move(m.face_offsets), std::move(m.face_vertices), sides, m.cell_count,
@@ -519,22 +674,69 @@ bool is_openfoam_input(const fs::path& input) {
 
 struct OpenFoamCase::Impl {
   fs::path dir, mesh_dir;
+  // Where the mesh and the time steps are: the case directory, or a decomposed case's processor
+  // directories, whose cells follow one another in the mesh, processor0's first.
+  std::vector<fs::path> parts;
+  std::vector<uint64_t> part_cells;
   PolyMesh mesh;
   PolyhedronFaces faces;  // released once split
   uint64_t face_count = 0;
   std::optional<FixedMeshSplit> split;  // made at the first step read
   struct Step {
     double time = 0;
-    fs::path dir;
-    std::vector<FieldFile> fields;  // those read
+    fs::path dir;                   // the first part's time directory
+    std::vector<FieldFile> fields;  // those read (the first part's files)
   };
   std::vector<Step> steps;
   std::set<std::string> left_out, skipped;
 
+  void read_mesh() {
+    std::error_code ec;
+    mesh_dir = dir / "constant" / "polyMesh";
+    if (fs::is_directory(mesh_dir, ec)) {
+      parts = {dir};
+      mesh = read_poly_mesh(mesh_dir);
+      part_cells = {mesh.cell_count};
+      return;
+    }
+    parts = processor_directories(dir);
+    if (parts.empty()) input_error(mesh_dir.string(), "missing: not an OpenFOAM case (no constant/polyMesh)");
+    mesh_dir = parts.front() / "constant" / "polyMesh";
+    mesh = read_decomposed_mesh(dir, parts, part_cells);
+  }
+
+  // The step's field in part `k`'s time directory.
+  FieldFile field_in_part(const Step& step, const FieldFile& f, size_t k) const {
+    if (k == 0) return f;
+    const fs::path time_dir = parts[k] / step.dir.filename();
+    const std::optional<fs::path> file = find_file(time_dir, f.name);
+    if (!file) input_error((time_dir / f.name).string(), "missing (processor0 has it)");
+    return {f.name, *file, f.components, f.class_name};
+  }
+
+  // A step's field files in the first part that every part has; those that some part lacks are
+  // left out. InputError for a part without the step's time directory.
+  void keep_fields_in_every_part(const fs::path& time_dir, std::map<std::string, FieldFile>& fields) {
+    std::error_code ec;
+    for (size_t k = 1; k < parts.size(); ++k) {
+      const fs::path other = parts[k] / time_dir.filename();
+      if (!fs::is_directory(other, ec))
+        input_error(other.string(), "missing, though processor0 has time " + time_dir.filename().string() +
+                                        ": every processor must have every time step");
+      for (auto it = fields.begin(); it != fields.end();)
+        if (find_file(other, it->first)) {
+          ++it;
+        } else {
+          left_out.insert(it->first);
+          it = fields.erase(it);
+        }
+    }
+  }
+
   void find_steps() {
     std::error_code ec;
     std::vector<std::pair<double, fs::path>> times;
-    for (const auto& e : fs::directory_iterator(dir, ec)) {
+    for (const auto& e : fs::directory_iterator(parts.front(), ec)) {
       double t = 0;
       if (e.is_directory(ec) && is_time_name(e.path().filename().string(), t)) times.push_back({t, e.path()});
     }
@@ -560,6 +762,7 @@ struct OpenFoamCase::Impl {
         if (!fields.count(f->name)) fields[f->name] = *f;
       }
       if (fields.empty()) continue;
+      keep_fields_in_every_part(tdir, fields);
       steps.push_back({t, tdir, {}});
       found.push_back(std::move(fields));
     }
@@ -584,16 +787,7 @@ struct OpenFoamCase::Impl {
 OpenFoamCase::OpenFoamCase(const fs::path& input) : impl_(std::make_unique<Impl>()) {
   Impl& c = *impl_;
   c.dir = case_directory_of(input);
-  c.mesh_dir = c.dir / "constant" / "polyMesh";
-  std::error_code ec;
-  if (!fs::is_directory(c.mesh_dir, ec)) {
-    if (fs::is_directory(c.dir / "processor0", ec))
-      input_error(c.dir.string(),
-                  "a decomposed case (processor0 ... without constant/polyMesh): run reconstructPar "
-                  "(or reconstructParMesh) first");
-    input_error(c.mesh_dir.string(), "missing: not an OpenFOAM case (no constant/polyMesh)");
-  }
-  c.mesh = read_poly_mesh(c.mesh_dir);
+  c.read_mesh();
   c.faces = cell_faces(c.mesh);
   c.face_count = c.faces.face_offsets.size() - 1;
   c.find_steps();
@@ -621,9 +815,18 @@ const FixedMeshSplit& OpenFoamCase::split_mesh() {
 std::vector<MeshArray> OpenFoamCase::read_cell_data(size_t step) {
   const Impl& c = *impl_;
   input_check(step < step_count(), c.dir.string(), "no time step " + std::to_string(step));
+  const Impl::Step& s = c.steps[step];
   std::vector<MeshArray> cell_data, no_point_data;
-  for (const FieldFile& f : c.steps[step].fields)
-    cell_data.push_back({f.name, f.components, read_field(f, c.mesh.cell_count)});
+  for (const FieldFile& f : s.fields) {
+    MeshArray& a = cell_data.emplace_back(MeshArray{f.name, f.components, {}});
+    for (size_t k = 0; k < c.parts.size(); ++k) {
+      std::vector<double> values = read_field(c.field_in_part(s, f, k), c.part_cells[k]);
+      if (a.values.empty())
+        a.values = std::move(values);
+      else
+        a.values.insert(a.values.end(), values.begin(), values.end());
+    }
+  }
   split_mesh().split_data(no_point_data, cell_data, c.steps[step].dir.string());
   return cell_data;
 }
@@ -639,6 +842,9 @@ MeshData OpenFoamCase::read_step(size_t step) {
 std::string OpenFoamCase::summary() const {
   const Impl& c = *impl_;
   std::string s = std::to_string(c.mesh.cell_count) + " cells, " + std::to_string(c.face_count) + " faces";
+  if (c.parts.front() != c.dir)  // decomposed
+    s += ", decomposed into " + std::to_string(c.parts.size()) + (c.parts.size() == 1 ? " processor" : " processors") +
+         " (the faces between them counted in each)";
   const char* sep = "; fields ";
   for (const FieldFile& f : c.steps.front().fields) {
     s += sep + f.name;

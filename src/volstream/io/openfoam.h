@@ -9,11 +9,23 @@
 // internalField uniform or nonuniform, ascii or binary), by value, "0" included; the values are
 // cell data named by their file (a volVectorField a 3-component array). A field missing from
 // some step is left out, and point, surface and tensor fields are skipped (summary() says
-// which). Refused with one line: a decomposed case without constant/polyMesh (run
-// reconstructPar), a moving or changing mesh (a polyMesh with points or faces in a time
+// which).
+// A decomposed case (no constant/polyMesh, but processor0 .. processorN-1, as decomposePar
+// writes them; ParaView's "Decomposed Case") is read as reconstructPar would join it, without
+// running it: each processor's mesh read as above, its points numbered as the whole mesh's by
+// its constant/polyMesh/pointProcAddressing (so a point that processors share is one point, and
+// the cell values averaged to it show no seam), its cells built from its own faces (those
+// between processors, which both sides have, the other way round, each side's alone), the cells
+// in processor order; the time steps are processor0's time directories, each field the
+// processors' values one after another, kept where every processor has it.
+// Refused with one line: a moving or changing mesh (a polyMesh with points or faces in a time
 // directory), unknown formats or classes, lists cut short or larger than their file, face
 // vertices, owners or neighbours out of range, faces of fewer than 3 vertices, cells of fewer
-// than 4 faces, unbalanced parentheses.
+// than 4 faces, unbalanced parentheses; for a decomposed case also a gap in the processor
+// numbers, a missing pointProcAddressing (decomposePar writes it; or run reconstructParMesh and
+// reconstructPar), one of another length than the points or with numbers out of range, a point
+// of the whole mesh in no processor, a shared point whose processors put it in places more than
+// a relative 1e-9 apart, a time step that some processor lacks.
 #pragma once
 #include <cstddef>
 #include <filesystem>
@@ -28,7 +40,7 @@ namespace vs {
 class FixedMeshSplit;  // umesh/polyhedra.h
 
 // An input that names an OpenFOAM case: its directory (holding constant/polyMesh, a
-// system/controlDict or a processor0 directory), a file named *.foam or *.OpenFOAM in it
+// system/controlDict or a processor0 directory, for a decomposed case), a file named *.foam or *.OpenFOAM in it
 // (ParaView's convention), or its system/controlDict.
 bool is_openfoam_input(const std::filesystem::path& input);
 
@@ -47,10 +59,12 @@ class OpenFoamCase {
   MeshData read_step(size_t step);
   // The step's cell values alone, on read_step's cells.
   std::vector<MeshArray> read_cell_data(size_t step);
-  // The step's time directory (the polyMesh directory for the mesh alone).
+  // The step's time directory (processor0's for a decomposed case; the polyMesh directory for the
+  // mesh alone).
   std::filesystem::path step_file(size_t step) const;
   std::filesystem::path case_directory() const;
-  // "1234 cells, 3800 faces; fields p, U", the fields left out and skipped, for `info`.
+  // "1234 cells, 3800 faces; fields p, U", the fields left out and skipped, for `info`; ", decomposed
+  // into N processors" after the faces for a decomposed case.
   std::string summary() const;
 
  private:

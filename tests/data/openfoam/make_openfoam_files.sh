@@ -9,6 +9,9 @@
 #               the last only (left out); ascii files, faces a faceList
 #   box_binary  the same case, foamFormatConvert'ed to binary (faces a faceCompactList)
 #   box_gz      the same case, ascii, every file gzipped (writeCompression on)
+#   box_decomposed  box_ascii decomposed by decomposePar (method simple) for 3 processors, every
+#               time step: the processor directories alone (with each one's pointProcAddressing
+#               and the other addressing files decomposePar writes), and controlDict
 #   reference.vtu  VTK's cells (polyhedra not decomposed) and cell values of the last step, the
 #               same for all three copies
 # Usage: bash make_openfoam_files.sh   (in this directory; takes a few seconds)
@@ -30,7 +33,7 @@ trap 'rm -rf "$work"' EXIT
 if [ -z "${WM_PROJECT_DIR:-}" ] && [ -f /usr/share/openfoam/etc/bashrc ]; then
   export WM_PROJECT_DIR=/usr/share/openfoam
 fi
-for tool in blockMesh topoSet refineMesh setFields scalarTransportFoam postProcess foamFormatConvert; do
+for tool in blockMesh topoSet refineMesh setFields scalarTransportFoam postProcess foamFormatConvert decomposePar; do
   command -v $tool >/dev/null || { echo "needs OpenFOAM ($tool): apt-get install openfoam" >&2; exit 1; }
 done
 version=$(dpkg-query -W -f='${Version}' openfoam 2>/dev/null || echo unknown)
@@ -170,7 +173,7 @@ if [ -n "$bench_n" ]; then
   exit 0
 fi
 
-rm -rf "$here"/box_ascii "$here"/box_binary "$here"/box_gz "$here"/reference*.vtu
+rm -rf "$here"/box_ascii "$here"/box_binary "$here"/box_gz "$here"/box_decomposed "$here"/reference*.vtu
 mkdir -p "$here"/box_ascii
 cp -r $c/0 $c/0.1 $c/0.2 $c/constant $c/system "$here"/box_ascii/
 touch "$here"/box_ascii/box_ascii.foam
@@ -189,6 +192,20 @@ for d in "$here"/box_gz; do gunzip "$d"/constant/polyMesh/boundary.gz; done
 rm -rf "$here"/box_binary/0 "$here"/box_binary/0.1 "$here"/box_gz/0 "$here"/box_gz/0.1
 rm -f "$here"/box_ascii/0.1/phi* "$here"/box_binary/0.2/phi* "$here"/box_gz/0.2/phi*
 rm -rf "$here"/box_*/system/{fvSchemes,fvSolution,topoSetDict,refineMeshDict,setFieldsDict,blockMeshDict}
+d=$work/decomposed
+cp -r "$here"/box_ascii $d
+{ header dictionary system decomposeParDict; cat <<'D'
+numberOfSubdomains 3;
+method          simple;
+coeffs          { n (3 1 1); }
+D
+} > $d/system/decomposeParDict
+# Every time step (without -time, v1912 decomposes the first alone).
+decomposePar -time '0:' -case $d > $work/log.decompose 2>&1 || { cat $work/log.decompose >&2; exit 1; }
+mkdir -p "$here"/box_decomposed/system
+cp -r $d/processor* "$here"/box_decomposed/
+cp $d/system/controlDict "$here"/box_decomposed/system/
+touch "$here"/box_decomposed/box_decomposed.foam
 echo "$version" > "$here"/OPENFOAM_VERSION
 /usr/bin/python3 "$here"/make_openfoam_reference.py "$here"
 du -sh "$here"

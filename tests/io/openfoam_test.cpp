@@ -566,6 +566,28 @@ TEST_F(EditedDecomposedOpenFoam, PointInNoProcessor) {
   EXPECT_NE(e.find("point 406 of the whole mesh is in no processor"), std::string::npos) << e;
 }
 
+// A case run in parallel from a whole mesh has both layouts: its own mesh and time 0, and the
+// processors' meshes and every time. The processors are read where their last time is later.
+TEST_F(EditedDecomposedOpenFoam, ProcessorsWithLaterTimesAreReadBesideTheCasesOwnMesh) {
+  fs::copy(kDir / "box_ascii" / "constant", dir_ / "constant", fs::copy_options::recursive);
+  fs::copy(kDir / "box_ascii" / "0", dir_ / "0", fs::copy_options::recursive);
+  auto series = open_mesh_files({dir_});
+  EXPECT_EQ(series->step_count(), 3);
+  EXPECT_NE(series->description().find("decomposed into 3 processors"), std::string::npos) << series->description();
+  for (int k = 0; k < 3; ++k)
+    for (const char* t : {"0.1", "0.2"}) fs::remove_all(dir_ / ("processor" + std::to_string(k)) / t);
+  series = open_mesh_files({dir_});
+  EXPECT_EQ(series->step_count(), 1);
+  EXPECT_EQ(series->description().find("decomposed into"), std::string::npos) << series->description();
+  EXPECT_NE(series->description().find("842 faces"), std::string::npos) << series->description();
+}
+
+TEST_F(EditedDecomposedOpenFoam, CollatedLayoutIsNamed) {
+  for (int k = 0; k < 3; ++k) fs::remove_all(dir_ / ("processor" + std::to_string(k)));
+  fs::create_directories(dir_ / "processors3" / "constant");
+  EXPECT_NE(error().find("processors3: a decomposed case in OpenFOAM's collated layout"), std::string::npos) << error();
+}
+
 TEST_F(EditedDecomposedOpenFoam, GapInProcessorNumbers) {
   fs::rename(dir_ / "processor1", dir_ / "processor3");
   EXPECT_NE(error().find("processor1: missing, though processor2 is there"), std::string::npos) << error();

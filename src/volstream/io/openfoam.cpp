@@ -690,19 +690,40 @@ struct OpenFoamCase::Impl {
   std::vector<Step> steps;
   std::set<std::string> left_out, skipped;
 
+  // The case's own mesh, or its processors' joined. Where it has both, as a case run in
+  // parallel from a mesh made whole has (blockMesh, decomposePar, the solver), the processors
+  // are read when their last time is later than the case's own: the results are there.
   void read_mesh() {
     std::error_code ec;
     mesh_dir = dir / "constant" / "polyMesh";
-    if (fs::is_directory(mesh_dir, ec)) {
+    const std::vector<fs::path> processors = processor_directories(dir);
+    if (fs::is_directory(mesh_dir, ec) && (processors.empty() || last_time(processors.front()) <= last_time(dir))) {
       parts = {dir};
       mesh = read_poly_mesh(mesh_dir);
       part_cells = {mesh.cell_count};
       return;
     }
-    parts = processor_directories(dir);
-    if (parts.empty()) input_error(mesh_dir.string(), "missing: not an OpenFOAM case (no constant/polyMesh)");
+    if (processors.empty()) {
+      for (const auto& e : fs::directory_iterator(dir, ec))
+        if (e.path().filename().string().starts_with("processors") && e.is_directory(ec))
+          input_error(e.path().string(),
+                      "a decomposed case in OpenFOAM's collated layout (processors<N>): not read; reconstruct it "
+                      "(reconstructParMesh, reconstructPar) or decompose it uncollated (decomposePar -fileHandler "
+                      "uncollated)");
+      input_error(mesh_dir.string(), "missing: not an OpenFOAM case (no constant/polyMesh)");
+    }
+    parts = processors;
     mesh_dir = parts.front() / "constant" / "polyMesh";
     mesh = read_decomposed_mesh(dir, parts, part_cells);
+  }
+
+  // The latest time directory's value in `d` (-infinity where it has none).
+  static double last_time(const fs::path& d) {
+    std::error_code ec;
+    double last = -INFINITY, t = 0;
+    for (const auto& e : fs::directory_iterator(d, ec))
+      if (e.is_directory(ec) && is_time_name(e.path().filename().string(), t)) last = std::max(last, t);
+    return last;
   }
 
   // The step's field in part `k`'s time directory.

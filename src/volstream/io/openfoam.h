@@ -17,7 +17,9 @@
 // the cell values averaged to it show no seam), its cells built from its own faces (those
 // between processors, which both sides have, the other way round, each side's alone), the cells
 // in processor order; the time steps are processor0's time directories, each field the
-// processors' values one after another, kept where every processor has it.
+// processors' values one after another, kept where every processor has it. A case with both
+// (its own mesh and processors, as one run in parallel from a whole mesh) is read from its
+// processors where their last time is later than its own, else from its own mesh.
 // Refused with one line: a moving or changing mesh (a polyMesh with points or faces in a time
 // directory), unknown formats or classes, lists cut short or larger than their file, face
 // vertices, owners or neighbours out of range, faces of fewer than 3 vertices, cells of fewer
@@ -25,7 +27,8 @@
 // numbers, a missing pointProcAddressing (decomposePar writes it; or run reconstructParMesh and
 // reconstructPar), one of another length than the points or with numbers out of range, a point
 // of the whole mesh in no processor, a shared point whose processors put it in places more than
-// a relative 1e-9 apart, a time step that some processor lacks.
+// a relative 1e-9 apart, a time step that some processor lacks; the collated layout
+// (processors<N>) by name.
 #pragma once
 #include <cstddef>
 #include <filesystem>

@@ -188,8 +188,23 @@ class Cursor : public ParseCursor {
   }
 };
 
-// A list of labels, "N ( a b ... )" or "N { a }" (uniform), ascii or binary as `h` says.
-std::vector<int64_t> read_labels(Cursor& in, const Header& h, const char* what) {
+// `n` binary values of type T from one block of the file, each as Out: the block is taken and
+// checked once, then decoded in a loop without a check per value (a mesh's faces are tens of
+// millions of labels).
+template <typename T, typename Out>
+void decode_block(Cursor& in, bool big_endian, uint64_t n, Out* out, const char* what) {
+  const char* p = in.take(n * sizeof(T), what);
+  if (big_endian)
+    for (uint64_t i = 0; i < n; ++i) out[i] = Out(load_value<T>(p + i * sizeof(T), true));
+  else
+    for (uint64_t i = 0; i < n; ++i) out[i] = Out(load_value<T>(p + i * sizeof(T), false));
+}
+
+// A list of labels, "N ( a b ... )" or "N { a }" (uniform), ascii or binary as `h` says; as
+// Label (uint64_t for face vertices, which the caller checks against the point count: a
+// negative label becomes one far out of range).
+template <typename Label = int64_t>
+std::vector<Label> read_labels(Cursor& in, const Header& h, const char* what) {
   const int64_t n = in.label(what);
   if (n < 0) in.fail(std::string("a negative count of ") + what);
   if (in.peek('{')) {
@@ -197,26 +212,24 @@ std::vector<int64_t> read_labels(Cursor& in, const Header& h, const char* what) 
     in.require_fits(uint64_t(n) / 64, 1, what);  // a uniform list of labels, in a mesh file, is short
     const int64_t v = in.label(what);
     in.expect('}', "closing a uniform list");
-    return std::vector<int64_t>(size_t(n), v);
+    return std::vector<Label>(size_t(n), Label(v));
   }
   in.expect('(', "opening a list");
-  std::vector<int64_t> v;
+  std::vector<Label> v;
   if (h.binary) {
     in.require_fits(uint64_t(n), uint64_t(h.label_bytes), what);
     v.resize(size_t(n));
-    for (int64_t& x : v)
-      x = h.label_bytes == 4 ? int64_t(in.binary<int32_t>(h.big_endian, what)) : in.binary<int64_t>(h.big_endian, what);
+    if (h.label_bytes == 4)
+      decode_block<int32_t>(in, h.big_endian, uint64_t(n), v.data(), what);
+    else
+      decode_block<int64_t>(in, h.big_endian, uint64_t(n), v.data(), what);
   } else {
     in.require_fits(uint64_t(n), 2, what);
     v.resize(size_t(n));
-    for (int64_t& x : v) x = in.label(what);
+    for (Label& x : v) x = Label(in.label(what));
   }
   in.expect(')', "closing a list");
   return v;
-}
-
-double binary_scalar(Cursor& in, const Header& h, const char* what) {
-  return h.scalar_bytes == 4 ? double(in.binary<float>(h.big_endian, what)) : in.binary<double>(h.big_endian, what);
 }
 
 // A list of `components` scalars each ("N ( a b ... )", or of vectors "N ( (x y z) ... )"), or
@@ -251,7 +264,10 @@ std::vector<double> read_scalars(Cursor& in, const Header& h, int components, st
   if (h.binary) {
     in.require_fits(uint64_t(n), uint64_t(h.scalar_bytes) * uint64_t(components), what);
     v.resize(size_t(n) * size_t(components));
-    for (double& x : v) x = binary_scalar(in, h, what);
+    if (h.scalar_bytes == 4)
+      decode_block<float>(in, h.big_endian, v.size(), v.data(), what);
+    else
+      decode_block<double>(in, h.big_endian, v.size(), v.data(), what);
   } else {
     in.require_fits(uint64_t(n), components == 1 ? 2 : 7, what);
     v.resize(size_t(n) * size_t(components));
@@ -306,10 +322,12 @@ void add_face(Cursor& in, PolyMesh& m, uint64_t face, uint64_t vertices) {
   if (vertices < 3) in.fail("face " + std::to_string(face) + " of " + std::to_string(vertices) + " vertices");
   m.face_offsets.push_back(m.face_offsets.back() + vertices);
 }
+[[noreturn]] void vertex_out_of_range(Cursor& in, const PolyMesh& m, uint64_t face, int64_t v) {
+  in.fail("face " + std::to_string(face) + ": point " + std::to_string(v) + " out of range 0.." +
+          std::to_string(m.points.size() - 1));
+}
 void add_vertex(Cursor& in, PolyMesh& m, uint64_t face, int64_t v) {
-  if (v < 0 || uint64_t(v) >= m.points.size())
-    in.fail("face " + std::to_string(face) + ": point " + std::to_string(v) + " out of range 0.." +
-            std::to_string(m.points.size() - 1));
+  if (v < 0 || uint64_t(v) >= m.points.size()) vertex_out_of_range(in, m, face, v);
   m.face_vertices.push_back(uint64_t(v));
 }
 
@@ -320,18 +338,23 @@ void read_faces(const fs::path& dir, PolyMesh& m) {
   Cursor in = open_mesh_file(dir, "faces", h);
   if (h.class_name == "faceCompactList") {
     const std::vector<int64_t> offsets = read_labels(in, h, "face offsets");
-    const std::vector<int64_t> vertices = read_labels(in, h, "face vertices");
+    m.face_vertices = read_labels<uint64_t>(in, h, "face vertices");  // checked below
     expect_end(in);
-    if (offsets.empty() || offsets.front() != 0 || uint64_t(offsets.back()) != vertices.size())
-      in.fail("the face offsets do not span the " + std::to_string(vertices.size()) + " face vertices");
-    m.face_vertices.reserve(vertices.size());
+    if (offsets.empty() || offsets.front() != 0 || uint64_t(offsets.back()) != m.face_vertices.size())
+      in.fail("the face offsets do not span the " + std::to_string(m.face_vertices.size()) + " face vertices");
     m.face_offsets.reserve(offsets.size());
     for (size_t f = 0; f + 1 < offsets.size(); ++f) {
       if (offsets[f + 1] < offsets[f]) in.fail("the face offsets decrease at face " + std::to_string(f));
       add_face(in, m, f, uint64_t(offsets[f + 1] - offsets[f]));
     }
-    for (size_t f = 0; f + 1 < offsets.size(); ++f)
-      for (int64_t k = offsets[f]; k < offsets[f + 1]; ++k) add_vertex(in, m, f, vertices[size_t(k)]);
+    const auto out_of_range =
+        std::find_if(m.face_vertices.begin(), m.face_vertices.end(), [&](uint64_t v) { return v >= m.points.size(); });
+    if (out_of_range != m.face_vertices.end()) {
+      const auto k = uint64_t(out_of_range - m.face_vertices.begin());
+      const auto face =
+          uint64_t(std::upper_bound(m.face_offsets.begin(), m.face_offsets.end(), k) - m.face_offsets.begin()) - 1;
+      vertex_out_of_range(in, m, face, int64_t(*out_of_range));
+    }
     return;
   }
   if (h.class_name != "faceList") in.fail("class '" + h.class_name + "', not faceList or faceCompactList");

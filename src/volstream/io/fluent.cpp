@@ -342,32 +342,66 @@ class CaseReader {
     if (type != 0 && type != 3 && type != 4 && type != 5) in_.fail("unknown face type " + std::to_string(type));
     in_.expect('(', "opening the faces");
     in_.require_fits(r.count(), is_binary_index(index) ? 20 : 10, "faces");
-    for (uint64_t f = r.first; f <= r.last; ++f) face(index, type, f);
+    if (is_binary_index(index))
+      binary_faces(type, r);
+    else
+      for (uint64_t f = r.first; f <= r.last; ++f) text_face(type, f);
     end_values(index);
   }
   // A face's row: (for mixed and polygonal zones) its node count, its nodes, c0, c1.
-  void face(int index, uint64_t type, uint64_t id) {
-    const uint64_t nodes = (type == 0 || type == 5) ? value(index, "a face's node count") : type;
-    if (nodes < 3) in_.fail("face " + std::to_string(id) + " of " + std::to_string(nodes) + " nodes");
-    in_.require_fits(nodes, is_binary_index(index) ? 4 : 2, "face nodes");
-    for (uint64_t k = 0; k < nodes; ++k) {
-      const uint64_t n = value(index, "a face's node");
-      if (n < 1 || n > mesh_.node_count)
-        in_.fail("face " + std::to_string(id) + ": node " + std::to_string(n) + " out of range 1.." +
-                 std::to_string(mesh_.node_count));
-      mesh_.face_vertices.push_back(n - 1);
+  void text_face(uint64_t type, uint64_t id) {
+    const uint64_t nodes = (type == 0 || type == 5) ? in_.number(16, "a face's node count") : type;
+    check_node_count(id, nodes);
+    in_.require_fits(nodes, 2, "face nodes");
+    for (uint64_t k = 0; k < nodes; ++k) add_face_node(id, in_.number(16, "a face's node"));
+    add_face_cells(id, {in_.number(16, "a face's c0 cell"), in_.number(16, "a face's c1 cell")});
+  }
+  // The rows of a binary zone, 32-bit values read in place: one bounds check a row, not one a
+  // value (the faces are most of a case file's bytes).
+  void binary_faces(uint64_t type, const Range& r) {
+    const std::string_view bytes = in_.rest();
+    uint64_t at = 0;
+    const auto row_needs = [&](uint64_t values, uint64_t id) {
+      if (values > (bytes.size() - at) / 4)
+        in_.fail("truncated: face " + std::to_string(id) + " needs " + std::to_string(4 * values) +
+                 " bytes at offset " + std::to_string(in_.position() + at) + ", " + std::to_string(bytes.size() - at) +
+                 " left");
+    };
+    const auto next = [&] {
+      at += 4;
+      return uint64_t(load_value<uint32_t>(bytes.data() + at - 4, false));
+    };
+    for (uint64_t id = r.first; id <= r.last; ++id) {
+      uint64_t nodes = type;
+      if (type == 0 || type == 5) {
+        row_needs(1, id);
+        nodes = next();
+      }
+      check_node_count(id, nodes);
+      row_needs(nodes + 2, id);
+      for (uint64_t k = 0; k < nodes; ++k) add_face_node(id, next());
+      const uint64_t c0 = next();
+      add_face_cells(id, {c0, next()});
     }
+    in_.seek(in_.position() + at);
+  }
+  void check_node_count(uint64_t id, uint64_t nodes) {
+    if (nodes < 3) in_.fail("face " + std::to_string(id) + " of " + std::to_string(nodes) + " nodes");
+  }
+  void add_face_node(uint64_t id, uint64_t n) {
+    if (n < 1 || n > mesh_.node_count)
+      in_.fail("face " + std::to_string(id) + ": node " + std::to_string(n) + " out of range 1.." +
+               std::to_string(mesh_.node_count));
+    mesh_.face_vertices.push_back(n - 1);
+  }
+  void add_face_cells(uint64_t id, const FaceCells& f) {
     mesh_.face_offsets.push_back(mesh_.face_vertices.size());
-    const FaceCells f{value(index, "a face's c0 cell"), value(index, "a face's c1 cell")};
     if (f.first > mesh_.cell_count || f.second > mesh_.cell_count || (f.first == 0 && f.second == 0))
       in_.fail("face " + std::to_string(id) + ": cells " + std::to_string(f.first) + ", " + std::to_string(f.second) +
                " out of range 1.." + std::to_string(mesh_.cell_count));
     if (f.first == f.second)
       in_.fail("face " + std::to_string(id) + " has cell " + std::to_string(f.first) + " on both sides");
     mesh_.faces.push_back(f);
-  }
-  uint64_t value(int index, const char* what) {
-    return is_binary_index(index) ? uint64_t(in_.binary<uint32_t>(what)) : in_.number(16, what);
   }
 
   // "(39 (ID TYPE NAME ...) ...)" and "(45 (ID TYPE NAME) ...)". The format's description does not

@@ -3,6 +3,7 @@
 // are fine.
 #pragma once
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <string>
 
@@ -16,6 +17,16 @@ T load_value(const char* p, bool big_endian) {
   T v;
   std::memcpy(&v, b, sizeof(T));
   return v;
+}
+
+// `n` values of type T stored back to back at p, each converted to Out: a list's values read in
+// one loop, its bounds checked once by the caller (the branch on the byte order out of the loop).
+template <typename T, typename Out>
+void load_values(const char* p, uint64_t n, bool big_endian, Out* out) {
+  if (big_endian)
+    for (uint64_t i = 0; i < n; ++i) out[i] = Out(load_value<T>(p + i * sizeof(T), true));
+  else
+    for (uint64_t i = 0; i < n; ++i) out[i] = Out(load_value<T>(p + i * sizeof(T), false));
 }
 
 template <typename T>

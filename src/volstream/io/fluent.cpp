@@ -564,12 +564,15 @@ class DataReader {
     if (v.components != size)
       in_.fail("variable " + std::to_string(sv) + " of both " + std::to_string(v.components) + " and " +
                std::to_string(size) + " components");
-    for (uint64_t k = (r.first - 1) * uint64_t(size); k < r.last * uint64_t(size); ++k) v.values[k] = value(index);
+    double* out = v.values.data() + (r.first - 1) * uint64_t(size);
+    const uint64_t n = r.count() * uint64_t(size);
+    if (!is_binary_index(index))
+      for (uint64_t k = 0; k < n; ++k) out[k] = in_.real("a value");
+    else if (is_double_index(index))  // taken as one block: one bounds check, not one a value
+      load_values<double>(in_.take(n * 8, "the values"), n, false, out);
+    else
+      load_values<float>(in_.take(n * 4, "the values"), n, false, out);
     if (r.first == zone.cells.first && r.last == zone.cells.last) v.zones_read[zone_index] = true;
-  }
-  double value(int index) {
-    if (!is_binary_index(index)) return in_.real("a value");
-    return is_double_index(index) ? in_.binary<double>("the values") : double(in_.binary<float>("the values"));
   }
 
   Cursor in_;

@@ -193,11 +193,7 @@ class Cursor : public ParseCursor {
 // millions of labels).
 template <typename T, typename Out>
 void decode_block(Cursor& in, bool big_endian, uint64_t n, Out* out, const char* what) {
-  const char* p = in.take(n * sizeof(T), what);
-  if (big_endian)
-    for (uint64_t i = 0; i < n; ++i) out[i] = Out(load_value<T>(p + i * sizeof(T), true));
-  else
-    for (uint64_t i = 0; i < n; ++i) out[i] = Out(load_value<T>(p + i * sizeof(T), false));
+  load_values<T>(in.take(n * sizeof(T), what), n, big_endian, out);
 }
 
 // A list of labels, "N ( a b ... )" or "N { a }" (uniform), ascii or binary as `h` says; as

@@ -588,6 +588,15 @@ TEST_F(EditedDecomposedOpenFoam, CollatedLayoutIsNamed) {
   EXPECT_NE(error().find("processors3: a decomposed case in OpenFOAM's collated layout"), std::string::npos) << error();
 }
 
+TEST_F(EditedDecomposedOpenFoam, MultiRegionCaseIsNamed) {
+  for (int k = 0; k < 3; ++k) fs::remove_all(dir_ / ("processor" + std::to_string(k)));
+  fs::create_directories(dir_ / "constant" / "solid" / "polyMesh");
+  fs::copy(kDir / "box_ascii" / "constant" / "polyMesh", dir_ / "constant" / "solid" / "polyMesh",
+           fs::copy_options::recursive);
+  EXPECT_NE(error().find("constant/solid/polyMesh: a multi-region case"), std::string::npos) << error();
+  EXPECT_NE(error().find("foamToVTK -region solid"), std::string::npos) << error();
+}
+
 TEST_F(EditedDecomposedOpenFoam, GapInProcessorNumbers) {
   fs::rename(dir_ / "processor1", dir_ / "processor3");
   EXPECT_NE(error().find("processor1: missing, though processor2 is there"), std::string::npos) << error();

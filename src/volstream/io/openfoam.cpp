@@ -729,6 +729,12 @@ struct OpenFoamCase::Impl {
                       "a decomposed case in OpenFOAM's collated layout (processors<N>): not read; reconstruct it "
                       "(reconstructParMesh, reconstructPar) or decompose it uncollated (decomposePar -fileHandler "
                       "uncollated)");
+      for (const auto& e : fs::directory_iterator(dir / "constant", ec))
+        if (e.is_directory(ec) && fs::is_directory(e.path() / "polyMesh", ec))
+          input_error((e.path() / "polyMesh").string(),
+                      "a multi-region case (a mesh for each region, as chtMultiRegionFoam's): not read; write "
+                      "a region with foamToVTK -region " +
+                          e.path().filename().string() + " and convert that");
       input_error(mesh_dir.string(), "missing: not an OpenFOAM case (no constant/polyMesh)");
     }
     parts = processors;

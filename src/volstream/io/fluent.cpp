@@ -356,34 +356,17 @@ class CaseReader {
     for (uint64_t k = 0; k < nodes; ++k) add_face_node(id, in_.number(16, "a face's node"));
     add_face_cells(id, {in_.number(16, "a face's c0 cell"), in_.number(16, "a face's c1 cell")});
   }
-  // The rows of a binary zone, 32-bit values read in place: one bounds check a row, not one a
-  // value (the faces are most of a case file's bytes).
+  // The rows of a binary zone, 32-bit values: each row taken as one block (one bounds check a
+  // row, not one a value: the faces are most of a case file's bytes).
   void binary_faces(uint64_t type, const Range& r) {
-    const std::string_view bytes = in_.rest();
-    uint64_t at = 0;
-    const auto row_needs = [&](uint64_t values, uint64_t id) {
-      if (values > (bytes.size() - at) / 4)
-        in_.fail("truncated: face " + std::to_string(id) + " needs " + std::to_string(4 * values) +
-                 " bytes at offset " + std::to_string(in_.position() + at) + ", " + std::to_string(bytes.size() - at) +
-                 " left");
-    };
-    const auto next = [&] {
-      at += 4;
-      return uint64_t(load_value<uint32_t>(bytes.data() + at - 4, false));
-    };
+    const auto u32 = [](const char* p) { return uint64_t(load_value<uint32_t>(p, false)); };
     for (uint64_t id = r.first; id <= r.last; ++id) {
-      uint64_t nodes = type;
-      if (type == 0 || type == 5) {
-        row_needs(1, id);
-        nodes = next();
-      }
+      const uint64_t nodes = (type == 0 || type == 5) ? u32(in_.take(4, "a face's node count")) : type;
       check_node_count(id, nodes);
-      row_needs(nodes + 2, id);
-      for (uint64_t k = 0; k < nodes; ++k) add_face_node(id, next());
-      const uint64_t c0 = next();
-      add_face_cells(id, {c0, next()});
+      const char* row = in_.take(4 * (nodes + 2), "a face's nodes and cells");
+      for (uint64_t k = 0; k < nodes; ++k) add_face_node(id, u32(row + 4 * k));
+      add_face_cells(id, {u32(row + 4 * nodes), u32(row + 4 * nodes + 4)});
     }
-    in_.seek(in_.position() + at);
   }
   void check_node_count(uint64_t id, uint64_t nodes) {
     if (nodes < 3) in_.fail("face " + std::to_string(id) + " of " + std::to_string(nodes) + " nodes");
@@ -679,21 +662,18 @@ const FixedMeshSplit& FluentFile::split_mesh() {
 
 std::vector<MeshArray> FluentFile::read_cell_data(size_t step) {
   input_check(step < step_count(), impl_->case_file.string(), "no time step " + std::to_string(step));
-  std::vector<MeshArray> cell_data, no_point_data;
+  std::vector<MeshArray> cell_data;
   if (!impl_->data_files.empty()) {
     impl_->left_out.clear();
     cell_data = cell_arrays(DataReader(impl_->data_files[step], impl_->mesh).read(impl_->left_out));
   }
-  split_mesh().split_data(no_point_data, cell_data, step_file(step).string());
+  split_mesh().split_cell_data(cell_data, step_file(step).string());
   return cell_data;
 }
 
 MeshData FluentFile::read_step(size_t step) {
   std::vector<MeshArray> cell_data = read_cell_data(step);
-  MeshData m = split_mesh().mesh();
-  m.cell_data = std::move(cell_data);
-  check_mesh(m, impl_->case_file.string());
-  return m;
+  return split_mesh().mesh_with(std::move(cell_data), impl_->case_file.string());
 }
 
 std::string FluentFile::summary() const {

@@ -862,7 +862,7 @@ std::vector<MeshArray> OpenFoamCase::read_cell_data(size_t step) {
   const Impl& c = *impl_;
   input_check(step < step_count(), c.dir.string(), "no time step " + std::to_string(step));
   const Impl::Step& s = c.steps[step];
-  std::vector<MeshArray> cell_data, no_point_data;
+  std::vector<MeshArray> cell_data;
   for (const FieldFile& f : s.fields) {
     MeshArray& a = cell_data.emplace_back(MeshArray{f.name, f.components, {}});
     for (size_t k = 0; k < c.parts.size(); ++k) {
@@ -873,16 +873,13 @@ std::vector<MeshArray> OpenFoamCase::read_cell_data(size_t step) {
         a.values.insert(a.values.end(), values.begin(), values.end());
     }
   }
-  split_mesh().split_data(no_point_data, cell_data, c.steps[step].dir.string());
+  split_mesh().split_cell_data(cell_data, c.steps[step].dir.string());
   return cell_data;
 }
 
 MeshData OpenFoamCase::read_step(size_t step) {
   std::vector<MeshArray> cell_data = read_cell_data(step);
-  MeshData m = split_mesh().mesh();
-  m.cell_data = std::move(cell_data);
-  check_mesh(m, impl_->steps[step].dir.string());
-  return m;
+  return split_mesh().mesh_with(std::move(cell_data), impl_->steps[step].dir.string());
 }
 
 std::string OpenFoamCase::summary() const {

@@ -378,6 +378,13 @@ FixedMeshSplit::FixedMeshSplit(MeshData unsplit, const PolyhedronFaces& faces, c
   rebuild_->move_cells(mesh_);
 }
 
+MeshData FixedMeshSplit::mesh_with(std::vector<MeshArray> cell_data, const std::string& file) const {
+  MeshData m = mesh_;
+  m.cell_data = std::move(cell_data);
+  check_mesh(m, file);
+  return m;
+}
+
 void FixedMeshSplit::split_data(std::vector<MeshArray>& point_data, std::vector<MeshArray>& cell_data,
                                 const std::string& file) const {
   input_check(arrays_match(point_data, unsplit_points_) && arrays_match(cell_data, unsplit_cells_), file,

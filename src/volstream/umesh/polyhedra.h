@@ -80,6 +80,13 @@ class FixedMeshSplit {
   // A step's arrays, on the unsplit points and cells, as the split mesh's. InputError naming
   // `file` when an array does not match the unsplit points or cells.
   void split_data(std::vector<MeshArray>& point_data, std::vector<MeshArray>& cell_data, const std::string& file) const;
+  // The same for a case's cell arrays alone (Fluent's and OpenFOAM's fields are cell data).
+  void split_cell_data(std::vector<MeshArray>& cell_data, const std::string& file) const {
+    std::vector<MeshArray> no_point_data;
+    split_data(no_point_data, cell_data, file);
+  }
+  // The split mesh with a step's split cell arrays, checked (check_mesh, naming `file`).
+  MeshData mesh_with(std::vector<MeshArray> cell_data, const std::string& file) const;
 
  private:
   MeshData mesh_;

@@ -60,6 +60,9 @@ void add_convert_command(CLI::App& app) {
   cmd->add_flag("-q,--quiet", a->quiet, "no progress bar");
   cmd->add_option("--scalars", a->scalars,
                   "meshes (UGRID): NAME=FILE, a raw little-endian float32 file of one value per point; repeatable");
+  cmd->add_option("--region", a->in.regions,
+                  "OpenFOAM cases: a region to read (repeatable; region0 is constant/polyMesh); default: every "
+                  "region of a multi-region case, joined");
   cmd->callback([a] {
     a->in.inputs.assign(a->inputs.begin(), a->inputs.end());
     for (const std::string& s : a->scalars) a->in.scalars.push_back(parse_raw_scalars(s));

@@ -136,7 +136,8 @@ vs::MeshEncoding stored_encoding(const std::string& name) {
 DatasetPtr load(const py::object& path, const std::string& format, const std::optional<std::array<int, 3>>& dims,
                 const std::string& type, bool big_endian, const Vec3Tuple& origin, const Vec3Tuple& spacing,
                 bool series, const std::string& field, const std::map<std::string, std::string>& scalars,
-                const std::vector<std::string>& fields, const std::string& encoding, bool split_into_tets) {
+                const std::vector<std::string>& fields, const std::string& encoding, bool split_into_tets,
+                const std::vector<std::string>& regions) {
   vs::ImportRequest in;
   in.inputs = paths_of(path);
   // A native dataset is opened where it is; anything else is converted (a missing path too, so
@@ -157,6 +158,7 @@ DatasetPtr load(const py::object& path, const std::string& format, const std::op
   in.series = series;
   in.field_name = field;
   for (const auto& [name, file] : scalars) in.scalars.push_back({name, file});
+  in.regions = regions;
   vs::ConvertOptions options = vs::ConvertOptions::silent();
   options.fields = fields;
   options.mesh_encoding = stored_encoding(encoding);
@@ -525,6 +527,7 @@ PYBIND11_MODULE(volstream, m) {
         py::arg("spacing") = Vec3Tuple{1, 1, 1}, py::arg("series") = false, py::arg("field") = "scalar",
         py::arg("scalars") = std::map<std::string, std::string>{}, py::arg("fields") = std::vector<std::string>{},
         py::arg("encoding") = "compact", py::arg("split_into_tets") = false,
+        py::arg("regions") = std::vector<std::string>{},
         "Open a native dataset directory (written by `volstream convert` or `volstream demo`), or convert\n"
         "what `volstream convert` takes into a private temporary dataset, removed when the Dataset is\n"
         "garbage-collected: an AMReX plotfile directory (a list of them: time steps), [cells, scalars...]\n"
@@ -538,8 +541,9 @@ PYBIND11_MODULE(volstream, m) {
         "plotfile | exabrick | raw\n"
         "| mesh; fields: keep only these; encoding: how a converted mesh is stored, 'compact' (paper 002's\n"
         "encoding, as `volstream convert`) or 'reference'; split_into_tets: store a mesh's pyramids, wedges\n"
-        "and hexahedra as tets (convert --split-into-tets). OSError('<file>: <what>') for a missing or\n"
-        "damaged input.");
+        "and hexahedra as tets (convert --split-into-tets); regions: an OpenFOAM case's regions to read\n"
+        "(convert --region; default: every region of a multi-region case). OSError('<file>: <what>') for a\n"
+        "missing or damaged input.");
   m.def("demo", &demo, py::arg("name"), py::arg("cells") = 1e5, py::arg("steps") = 2, py::arg("elements") = 1e5,
         py::arg("encoding") = "compact", py::arg("split_into_tets") = false,
         "A built-in demo, AMR ('jet' or 'cosmo', about `cells` leaf cells) or a mesh ('tets', 'mixed' or\n"

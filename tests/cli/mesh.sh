@@ -300,6 +300,17 @@ expect_bad_input "a decomposed OpenFOAM case" convert of_decomposed -o of_decomp
 cp -r "$OF/box_ascii/constant" "$OF/box_ascii/system" of_cut/
 head -c 5000 "$OF/box_ascii/constant/polyMesh/faces" >of_cut/constant/polyMesh/faces
 expect_bad_input "an OpenFOAM faces file cut short" convert of_cut -o of_cut_out
+# A multi-region case: its regions joined, or one asked for; the solid has no U (NaN there).
+"$VS" convert "$OF/box_regions" -o of_regions -q
+"$VS" info of_regions | grep -q "regions (cells) fluid 116, solid 116" || fail "OpenFOAM: info does not name the regions"
+printf '0.3 0.5 0.4\n1.0 0.5 0.4\n' >of_region_points.txt
+"$VS" probe of_regions --field U --points of_region_points.txt >of_u.txt
+[ "$(head -1 of_u.txt)" = nan ] && [ "$(tail -1 of_u.txt)" != nan ] || fail "OpenFOAM regions: U not NaN in the solid alone"
+"$VS" convert "$OF/box_regions" --region fluid -o of_fluid -q
+"$VS" probe of_fluid --field U --points of_region_points.txt >of_u_fluid.txt
+[ "$(head -1 of_u_fluid.txt)" = nan ] && [ "$(tail -1 of_u_fluid.txt)" = "$(tail -1 of_u.txt)" ] ||
+  fail "OpenFOAM --region fluid: not the fluid's values alone"
+expect_bad_input "an OpenFOAM region the case lacks" convert "$OF/box_regions" --region gas -o of_gas
 
 # Bad input: a truncated file, a .pvd whose steps have different meshes, an unknown scalars spec.
 head -c 3000 m.vtu >trunc.vtu

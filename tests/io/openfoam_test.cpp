@@ -497,6 +497,107 @@ TEST(OpenFoam, DecomposedCaseConvertsAsTheCaseItCameFrom) {
   EXPECT_EQ(a.vertices, b.vertices);
 }
 
+// A multi-region case (box_regions: box_ascii's cells split by splitMeshRegions into regions
+// fluid, cell centres x > 0.5, and solid; the solid has no U) read as the whole case it came from: every piece
+// of a split cell carries its cell's values, so each piece is matched to the whole case's by its
+// cell centre C (OpenFOAM's, unique to a cell), and the two meshes must hold the same pieces of
+// the same cells with the same T and V; U is the whole case's in the fluid and NaN in the solid.
+void expect_regions_of_whole(const MeshData& regions, const MeshData& whole) {
+  using Key = std::array<double, 3>;
+  const auto centre = [](const MeshData& m, size_t e) {
+    const std::vector<double>& c = test::array_named(m.cell_data, "C").values;
+    return Key{c[3 * e], c[3 * e + 1], c[3 * e + 2]};
+  };
+  std::map<Key, size_t> cell_of;                                // a piece of each of the whole case's cells
+  std::map<Key, std::vector<uint8_t>> types, types_in_regions;  // the types of each cell's pieces
+  for (size_t e = 0; e < whole.cell_types.size(); ++e) {
+    cell_of.try_emplace(centre(whole, e), e);
+    types[centre(whole, e)].push_back(whole.cell_types[e]);
+  }
+  for (size_t e = 0; e < regions.cell_types.size(); ++e) {
+    const Key c = centre(regions, e);
+    const auto it = cell_of.find(c);
+    ASSERT_NE(it, cell_of.end()) << "piece " << e << ": no cell of the whole case has its centre";
+    types_in_regions[c].push_back(regions.cell_types[e]);
+    const size_t w = it->second;
+    for (const char* name : {"T", "V"})
+      EXPECT_EQ(test::array_named(regions.cell_data, name).values[e],
+                test::array_named(whole.cell_data, name).values[w])
+          << name << " of piece " << e;
+    const bool solid = c[0] <= 0.5;  // topoSet's box, x up to 0.5 inclusive
+    for (size_t k = 0; k < 3; ++k) {
+      const double u = test::array_named(regions.cell_data, "U").values[3 * e + k];
+      if (solid)
+        EXPECT_TRUE(std::isnan(u)) << "U of solid piece " << e;
+      else
+        EXPECT_EQ(u, test::array_named(whole.cell_data, "U").values[3 * w + k]) << "U of fluid piece " << e;
+    }
+  }
+  for (auto& [c, t] : types) {
+    std::sort(t.begin(), t.end());
+    std::sort(types_in_regions[c].begin(), types_in_regions[c].end());
+    EXPECT_EQ(types_in_regions[c], t);
+  }
+}
+
+TEST(OpenFoam, MultiRegionCaseReadsEveryRegionAsTheWholeCase) {
+  OpenFoamCase whole(kDir / "box_ascii");
+  OpenFoamCase regions(kDir / "box_regions" / "box_regions.foam");
+  const std::string s = regions.summary();
+  EXPECT_NE(s.find("232 cells, 862 faces; regions (cells) fluid 116, solid 116 (not constant/polyMesh: --region "
+                   "region0 reads it); fields C, T, U, V; no data (NaN) for U in solid"),
+            std::string::npos)
+      << s;
+  ASSERT_EQ(regions.step_count(), whole.step_count());
+  for (size_t step = 0; step < whole.step_count(); ++step) {
+    SCOPED_TRACE("step " + std::to_string(step));
+    EXPECT_EQ(regions.step_time(step), whole.step_time(step));
+    expect_regions_of_whole(regions.read_step(step), whole.read_step(step));
+  }
+  // The regions share no points: each keeps its own copy of the 30 points on the faces between
+  // them (x = 0.6 is 6x5 points of the 6x5x4 box's grid).
+  EXPECT_EQ(regions.read_step(0).points.size(), whole.read_step(0).points.size() + 30);
+}
+
+TEST(OpenFoam, DecomposedMultiRegionCaseReadsAsTheCaseItCameFrom) {
+  OpenFoamCase regions(kDir / "box_regions");
+  OpenFoamCase decomposed(kDir / "box_regions_decomposed");
+  EXPECT_NE(decomposed.summary().find("decomposed into 2 processors"), std::string::npos) << decomposed.summary();
+  ASSERT_EQ(decomposed.step_count(), 1u);
+  EXPECT_EQ(decomposed.step_time(0), 0.2);
+  const MeshData a = regions.read_step(2), b = decomposed.read_step(0);
+  for (const char* name : {"T", "U"}) test::expect_probes_alike(a, name, b, name);
+  EXPECT_EQ(a.points.size(), b.points.size());
+  EXPECT_EQ(a.cell_types.size(), b.cell_types.size());
+}
+
+TEST(OpenFoam, RegionsAskedForAreRead) {
+  const fs::path dir = kDir / "box_regions";
+  // region0, constant/polyMesh, is the whole case before the split, with the time directories' own fields.
+  OpenFoamCase region0(dir, {"region0"});
+  OpenFoamCase whole(kDir / "box_ascii");
+  EXPECT_EQ(region0.summary().find("regions"), std::string::npos) << region0.summary();
+  EXPECT_NE(region0.summary().find("232 cells, 842 faces; fields C, T, U, V"), std::string::npos) << region0.summary();
+  expect_cell_values_equal(region0.read_step(2), whole.read_step(2));
+  // In the order asked for, each once.
+  OpenFoamCase solid_first(dir, {"solid", "fluid", "solid"});
+  EXPECT_NE(solid_first.summary().find("regions (cells) solid 116, fluid 116; fields C, T, U, V; no data (NaN) for U "
+                                       "in solid"),
+            std::string::npos)
+      << solid_first.summary();
+  expect_regions_of_whole(solid_first.read_step(1), whole.read_step(1));
+  // A region alone, with its own fields.
+  OpenFoamCase solid(dir, {"solid"});
+  EXPECT_NE(solid.summary().find("116 cells, 431 faces; regions (cells) solid 116; fields C, T, V"), std::string::npos)
+      << solid.summary();
+  const std::string e = test::input_error_line([&] { OpenFoamCase c(dir, {"fluid", "gas"}); });
+  EXPECT_NE(e.find("box_regions/constant/gas: no region 'gas' in this case (its regions: region0, fluid, solid)"),
+            std::string::npos)
+      << e;
+  EXPECT_THROW(open_mesh_files({kDir / "box_ascii" / ".." / "reference.vtu"}, {}, {"fluid"}), UsageError);
+  EXPECT_NO_THROW(open_mesh_files({dir}, {}, {"fluid"}));
+}
+
 // An ascii OpenFOAM list file of `items`, as decomposePar writes one.
 void write_list(const fs::path& file, const char* class_name, const std::vector<std::string>& items) {
   std::string t = std::string("FoamFile\n{\n    version     2.0;\n    format      ascii;\n    class       ") +
@@ -586,15 +687,6 @@ TEST_F(EditedDecomposedOpenFoam, CollatedLayoutIsNamed) {
   for (int k = 0; k < 3; ++k) fs::remove_all(dir_ / ("processor" + std::to_string(k)));
   fs::create_directories(dir_ / "processors3" / "constant");
   EXPECT_NE(error().find("processors3: a decomposed case in OpenFOAM's collated layout"), std::string::npos) << error();
-}
-
-TEST_F(EditedDecomposedOpenFoam, MultiRegionCaseIsNamed) {
-  for (int k = 0; k < 3; ++k) fs::remove_all(dir_ / ("processor" + std::to_string(k)));
-  fs::create_directories(dir_ / "constant" / "solid" / "polyMesh");
-  fs::copy(kDir / "box_ascii" / "constant" / "polyMesh", dir_ / "constant" / "solid" / "polyMesh",
-           fs::copy_options::recursive);
-  EXPECT_NE(error().find("constant/solid/polyMesh: a multi-region case"), std::string::npos) << error();
-  EXPECT_NE(error().find("foamToVTK -region solid"), std::string::npos) << error();
 }
 
 TEST_F(EditedDecomposedOpenFoam, GapInProcessorNumbers) {

@@ -122,6 +122,20 @@ def test_load_cgns_zones_and_steps():
     np.testing.assert_allclose(ds.probe("g", pts, step=1), vtu.probe("g", pts), rtol=1e-5, atol=1e-6)
 
 
+def test_load_openfoam_regions():
+    """A multi-region OpenFOAM case (tests/data/openfoam/box_regions: fluid and solid, the solid
+    without U) loads its regions joined, or those asked for by regions=; U is NaN in the solid."""
+    case = os.path.join(os.path.dirname(__file__), "..", "data", "openfoam", "box_regions")
+    both, fluid = vs.load(case), vs.load(case, regions=["fluid"])
+    assert (both.element_count, list(both.times)) == (964, [0.0, 0.1, 0.2])
+    solid_point, fluid_point = (0.3, 0.5, 0.4), (1.0, 0.5, 0.4)
+    u = both.probe("U", [solid_point, fluid_point], step=2)
+    assert math.isnan(u[0]) and not math.isnan(u[1])
+    assert fluid.probe("U", [fluid_point], step=2)[0] == u[1]
+    with pytest.raises(OSError, match="no region 'gas'"):
+        vs.load(case, regions=["gas"])
+
+
 def test_mesh_probe_equals_cli_and_brute_force(mesh_files, tmp_path):
     vtu, converted = mesh_files
     ds = vs.load(str(vtu))

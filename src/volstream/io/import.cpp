@@ -72,13 +72,14 @@ std::string import_format(const ImportRequest& r) {
 std::string import_to_dataset(const ImportRequest& r, const fs::path& out_dir, const ConvertOptions& options) {
   const std::string format = import_format(r);
   if (format == "mesh") {
-    auto series = open_mesh_files(r.inputs, r.scalars);
+    auto series = open_mesh_files(r.inputs, r.scalars, r.regions);
     const MeshConvertStats s = convert_mesh_to_dataset(*series, out_dir, options);
     return "from " + series->description() + ": " + std::to_string(s.elements) + " elements, " +
            std::to_string(s.vertices) + " vertices, " + std::to_string(series->step_count()) + " steps" +
            seconds("read", s.read_seconds, "encode", s.encode_seconds, "values", s.values_seconds);
   }
   if (!r.scalars.empty()) throw UsageError("scalars (NAME=FILE) apply to mesh input (.ugrid)");
+  if (!r.regions.empty()) throw UsageError("--region applies to OpenFOAM cases");
   if (options.split_into_tets) throw UsageError("--split-into-tets applies to mesh input");
   auto source = open_amr_source(r, format);
   const ConvertStats s = convert_to_dataset(*source, out_dir, options);

@@ -26,6 +26,8 @@ struct ImportRequest {
   std::vector<double> origin{0, 0, 0}, spacing{1, 1, 1};
   // Meshes (UGRID carries no data of its own): raw float32 per-point scalars.
   std::vector<RawScalars> scalars;
+  // OpenFOAM cases: the regions to read (empty: all of a multi-region case).
+  std::vector<std::string> regions;
 };
 
 // The format of the inputs: `format` unless auto, else told from the first input (a plotfile

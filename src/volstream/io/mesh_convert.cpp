@@ -279,8 +279,9 @@ std::unique_ptr<MeshSeries> open_fluent_files(const std::vector<fs::path>& files
 }
 
 // An OpenFOAM case, named by its directory (io/openfoam.h).
-std::unique_ptr<MeshSeries> open_openfoam_case(const fs::path& input, std::vector<RawScalars> scalars) {
-  auto c = std::make_unique<OpenFoamCase>(input);
+std::unique_ptr<MeshSeries> open_openfoam_case(const fs::path& input, std::vector<RawScalars> scalars,
+                                               const std::vector<std::string>& regions) {
+  auto c = std::make_unique<OpenFoamCase>(input, regions);
   const fs::path dir = fs::absolute(c->case_directory()).lexically_normal();
   const std::string name = (dir.has_filename() ? dir : dir.parent_path()).filename().string();
   return std::make_unique<CaseSeries<OpenFoamCase>>(std::move(c), "OpenFOAM case " + name, std::move(scalars));
@@ -319,9 +320,11 @@ RawScalars parse_raw_scalars(const std::string& spec) {
   return {spec.substr(0, eq), spec.substr(eq + 1)};
 }
 
-std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
-                                            const std::vector<RawScalars>& scalars) {
+std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, const std::vector<RawScalars>& scalars,
+                                            const std::vector<std::string>& regions) {
   if (files.empty()) throw UsageError("no mesh files given");
+  if (!regions.empty() && !is_openfoam_input(files.front()))
+    throw UsageError("--region applies to OpenFOAM cases (" + files.front().string() + " is not one)");
   std::vector<PvdStep> steps;
   const std::string ext = lower_extension(files.front());
   if (ext == ".case") {
@@ -350,7 +353,7 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files,
   if (is_openfoam_input(files.front())) {
     if (files.size() > 1)
       throw UsageError("an OpenFOAM case is converted on its own (its time directories are its steps)");
-    return open_openfoam_case(files.front(), scalars);
+    return open_openfoam_case(files.front(), scalars, regions);
   }
   if (ext == ".msh" && files.size() == 1) return std::make_unique<SolverFileSeries<GmshFile>>(files, scalars, "Gmsh");
   if (ext == ".pvd" || ext == ".series") {

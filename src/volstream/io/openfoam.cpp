@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <string_view>
@@ -507,7 +508,7 @@ bool same_point(const vec3d& a, const vec3d& b) {
 // The whole mesh's points: processor K's point p is point ids[p], and a point that several
 // processors share is the same point in each. InputError for a number out of range, a point in
 // no processor, or one whose processors disagree on where it is.
-std::vector<vec3d> join_points(const std::vector<ProcessorPoints>& processors, const fs::path& case_dir) {
+std::vector<vec3d> join_points(const std::vector<ProcessorPoints>& processors, const fs::path& pattern) {
   uint64_t bound = 0;  // the whole mesh has no more points than its processors together
   for (const ProcessorPoints& part : processors) bound += part.points.size();
   uint64_t count = 0;
@@ -538,7 +539,7 @@ std::vector<vec3d> join_points(const std::vector<ProcessorPoints>& processors, c
   }
   const auto unplaced = std::find(placed_by.begin(), placed_by.end(), kNone);
   if (unplaced != placed_by.end())
-    input_error((case_dir / "processor*" / "constant" / "polyMesh" / "pointProcAddressing").string(),
+    input_error((pattern / "pointProcAddressing").string(),
                 "point " + std::to_string(unplaced - placed_by.begin()) + " of the whole mesh is in no processor");
   return points;
 }
@@ -547,6 +548,7 @@ std::vector<vec3d> join_points(const std::vector<ProcessorPoints>& processors, c
 // the whole mesh's points (`ids`), its cells after theirs. Its faces on the boundary between
 // processors, which the processor on the other side has too (the other way round), have their
 // owner alone, as its other boundary faces: each cell is built from its own processor's faces.
+// (A part joined before, a region's processors, has neighbour -1 on its boundary faces.)
 void append_processor(PolyMesh& whole, const PolyMesh& part, const std::vector<int64_t>& ids) {
   const uint64_t first_vertex = whole.face_vertices.size();
   const int64_t first_cell = int64_t(whole.cell_count);
@@ -555,27 +557,42 @@ void append_processor(PolyMesh& whole, const PolyMesh& part, const std::vector<i
   for (uint64_t v : part.face_vertices) whole.face_vertices.push_back(uint64_t(ids[v]));
   for (int64_t c : part.owner) whole.owner.push_back(first_cell + c);
   for (size_t f = 0; f < part.owner.size(); ++f)
-    whole.neighbour.push_back(f < part.neighbour.size() ? first_cell + part.neighbour[f] : -1);
+    whole.neighbour.push_back(f < part.neighbour.size() && part.neighbour[f] >= 0 ? first_cell + part.neighbour[f]
+                                                                                  : -1);
   whole.cell_count += part.cell_count;
 }
 
-// The processors' meshes joined into one, their cells in processor order; `cells` gets each
-// processor's cell count.
-PolyMesh read_decomposed_mesh(const fs::path& case_dir, const std::vector<fs::path>& processors,
+// The processors' meshes (`mesh_dirs`, one for each, in order) joined into one, their cells in
+// processor order; `cells` gets each processor's cell count. `pattern` names the processors' mesh
+// directories together in messages (case/processor*/constant/polyMesh).
+PolyMesh read_decomposed_mesh(const std::vector<fs::path>& mesh_dirs, const fs::path& pattern,
                               std::vector<uint64_t>& cells) {
   PolyMesh whole;
   std::vector<ProcessorPoints> points;
-  for (const fs::path& processor : processors) {
-    const fs::path mesh_dir = processor / "constant" / "polyMesh";
+  for (const fs::path& mesh_dir : mesh_dirs) {
     PolyMesh part = read_poly_mesh(mesh_dir);
     std::vector<int64_t> ids = read_point_addressing(mesh_dir, part.points.size());
     append_processor(whole, part, ids);
     cells.push_back(part.cell_count);
     points.push_back({std::move(part.points), std::move(ids), *find_file(mesh_dir, "pointProcAddressing")});
   }
-  whole.points = join_points(points, case_dir);
-  whole.owner_file = case_dir / "processor*" / "constant" / "polyMesh" / "owner";
+  whole.points = join_points(points, pattern);
+  whole.owner_file = pattern / "owner";
   return whole;
+}
+
+// A region's mesh after those of the regions before it: regions share no points (each has its
+// own copy of the points on the faces between them), so its points follow theirs.
+void append_region(PolyMesh& whole, PolyMesh&& region) {
+  if (whole.cell_count == 0 && whole.points.empty()) {
+    whole = std::move(region);
+    return;
+  }
+  whole.neighbour.resize(whole.owner.size(), -1);  // the boundary faces', past the internal ones
+  std::vector<int64_t> ids(region.points.size());
+  std::iota(ids.begin(), ids.end(), int64_t(whole.points.size()));
+  append_processor(whole, region, ids);
+  whole.points.insert(whole.points.end(), region.points.begin(), region.points.end());
 }
 
 // Each cell a polyhedron of the faces that name it (owner or neighbour), for split_polyhedra;
@@ -691,55 +708,134 @@ bool is_openfoam_input(const fs::path& input) {
          (input.filename() == "controlDict" && input.parent_path().filename() == "system");
 }
 
+namespace {
+
+// OpenFOAM's name for the default region, whose mesh is constant/polyMesh (the solvers'
+// -region option takes it).
+constexpr const char* kDefaultRegion = "region0";
+
+// `dir`, or its subdirectory for a region other than the default (constant/REGION, TIME/REGION).
+fs::path in_region(const fs::path& dir, const std::string& region) {
+  return region == kDefaultRegion ? dir : dir / region;
+}
+
+// The regions whose meshes `root` (a case or processor directory) holds: region0 where it has
+// constant/polyMesh, then each directory of constant with a polyMesh, as splitMeshRegions writes
+// a multi-region case's (chtMultiRegionFoam's), by name.
+std::vector<std::string> regions_in(const fs::path& root) {
+  std::error_code ec;
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(root / "constant", ec))
+    if (e.is_directory(ec) && e.path().filename() != "polyMesh" && fs::is_directory(e.path() / "polyMesh", ec))
+      names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  if (fs::is_directory(root / "constant" / "polyMesh", ec)) names.insert(names.begin(), kDefaultRegion);
+  return names;
+}
+
+std::string joined(const std::vector<std::string>& names, const char* separator = ", ") {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : separator) + n;
+  return s;
+}
+
+}  // namespace
+
 struct OpenFoamCase::Impl {
-  fs::path dir, mesh_dir;
-  // Where the mesh and the time steps are: the case directory, or a decomposed case's processor
-  // directories, whose cells follow one another in the mesh, processor0's first.
-  std::vector<fs::path> parts;
-  std::vector<uint64_t> part_cells;
+  fs::path dir;
+  // Where the meshes and the time steps are: the case directory, or a decomposed case's
+  // processor directories, whose cells follow one another in each region, processor0's first.
+  std::vector<fs::path> roots;
+  struct Region {
+    std::string name;                  // region0: constant/polyMesh
+    std::vector<uint64_t> root_cells;  // the cells in each root
+    uint64_t cells = 0;
+  };
+  std::vector<Region> regions;       // those read, their cells one after another in the mesh
+  bool default_region_left = false;  // constant/polyMesh not read beside the regions
   PolyMesh mesh;
   PolyhedronFaces faces;  // released once split
   uint64_t face_count = 0;
   std::optional<FixedMeshSplit> split;  // made at the first step read
+  // A field of a step, and the regions that have it (NaN, no data, in the others).
+  struct StepField {
+    std::string name, class_name;
+    int components = 0;
+    std::vector<char> in_region;
+  };
   struct Step {
     double time = 0;
-    fs::path dir;                   // the first part's time directory
-    std::vector<FieldFile> fields;  // those read (the first part's files)
+    fs::path dir;  // the first root's time directory
+    std::vector<StepField> fields;
   };
   std::vector<Step> steps;
-  std::set<std::string> left_out, skipped;
+  std::set<std::string> left_out, skipped, no_data;
 
-  // The case's own mesh, or its processors' joined. Where it has both, as a case run in
+  // The case's own meshes, or its processors' joined. Where it has both, as a case run in
   // parallel from a mesh made whole has (blockMesh, decomposePar, the solver), the processors
   // are read when their last time is later than the case's own: the results are there.
-  void read_mesh() {
-    std::error_code ec;
-    mesh_dir = dir / "constant" / "polyMesh";
+  void read_mesh(const std::vector<std::string>& wanted) {
     const std::vector<fs::path> processors = processor_directories(dir);
-    if (fs::is_directory(mesh_dir, ec) && (processors.empty() || last_time(processors.front()) <= last_time(dir))) {
-      parts = {dir};
-      mesh = read_poly_mesh(mesh_dir);
-      part_cells = {mesh.cell_count};
-      return;
-    }
-    if (processors.empty()) {
+    if (!regions_in(dir).empty() && (processors.empty() || last_time(processors.front()) <= last_time(dir))) {
+      roots = {dir};
+    } else if (!processors.empty()) {
+      roots = processors;
+    } else {
+      std::error_code ec;
       for (const auto& e : fs::directory_iterator(dir, ec))
         if (e.path().filename().string().starts_with("processors") && e.is_directory(ec))
           input_error(e.path().string(),
                       "a decomposed case in OpenFOAM's collated layout (processors<N>): not read; reconstruct it "
                       "(reconstructParMesh, reconstructPar) or decompose it uncollated (decomposePar -fileHandler "
                       "uncollated)");
-      for (const auto& e : fs::directory_iterator(dir / "constant", ec))
-        if (e.is_directory(ec) && fs::is_directory(e.path() / "polyMesh", ec))
-          input_error((e.path() / "polyMesh").string(),
-                      "a multi-region case (a mesh for each region, as chtMultiRegionFoam's): not read; write "
-                      "a region with foamToVTK -region " +
-                          e.path().filename().string() + " and convert that");
-      input_error(mesh_dir.string(), "missing: not an OpenFOAM case (no constant/polyMesh)");
+      input_error((dir / "constant" / "polyMesh").string(),
+                  "missing: not an OpenFOAM case (no constant/polyMesh, nor a region's constant/REGION/polyMesh)");
     }
-    parts = processors;
-    mesh_dir = parts.front() / "constant" / "polyMesh";
-    mesh = read_decomposed_mesh(dir, parts, part_cells);
+    choose_regions(wanted);
+    for (Region& r : regions) append_region(mesh, read_region_mesh(r));
+    if (regions.size() > 1) {
+      std::vector<std::string> names;
+      for (const Region& r : regions) names.push_back(r.name);
+      mesh.owner_file = root_pattern() / "constant" / ("{" + joined(names, ",") + "}") / "polyMesh" / "owner";
+    }
+  }
+
+  // The regions read: those `wanted` (InputError naming the case's for one it lacks), else the
+  // named regions of a multi-region case (its constant/polyMesh, if still there, is the mesh
+  // before splitMeshRegions cut it up; no solver reads it), else region0.
+  void choose_regions(const std::vector<std::string>& wanted) {
+    const std::vector<std::string> found = regions_in(roots.front());
+    std::vector<std::string> names;
+    for (const std::string& w : wanted) {
+      if (std::find(found.begin(), found.end(), w) == found.end())
+        input_error(in_region(roots.front() / "constant", w).string(),
+                    "no region '" + w + "' in this case (its regions: " + joined(found) + ")");
+      if (std::find(names.begin(), names.end(), w) == names.end()) names.push_back(w);
+    }
+    if (names.empty()) {
+      names = found.empty() ? std::vector<std::string>{kDefaultRegion} : found;  // none: "polyMesh/points: missing"
+      if (names.size() > 1 && names.front() == kDefaultRegion) {
+        names.erase(names.begin());
+        default_region_left = true;
+      }
+    }
+    for (const std::string& n : names) regions.push_back({n, {}, 0});
+  }
+
+  fs::path root_pattern() const { return roots.front() == dir ? dir : dir / "processor*"; }
+
+  PolyMesh read_region_mesh(Region& r) const {
+    PolyMesh m;
+    if (roots.front() == dir) {
+      m = read_poly_mesh(in_region(dir / "constant", r.name) / "polyMesh");
+      r.root_cells = {m.cell_count};
+    } else {
+      std::vector<fs::path> mesh_dirs;
+      for (const fs::path& root : roots) mesh_dirs.push_back(in_region(root / "constant", r.name) / "polyMesh");
+      m = read_decomposed_mesh(mesh_dirs, in_region(root_pattern() / "constant", r.name) / "polyMesh", r.root_cells);
+    }
+    r.cells = m.cell_count;
+    return m;
   }
 
   // The latest time directory's value in `d` (-infinity where it has none).
@@ -751,24 +847,44 @@ struct OpenFoamCase::Impl {
     return last;
   }
 
-  // The step's field in part `k`'s time directory.
-  FieldFile field_in_part(const Step& step, const FieldFile& f, size_t k) const {
-    if (k == 0) return f;
-    const fs::path time_dir = parts[k] / step.dir.filename();
+  // The file of a step's field in region `r` of root `k`.
+  FieldFile field_file_in(const Step& step, const StepField& f, size_t r, size_t k) const {
+    const fs::path time_dir = in_region(roots[k] / step.dir.filename(), regions[r].name);
     const std::optional<fs::path> file = find_file(time_dir, f.name);
-    if (!file) input_error((time_dir / f.name).string(), "missing (processor0 has it)");
+    if (!file) input_error((time_dir / f.name).string(), k == 0 ? "missing" : "missing (processor0 has it)");
     return {f.name, *file, f.components, f.class_name};
   }
 
-  // A step's field files in the first part that every part has; those that some part lacks are
-  // left out. InputError for a part without the step's time directory.
-  void keep_fields_in_every_part(const fs::path& time_dir, std::map<std::string, FieldFile>& fields) {
+  // The volScalarField and volVectorField files of a time directory, by name (other fields
+  // noted as skipped).
+  std::map<std::string, FieldFile> fields_in(const fs::path& time_dir) {
     std::error_code ec;
-    for (size_t k = 1; k < parts.size(); ++k) {
-      const fs::path other = parts[k] / time_dir.filename();
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(time_dir, ec))
+      if (e.is_regular_file(ec)) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    std::map<std::string, FieldFile> fields;
+    for (const fs::path& file : files) {
+      const std::optional<FieldFile> f = field_file(file);
+      if (!f) continue;
+      if (f->components == 0)
+        skipped.insert(f->name + " (" + f->class_name + ")");
+      else
+        fields.try_emplace(f->name, *f);
+    }
+    return fields;
+  }
+
+  // A region's fields in a time directory of the first root that every root has; those that
+  // some root lacks are left out. InputError for a root without the time directory.
+  void keep_fields_in_every_root(const std::string& time_name, const std::string& region,
+                                 std::map<std::string, FieldFile>& fields) {
+    std::error_code ec;
+    for (size_t k = 1; k < roots.size(); ++k) {
+      const fs::path other = in_region(roots[k] / time_name, region);
       if (!fs::is_directory(other, ec))
-        input_error(other.string(), "missing, though processor0 has time " + time_dir.filename().string() +
-                                        ": every processor must have every time step");
+        input_error(other.string(),
+                    "missing, though processor0 has time " + time_name + ": every processor must have every time step");
       for (auto it = fields.begin(); it != fields.end();)
         if (find_file(other, it->first)) {
           ++it;
@@ -779,61 +895,73 @@ struct OpenFoamCase::Impl {
     }
   }
 
+  // The fields of one time directory, in any region.
+  std::map<std::string, StepField> step_fields(const fs::path& time_dir) {
+    std::map<std::string, StepField> fields;
+    for (size_t r = 0; r < regions.size(); ++r) {
+      const fs::path region_dir = in_region(time_dir, regions[r].name);
+      if (find_file(region_dir / "polyMesh", "points") || find_file(region_dir / "polyMesh", "faces"))
+        input_error((region_dir / "polyMesh").string(),
+                    "a moving or changing mesh (a polyMesh in a time directory): not read; foamToVTK writes each "
+                    "step's mesh");
+      std::map<std::string, FieldFile> found = fields_in(region_dir);
+      if (found.empty()) continue;
+      keep_fields_in_every_root(time_dir.filename().string(), regions[r].name, found);
+      for (const auto& [name, f] : found) {
+        StepField& s =
+            fields.try_emplace(name, StepField{name, f.class_name, f.components, std::vector<char>(regions.size(), 0)})
+                .first->second;
+        if (s.components == f.components)
+          s.in_region[r] = 1;
+        else
+          skipped.insert(name + " in region " + regions[r].name + " (" + f.class_name + ", but " + s.class_name +
+                         " in another)");
+      }
+    }
+    return fields;
+  }
+
   void find_steps() {
     std::error_code ec;
     std::vector<std::pair<double, fs::path>> times;
-    for (const auto& e : fs::directory_iterator(parts.front(), ec)) {
+    for (const auto& e : fs::directory_iterator(roots.front(), ec)) {
       double t = 0;
       if (e.is_directory(ec) && is_time_name(e.path().filename().string(), t)) times.push_back({t, e.path()});
     }
     std::sort(times.begin(), times.end());
-    std::vector<std::map<std::string, FieldFile>> found;
-    for (const auto& [t, tdir] : times) {
-      if (find_file(tdir / "polyMesh", "points") || find_file(tdir / "polyMesh", "faces"))
-        input_error((tdir / "polyMesh").string(),
-                    "a moving or changing mesh (a polyMesh in a time directory): not read; foamToVTK writes each "
-                    "step's mesh");
-      std::map<std::string, FieldFile> fields;
-      std::vector<fs::path> files;
-      for (const auto& e : fs::directory_iterator(tdir, ec))
-        if (e.is_regular_file(ec)) files.push_back(e.path());
-      std::sort(files.begin(), files.end());
-      for (const fs::path& file : files) {
-        const std::optional<FieldFile> f = field_file(file);
-        if (!f) continue;
-        if (f->components == 0) {
-          skipped.insert(f->name + " (" + f->class_name + ")");
-          continue;
-        }
-        if (!fields.count(f->name)) fields[f->name] = *f;
-      }
+    std::vector<std::map<std::string, StepField>> found;
+    for (const auto& [t, time_dir] : times) {
+      std::map<std::string, StepField> fields = step_fields(time_dir);
       if (fields.empty()) continue;
-      keep_fields_in_every_part(tdir, fields);
-      steps.push_back({t, tdir, {}});
+      steps.push_back({t, time_dir, {}});
       found.push_back(std::move(fields));
     }
-    // Those in every step (of the same class) are read; the others are left out.
+    // Those in every step (of the same class) are read; the others are left out. A region
+    // without a field has no data (NaN) there.
     for (size_t s = 0; s < steps.size(); ++s)
-      for (const auto& entry : found[s]) {
-        const std::string& name = entry.first;
-        const FieldFile& f = entry.second;
+      for (const auto& [name, f] : found[s]) {
         const bool everywhere = std::all_of(found.begin(), found.end(), [&](const auto& other) {
           const auto it = other.find(name);
           return it != other.end() && it->second.components == f.components;
         });
-        if (everywhere)
-          steps[s].fields.push_back(f);
-        else
+        if (!everywhere) {
           left_out.insert(name);
+          continue;
+        }
+        steps[s].fields.push_back(f);
+        for (size_t r = 0; r < regions.size(); ++r)
+          if (!f.in_region[r]) no_data.insert(name + " in " + regions[r].name);
       }
-    if (steps.empty()) steps.push_back({0.0, mesh_dir, {}});
+    if (steps.empty())
+      steps.push_back({0.0, in_region(roots.front() / "constant", regions.front().name) / "polyMesh", {}});
   }
 };
 
-OpenFoamCase::OpenFoamCase(const fs::path& input) : impl_(std::make_unique<Impl>()) {
+OpenFoamCase::OpenFoamCase(const fs::path& input, const std::vector<std::string>& regions)
+    : impl_(std::make_unique<Impl>()) {
   Impl& c = *impl_;
   c.dir = case_directory_of(input);
-  c.read_mesh();
+  c.read_mesh(regions);
   c.faces = cell_faces(c.mesh);
   c.face_count = c.faces.face_offsets.size() - 1;
   c.find_steps();
@@ -863,17 +991,24 @@ std::vector<MeshArray> OpenFoamCase::read_cell_data(size_t step) {
   input_check(step < step_count(), c.dir.string(), "no time step " + std::to_string(step));
   const Impl::Step& s = c.steps[step];
   std::vector<MeshArray> cell_data;
-  for (const FieldFile& f : s.fields) {
+  for (const Impl::StepField& f : s.fields) {
     MeshArray& a = cell_data.emplace_back(MeshArray{f.name, f.components, {}});
-    for (size_t k = 0; k < c.parts.size(); ++k) {
-      std::vector<double> values = read_field(c.field_in_part(s, f, k), c.part_cells[k]);
-      if (a.values.empty())
-        a.values = std::move(values);
-      else
-        a.values.insert(a.values.end(), values.begin(), values.end());
+    for (size_t r = 0; r < c.regions.size(); ++r) {
+      const Impl::Region& region = c.regions[r];
+      if (!f.in_region[r]) {
+        a.values.insert(a.values.end(), region.cells * uint64_t(f.components), std::nan(""));
+        continue;
+      }
+      for (size_t k = 0; k < c.roots.size(); ++k) {
+        std::vector<double> values = read_field(c.field_file_in(s, f, r, k), region.root_cells[k]);
+        if (a.values.empty())
+          a.values = std::move(values);
+        else
+          a.values.insert(a.values.end(), values.begin(), values.end());
+      }
     }
   }
-  split_mesh().split_cell_data(cell_data, c.steps[step].dir.string());
+  split_mesh().split_cell_data(cell_data, s.dir.string());
   return cell_data;
 }
 
@@ -885,22 +1020,24 @@ MeshData OpenFoamCase::read_step(size_t step) {
 std::string OpenFoamCase::summary() const {
   const Impl& c = *impl_;
   std::string s = std::to_string(c.mesh.cell_count) + " cells, " + std::to_string(c.face_count) + " faces";
-  if (c.parts.front() != c.dir)  // decomposed
-    s += ", decomposed into " + std::to_string(c.parts.size()) + (c.parts.size() == 1 ? " processor" : " processors") +
+  if (c.roots.front() != c.dir)  // decomposed
+    s += ", decomposed into " + std::to_string(c.roots.size()) + (c.roots.size() == 1 ? " processor" : " processors") +
          " (the faces between them counted in each)";
-  const char* sep = "; fields ";
-  for (const FieldFile& f : c.steps.front().fields) {
-    s += sep + f.name;
-    sep = ", ";
+  if (c.regions.size() > 1 || c.regions.front().name != kDefaultRegion) {
+    std::vector<std::string> regions;
+    for (const Impl::Region& r : c.regions) regions.push_back(r.name + " " + std::to_string(r.cells));
+    s += "; regions (cells) " + joined(regions);
   }
-  if (!c.left_out.empty()) {
-    s += "; left out (not in every time step): ";
-    for (const std::string& name : c.left_out) s += (name == *c.left_out.begin() ? "" : ", ") + name;
-  }
-  if (!c.skipped.empty()) {
-    s += "; skipped: ";
-    for (const std::string& name : c.skipped) s += (name == *c.skipped.begin() ? "" : ", ") + name;
-  }
+  if (c.default_region_left) s += " (not constant/polyMesh: --region region0 reads it)";
+  std::vector<std::string> fields;
+  for (const Impl::StepField& f : c.steps.front().fields) fields.push_back(f.name);
+  if (!fields.empty()) s += "; fields " + joined(fields);
+  const auto list = [&](const char* title, const std::set<std::string>& names) {
+    if (!names.empty()) s += title + joined(std::vector<std::string>(names.begin(), names.end()));
+  };
+  list("; no data (NaN) for ", c.no_data);
+  list("; left out (not in every time step): ", c.left_out);
+  list("; skipped: ", c.skipped);
   return s;
 }
 

@@ -20,6 +20,12 @@
 // processors' values one after another, kept where every processor has it. A case with both
 // (its own mesh and processors, as one run in parallel from a whole mesh) is read from its
 // processors where their last time is later than its own, else from its own mesh.
+// A multi-region case (chtMultiRegionFoam's: a mesh in constant/REGION/polyMesh for each region,
+// as splitMeshRegions writes them, fields in TIME/REGION; decomposed too, as decomposePar
+// -allRegions writes it) is read as one mesh of every region, by name, or of those asked for
+// (region0 is constant/polyMesh, which such a case keeps as the mesh before the split and is
+// otherwise not read); the regions share no points, so values averaged to the points stay
+// within each region; a field that some region lacks is NaN (no data) in that region.
 // Refused with one line: a moving or changing mesh (a polyMesh with points or faces in a time
 // directory), unknown formats or classes, lists cut short or larger than their file, face
 // vertices, owners or neighbours out of range, faces of fewer than 3 vertices, cells of fewer
@@ -28,7 +34,7 @@
 // reconstructPar), one of another length than the points or with numbers out of range, a point
 // of the whole mesh in no processor, a shared point whose processors put it in places more than
 // a relative 1e-9 apart, a time step that some processor lacks; the collated layout
-// (processors<N>) by name.
+// (processors<N>) by name; a region asked for that the case lacks.
 #pragma once
 #include <cstddef>
 #include <filesystem>
@@ -50,8 +56,9 @@ bool is_openfoam_input(const std::filesystem::path& input);
 class OpenFoamCase {
  public:
   // Reads the mesh and finds the time steps (InputError naming the file for anything it does
-  // not read).
-  explicit OpenFoamCase(const std::filesystem::path& input);
+  // not read). `regions`: those to read (empty: every named region of a multi-region case, else
+  // region0).
+  explicit OpenFoamCase(const std::filesystem::path& input, const std::vector<std::string>& regions = {});
   ~OpenFoamCase();
   OpenFoamCase(const OpenFoamCase&) = delete;
   OpenFoamCase& operator=(const OpenFoamCase&) = delete;
@@ -67,7 +74,8 @@ class OpenFoamCase {
   std::filesystem::path step_file(size_t step) const;
   std::filesystem::path case_directory() const;
   // "1234 cells, 3800 faces; fields p, U", the fields left out and skipped, for `info`; ", decomposed
-  // into N processors" after the faces for a decomposed case.
+  // into N processors" after the faces for a decomposed case; "; regions (cells) fluid 120, solid 80"
+  // for a multi-region case, and the fields with no data in some region.
   std::string summary() const;
 
  private:

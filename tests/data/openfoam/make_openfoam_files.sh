@@ -12,6 +12,14 @@
 #   box_decomposed  box_ascii decomposed by decomposePar (method simple) for 3 processors, every
 #               time step: the processor directories alone (with each one's pointProcAddressing
 #               and the other addressing files decomposePar writes), and controlDict
+#   box_regions a multi-region case (as chtMultiRegionFoam's): box_ascii's cells cut by
+#               topoSet cellZones and splitMeshRegions -cellZonesOnly into regions fluid (x > 0.5)
+#               and solid, each time step's fields mapped to both (TIME/fluid, TIME/solid); the
+#               solid has no U; constant/polyMesh and the time directories' own fields stay, as
+#               the whole mesh (region0); each region's cellRegionAddressing maps its cells to
+#               region0's
+#   box_regions_decomposed  box_regions decomposed by decomposePar -allRegions for 2 processors,
+#               its last time step only (processorN/constant/REGION/polyMesh, processorN/0.2/REGION)
 #   reference.vtu  VTK's cells (polyhedra not decomposed) and cell values of the last step, the
 #               same for all three copies
 # Usage: bash make_openfoam_files.sh   (in this directory; takes a few seconds)
@@ -173,7 +181,7 @@ if [ -n "$bench_n" ]; then
   exit 0
 fi
 
-rm -rf "$here"/box_ascii "$here"/box_binary "$here"/box_gz "$here"/box_decomposed "$here"/reference*.vtu
+rm -rf "$here"/box_ascii "$here"/box_binary "$here"/box_gz "$here"/box_decomposed "$here"/box_regions* "$here"/reference*.vtu
 mkdir -p "$here"/box_ascii
 cp -r $c/0 $c/0.1 $c/0.2 $c/constant $c/system "$here"/box_ascii/
 touch "$here"/box_ascii/box_ascii.foam
@@ -206,6 +214,48 @@ mkdir -p "$here"/box_decomposed/system
 cp -r $d/processor* "$here"/box_decomposed/
 cp $d/system/controlDict "$here"/box_decomposed/system/
 touch "$here"/box_decomposed/box_decomposed.foam
+
+r=$work/regions
+cp -r $c $r
+rm -rf $r/0.05 $r/0.15 $r/constant/polyMesh/cellZones
+{ header dictionary system topoSetDict; cat <<'D'
+actions
+(
+    { name solidCells; type cellSet; action new; source boxToCell; box (-1 -1 -1) (0.5 2 2); }
+    { name solid; type cellZoneSet; action new; source setToCellZone; set solidCells; }
+    { name fluidCells; type cellSet; action new; source cellToCell; set solidCells; }
+    { name fluidCells; type cellSet; action invert; }
+    { name fluid; type cellZoneSet; action new; source setToCellZone; set fluidCells; }
+);
+D
+} > $r/system/topoSetDict
+{ header dictionary constant regionProperties; echo "regions ( fluid (fluid) solid (solid) );"; } > $r/constant/regionProperties
+topoSet -case $r > $work/log.regions 2>&1 || { cat $work/log.regions >&2; exit 1; }
+# splitMeshRegions maps the start time's fields: once for each time step.
+for t in 0 0.1 0.2; do
+  sed -i "s/^startTime .*/startTime       $t;/" $r/system/controlDict
+  splitMeshRegions -cellZonesOnly -overwrite -case $r >> $work/log.regions 2>&1 || { cat $work/log.regions >&2; exit 1; }
+done
+sed -i "s/^startTime .*/startTime       0;/" $r/system/controlDict
+rm -rf $r/constant/polyMesh/sets $r/constant/cellToRegion $r/*/cellToRegion $r/*/*/cellToRegion $r/0*/solid/U* $r/0*/*/phi*
+rm -rf $r/0*/*/mag* $r/constant/*/polyMesh/*Zones $r/constant/polyMesh/*Zones $r/0/polyMesh
+rm -f $r/constant/*/polyMesh/{face,point,boundary}RegionAddressing
+mkdir -p "$here"/box_regions
+cp -r $r/0 $r/0.1 $r/0.2 $r/constant $r/system "$here"/box_regions/
+touch "$here"/box_regions/box_regions.foam
+{ header dictionary system decomposeParDict; cat <<'D'
+numberOfSubdomains 2;
+method          simple;
+coeffs          { n (1 2 1); }
+D
+} > $r/system/decomposeParDict
+for region in fluid solid; do mkdir -p $r/system/$region && cp $r/system/decomposeParDict $r/system/$region/; done
+decomposePar -allRegions -time 0.2 -case $r > $work/log.decompose_regions 2>&1 || { cat $work/log.decompose_regions >&2; exit 1; }
+mkdir -p "$here"/box_regions_decomposed/system
+cp -r $r/processor* "$here"/box_regions_decomposed/
+cp $r/system/controlDict "$here"/box_regions_decomposed/system/
+touch "$here"/box_regions_decomposed/box_regions_decomposed.foam
+rm -rf "$here"/box_regions/system/{fvSchemes,fvSolution,topoSetDict,refineMeshDict,setFieldsDict,blockMeshDict,decomposeParDict,fluid,solid}
 echo "$version" > "$here"/OPENFOAM_VERSION
 /usr/bin/python3 "$here"/make_openfoam_reference.py "$here"
 du -sh "$here"

@@ -1,8 +1,9 @@
 // OpenFOAM: the test cases of tests/data/openfoam (a refined box: ascii, binary with a
-// faceCompactList, gzipped, decomposed for 3 processors, split into two regions, and that
-// decomposed for 2) with one of their mesh files (of a decomposed case, processor1's, its
-// pointProcAddressing too; of a multi-region case, the solid's) or the last step's fields
-// patched or truncated, read step by step as `convert` reads them.
+// faceCompactList, gzipped, decomposed for 3 processors, uncollated and collated, split into two
+// regions, and that decomposed for 2) with one of their mesh files (of a decomposed case,
+// processor1's or the collated file of all, its pointProcAddressing too; of a multi-region case,
+// the solid's) or the last step's fields patched or truncated, read step by step as `convert`
+// reads them.
 #include <iterator>
 #include <string>
 
@@ -10,8 +11,8 @@
 #include "volstream/io/openfoam.h"
 
 namespace {
-const char* const kCases[] = {"box_ascii",   "box_binary",  "box_gz",
-                              "box_decomposed", "box_regions", "box_regions_decomposed"};
+const char* const kCases[] = {"box_ascii",    "box_binary",          "box_gz",      "box_decomposed",
+                              "box_collated", "box_collated_binary", "box_regions", "box_regions_decomposed"};
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -24,12 +25,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const fs::path work = dir / "case";
   fuzz::copy_tree(base / name, work);
   const std::string gz = name == "box_gz" ? ".gz" : "";
-  const bool decomposed = name.ends_with("decomposed"), regions = name.starts_with("box_regions");
-  const fs::path part = decomposed ? work / "processor1" : work;
+  const bool collated = name.starts_with("box_collated"), regions = name.starts_with("box_regions");
+  const bool decomposed = collated || name.ends_with("decomposed");
+  const fs::path part = collated ? work / "processors3" : decomposed ? work / "processor1" : work;
   const std::string region = regions ? "solid" : "";
   const fs::path mesh = part / "constant" / region / "polyMesh", fields = part / "0.2" / region;
-  std::vector<fs::path> files = {mesh / ("points" + gz),    mesh / ("faces" + gz),  mesh / ("owner" + gz),
-                                 mesh / ("neighbour" + gz), fields / ("T" + gz),    fields / ("V" + gz)};
+  std::vector<fs::path> files = {mesh / ("points" + gz),    mesh / ("faces" + gz), mesh / ("owner" + gz),
+                                 mesh / ("neighbour" + gz), fields / ("T" + gz),   fields / ("V" + gz)};
   if (decomposed) files.push_back(mesh / "pointProcAddressing");
   if (!fuzz::apply_patch(files, data + 1, size - 1)) return 0;
   fuzz::expect_clean([&] {

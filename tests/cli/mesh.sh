@@ -300,6 +300,12 @@ expect_bad_input "a decomposed OpenFOAM case" convert of_decomposed -o of_decomp
 cp -r "$OF/box_ascii/constant" "$OF/box_ascii/system" of_cut/
 head -c 5000 "$OF/box_ascii/constant/polyMesh/faces" >of_cut/constant/polyMesh/faces
 expect_bad_input "an OpenFOAM faces file cut short" convert of_cut -o of_cut_out
+# A collated decomposed case (processors3/, every processor's blocks in each file) probes as the
+# binary case it was decomposed from.
+"$VS" convert "$OF/box_collated_binary" -o of_collated -q
+"$VS" probe of_collated --field T --points of_points.txt >of_t_collated.txt
+echo -n "OpenFOAM collated case against the case it came from: "
+compare_probes of_t_collated.txt of_t_want.txt || fail "the OpenFOAM collated case probes otherwise"
 # A multi-region case: its regions joined, or one asked for; the solid has no U (NaN there).
 "$VS" convert "$OF/box_regions" -o of_regions -q
 "$VS" info of_regions | grep -q "regions (cells) fluid 116, solid 116" || fail "OpenFOAM: info does not name the regions"

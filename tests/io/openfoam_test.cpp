@@ -683,10 +683,76 @@ TEST_F(EditedDecomposedOpenFoam, ProcessorsWithLaterTimesAreReadBesideTheCasesOw
   EXPECT_NE(series->description().find("842 faces"), std::string::npos) << series->description();
 }
 
-TEST_F(EditedDecomposedOpenFoam, CollatedLayoutIsNamed) {
-  for (int k = 0; k < 3; ++k) fs::remove_all(dir_ / ("processor" + std::to_string(k)));
-  fs::create_directories(dir_ / "processors3" / "constant");
-  EXPECT_NE(error().find("processors3: a decomposed case in OpenFOAM's collated layout"), std::string::npos) << error();
+// The collated layout (decomposePar -fileHandler collated: processors3/, each file holding
+// every processor's) of the same decomposition reads as the same mesh and values, exactly: the
+// ascii case at every step, the binary one (foamFormatConvert of the ascii, so the same numbers)
+// at its one.
+TEST(OpenFoam, CollatedCaseReadsAsTheUncollatedOne) {
+  OpenFoamCase uncollated(kDir / "box_decomposed"), collated(kDir / "box_collated" / "box_collated.foam"),
+      binary(kDir / "box_collated_binary");
+  EXPECT_NE(collated.summary().find("decomposed into 3 processors"), std::string::npos) << collated.summary();
+  ASSERT_EQ(collated.step_count(), 3u);
+  ASSERT_EQ(binary.step_count(), 1u);
+  const auto expect_same = [](const MeshData& a, const MeshData& b) {
+    EXPECT_EQ(a.points, b.points);
+    EXPECT_EQ(a.cell_types, b.cell_types);
+    EXPECT_EQ(a.cell_offsets, b.cell_offsets);
+    EXPECT_EQ(a.connectivity, b.connectivity);
+    expect_cell_values_equal(a, b);
+  };
+  for (size_t step = 0; step < 3; ++step) {
+    SCOPED_TRACE("step " + std::to_string(step));
+    EXPECT_EQ(collated.step_time(step), uncollated.step_time(step));
+    expect_same(collated.read_step(step), uncollated.read_step(step));
+  }
+  expect_same(binary.read_step(0), uncollated.read_step(2));
+}
+
+// A copy of the collated case, edited.
+class EditedCollatedOpenFoam : public EditedOpenFoam {
+ protected:
+  void SetUp() override { dir_ = case_copy("box_collated", "openfoam_edit_collated"); }
+  fs::path collated(const std::string& name) const { return dir_ / "processors3" / name; }
+};
+
+TEST_F(EditedCollatedOpenFoam, CutShortAnywhere) {
+  for (const char* name : {"constant/polyMesh/points", "constant/polyMesh/faces", "constant/polyMesh/owner",
+                           "constant/polyMesh/pointProcAddressing", "0.2/T"}) {
+    const std::string full = test::file_bytes(collated(name));
+    for (size_t cut : {size_t(0), size_t(700), full.size() / 3, full.size() / 2, full.size() - 2}) {
+      // A field file cut inside its header is no field file (left out, as an uncollated one).
+      if (std::string_view(name) == "0.2/T" && cut < 1000) continue;
+      SCOPED_TRACE(std::string(name) + " cut at " + std::to_string(cut));
+      test::write_bytes(collated(name), full.substr(0, cut));
+      const std::string e = error();
+      EXPECT_NE(e, "accepted");
+      EXPECT_NE(e.find(fs::path(name).filename().string()), std::string::npos) << e;
+    }
+    test::write_bytes(collated(name), full);
+  }
+}
+
+TEST_F(EditedCollatedOpenFoam, NotABlockFileOrBlocksMiscounted) {
+  replace(collated("constant/polyMesh/owner"), "decomposedBlockData", "labelList");
+  EXPECT_NE(error().find("processors3/constant/polyMesh/owner: offset"), std::string::npos) << error();
+  EXPECT_NE(error().find("class 'labelList', not decomposedBlockData"), std::string::npos) << error();
+  replace(collated("constant/polyMesh/owner"), "labelList;", "decomposedBlockData;");
+  // Named for 2 processors, a file holds 3 blocks; for 4, it lacks one.
+  fs::rename(dir_ / "processors3", dir_ / "processors2");
+  EXPECT_NE(error().find("more than the 2 processors' blocks that the directory's name counts"), std::string::npos)
+      << error();
+  fs::rename(dir_ / "processors2", dir_ / "processors4");
+  EXPECT_NE(error().find("processors4/constant/polyMesh/points: offset"), std::string::npos) << error();
+  EXPECT_NE(error().find("a processor's block size"), std::string::npos) << error();
+}
+
+TEST_F(EditedCollatedOpenFoam, TwoDecompositionsOrIoRanksAreNamed) {
+  fs::create_directories(dir_ / "processors5" / "constant");
+  EXPECT_NE(error().find("processors5: a second collated decomposition beside processors3"), std::string::npos)
+      << error();
+  fs::remove_all(dir_ / "processors5");
+  fs::rename(dir_ / "processors3", dir_ / "processors3_0-1");
+  EXPECT_NE(error().find("processors3_0-1: a collated case split over I/O ranks"), std::string::npos) << error();
 }
 
 TEST_F(EditedDecomposedOpenFoam, GapInProcessorNumbers) {

@@ -60,7 +60,7 @@ std::string import_format(const ImportRequest& r) {
     if (is_openfoam_input(first)) return "mesh";
     input_error(first.string(),
                 "directory is neither an AMReX plotfile (no plotfile Header) nor an OpenFOAM case "
-                "(no constant/polyMesh, system/controlDict or processor0)");
+                "(no constant/polyMesh, system/controlDict, processor0 or processors<N>)");
   }
   if (!fs::exists(first, ec)) input_error(first.string(), "does not exist");
   if (first.extension() == ".cells") return "exabrick";

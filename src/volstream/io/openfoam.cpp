@@ -22,11 +22,47 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The number after `prefix` in a directory's name ("processor12": 12), as OpenFOAM writes it (no
+// sign, no leading zeros); nullopt for any other name.
+std::optional<uint64_t> number_after(const std::string& name, std::string_view prefix) {
+  const std::string_view digits = std::string_view(name).substr(std::min(name.size(), prefix.size()));
+  if (!name.starts_with(prefix) || digits.empty() ||
+      !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return std::nullopt;
+  uint64_t number = 0;
+  const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), number);
+  if (error != std::errc() || std::to_string(number) != digits) return std::nullopt;
+  return number;
+}
+
+// A collated decomposed case (decomposePar -fileHandler collated) keeps every processor's
+// files in one directory, processors<N>: each of its files holds the N processors' files one
+// after another. Its processor k is read here through the path processors<N>/processor<k>/...,
+// which names block k of the file processors<N>/... .
+struct OnDisk {
+  fs::path path;
+  std::optional<uint64_t> block;
+  uint64_t processors = 0;  // N of processors<N>, for a block
+};
+OnDisk on_disk(const fs::path& p) {
+  OnDisk d;
+  bool in_collated = false;
+  for (const fs::path& part : p) {
+    const std::string name = part.string();
+    if (in_collated && !d.block && (d.block = number_after(name, "processor"))) continue;
+    const std::optional<uint64_t> processors = number_after(name, "processors");
+    in_collated = processors.has_value();
+    if (in_collated && !d.block) d.processors = *processors;
+    d.path /= part;
+  }
+  return d;
+}
+
 // `dir/name`, or `dir/name.gz` where only that exists (writeCompression on); nullopt for neither.
 std::optional<fs::path> find_file(const fs::path& dir, const std::string& name) {
   std::error_code ec;
   for (const std::string& n : {name, name + ".gz"})
-    if (fs::is_regular_file(dir / n, ec)) return dir / n;
+    if (fs::is_regular_file(on_disk(dir / n).path, ec)) return dir / n;
   return std::nullopt;
 }
 
@@ -285,10 +321,84 @@ struct PolyMesh {
   fs::path owner_file;
 };
 
-Cursor open_mesh_file(const fs::path& dir, const char* name, Header& h) {
+// Reads the case's files: whole, or a processor's block of a collated file (on_disk). A
+// collated file (class decomposedBlockData) is a FoamFile header, then for each processor
+// "// ProcessorK", its block's size in bytes and the block in parentheses; the first block is a
+// whole file, FoamFile header and all, the others the rest of a file after that header (OpenFOAM
+// writes it once), read here after a header of the same format, class and arch. A collated file is read once and kept
+// until forget(), so that the N processors' blocks of one file cost one read.
+class CaseFiles {
+ public:
+  std::string read(const fs::path& file) {
+    const OnDisk d = on_disk(file);
+    if (!d.block) return read_file_inflating(d.path);
+    auto it = collated_.find(d.path);
+    if (it == collated_.end()) it = collated_.emplace(d.path, split(d.path, d.processors)).first;
+    Collated& c = it->second;
+    const auto [at, size] = c.blocks.at(*d.block);
+    c.in.seek(at);
+    std::string bytes = *d.block == 0 ? std::string() : c.header;
+    bytes += c.in.rest().substr(0, size);
+    return bytes;
+  }
+  // The file's first `limit` bytes at most (of a collated file, those of its first block),
+  // enough for its FoamFile header; empty for a collated file whose first block is not there.
+  static std::string start(const fs::path& file, size_t limit) {
+    const OnDisk d = on_disk(file);
+    std::string bytes = read_file_inflating(d.path, limit);
+    if (!d.block) return bytes;
+    Cursor in(std::move(bytes), d.path.string());
+    try {
+      in.header();
+      in.label("a processor's block size");
+      in.expect('(', "opening a processor's block");
+      return std::string(in.rest());
+    } catch (const InputError&) {
+      return {};
+    }
+  }
+  void forget() { collated_.clear(); }
+
+ private:
+  struct Collated {
+    Cursor in;  // the whole file
+    std::string header;
+    std::vector<std::pair<uint64_t, uint64_t>> blocks;  // offset and size
+  };
+  static Collated split(const fs::path& file, uint64_t processors) {
+    Collated c{Cursor(read_file_inflating(file), file.string()), {}, {}};
+    Cursor& in = c.in;
+    const Header h = in.header();
+    if (h.class_name != "decomposedBlockData")
+      in.fail("class '" + h.class_name + "', not decomposedBlockData (a collated case's file of every processor)");
+    for (uint64_t k = 0; k < processors; ++k) {
+      const int64_t size = in.label("a processor's block size");
+      if (size < 0) in.fail("a processor's block of " + std::to_string(size) + " bytes");
+      in.expect('(', "opening a processor's block");
+      c.blocks.push_back({in.position(), uint64_t(size)});
+      in.take(uint64_t(size), "a processor's block");
+      in.expect(')', "closing a processor's block");
+    }
+    if (!in.at_end())
+      in.fail("more than the " + std::to_string(processors) + " processors' blocks that the directory's name counts");
+    // The other blocks' header: the first block's, without its note (whose counts, as an
+    // owner file's nCells, are the first processor's).
+    in.seek(c.blocks.front().first);
+    Cursor first(std::string(in.rest().substr(0, c.blocks.front().second)), file.string() + " (processor0's block)");
+    const Header h0 = first.header();
+    c.header = std::string("FoamFile\n{\n    format      ") + (h0.binary ? "binary" : "ascii") + ";\n    class       " +
+               h0.class_name + ";\n    arch        \"" + (h0.big_endian ? "MSB" : "LSB") +
+               ";label=" + std::to_string(8 * h0.label_bytes) + ";scalar=" + std::to_string(8 * h0.scalar_bytes) +
+               "\";\n}\n";
+    return c;
+  }
+  std::map<fs::path, Collated> collated_;
+};
+
+Cursor open_mesh_file(CaseFiles& files, const fs::path& dir, const char* name, Header& h) {
   const std::optional<fs::path> file = find_file(dir, name);
   if (!file) input_error((dir / name).string(), "missing: an OpenFOAM mesh is points, faces, owner and neighbour");
-  Cursor in(read_file_inflating(*file), file->string());
+  Cursor in(files.read(*file), file->string());
   h = in.header();
   return in;
 }
@@ -304,9 +414,9 @@ std::vector<int64_t> read_label_list(Cursor& in, const Header& h, const char* wh
   return labels;
 }
 
-std::vector<vec3d> read_points(const fs::path& dir) {
+std::vector<vec3d> read_points(CaseFiles& files, const fs::path& dir) {
   Header h;
-  Cursor in = open_mesh_file(dir, "points", h);
+  Cursor in = open_mesh_file(files, dir, "points", h);
   if (h.class_name != "vectorField") in.fail("class '" + h.class_name + "', not vectorField");
   const std::vector<double> xyz = read_scalars(in, h, 3, std::nullopt, "points");
   expect_end(in);
@@ -330,9 +440,9 @@ void add_vertex(Cursor& in, PolyMesh& m, uint64_t face, int64_t v) {
 
 // faceCompactList: the offsets (faces + 1), then every face's vertices; faceList: "N ( n(a b c)
 // ... )", each face a list of its own (in binary files too).
-void read_faces(const fs::path& dir, PolyMesh& m) {
+void read_faces(CaseFiles& files, const fs::path& dir, PolyMesh& m) {
   Header h;
-  Cursor in = open_mesh_file(dir, "faces", h);
+  Cursor in = open_mesh_file(files, dir, "faces", h);
   if (h.class_name == "faceCompactList") {
     const std::vector<int64_t> offsets = read_labels(in, h, "face offsets");
     m.face_vertices = read_labels<uint64_t>(in, h, "face vertices");  // checked below
@@ -389,10 +499,10 @@ std::optional<uint64_t> note_count(const std::string& note, const std::string& k
   return v;
 }
 
-void read_owners(const fs::path& dir, PolyMesh& m) {
+void read_owners(CaseFiles& files, const fs::path& dir, PolyMesh& m) {
   const uint64_t faces = m.face_offsets.size() - 1;
   Header h;
-  Cursor owner = open_mesh_file(dir, "owner", h);
+  Cursor owner = open_mesh_file(files, dir, "owner", h);
   m.owner = read_label_list(owner, h, "owners");
   m.owner_file = owner.file();
   if (m.owner.size() != faces)
@@ -400,7 +510,7 @@ void read_owners(const fs::path& dir, PolyMesh& m) {
   const std::optional<uint64_t> declared = note_count(h.note, "nCells");
 
   Header hn;
-  Cursor neighbour = open_mesh_file(dir, "neighbour", hn);
+  Cursor neighbour = open_mesh_file(files, dir, "neighbour", hn);
   m.neighbour = read_label_list(neighbour, hn, "neighbours");
   if (m.neighbour.size() > faces)
     neighbour.fail(std::to_string(m.neighbour.size()) + " neighbours of " + std::to_string(faces) + " faces");
@@ -424,34 +534,41 @@ void read_owners(const fs::path& dir, PolyMesh& m) {
     owner.fail(std::to_string(m.cell_count) + " cells of " + std::to_string(faces) + " faces");
 }
 
-PolyMesh read_poly_mesh(const fs::path& dir) {
+PolyMesh read_poly_mesh(CaseFiles& files, const fs::path& dir) {
   PolyMesh m;
-  m.points = read_points(dir);
-  read_faces(dir, m);
-  read_owners(dir, m);
+  m.points = read_points(files, dir);
+  read_faces(files, dir, m);
+  read_owners(files, dir, m);
   return m;
 }
 
 // A decomposed case (decomposePar's layout): processor0 .. processorN-1, each a case of its own
 // cells, whose meshes are joined here as reconstructPar joins them.
 
-// The case's processor directories in order (none where it has none). InputError for a gap in
-// the numbers, or a name with leading zeros (not OpenFOAM's).
+// The case's processor directories in order (none where it has none): processor0 ..
+// processorN-1, or for a collated case processors<N>/processor0 .. N-1 (on_disk). InputError for
+// a gap in the numbers, a name with leading zeros (not OpenFOAM's), collated directories for
+// two processor counts, or a collated one split over I/O ranks (processors<N>_<first>-<last>).
 std::vector<fs::path> processor_directories(const fs::path& case_dir) {
   std::map<uint64_t, fs::path> by_number;
+  std::vector<fs::path> collated;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(case_dir, ec)) {
     const std::string name = e.path().filename().string();
-    const std::string_view digits = std::string_view(name).substr(std::min<size_t>(name.size(), 9));
-    if (!name.starts_with("processor") || digits.empty() || !e.is_directory(ec) ||
-        !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    if (!e.is_directory(ec) || !name.starts_with("processor")) continue;
+    if (name.starts_with("processors")) {
+      if (!number_after(name, "processors"))
+        input_error(e.path().string(),
+                    "a collated case split over I/O ranks (processors<N>_<first>-<last>): not read; reconstruct it "
+                    "(reconstructParMesh, reconstructPar) or decompose it without ioRanks");
+      collated.push_back(e.path());
       continue;
-    uint64_t number = 0;
-    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), number);
-    if (error != std::errc() || std::to_string(number) != digits)
+    }
+    const std::optional<uint64_t> number = number_after(name, "processor");
+    if (!number)
       input_error(e.path().string(),
                   "not a processor directory as decomposePar names them (processor0, processor1 ...)");
-    by_number[number] = e.path();
+    by_number[*number] = e.path();
   }
   std::vector<fs::path> processors;
   for (const auto& [number, dir] : by_number) {
@@ -461,18 +578,27 @@ std::vector<fs::path> processor_directories(const fs::path& case_dir) {
                       " is there: a decomposed case is processor0 .. processorN-1, every one");
     processors.push_back(dir);
   }
+  if (!processors.empty() || collated.empty()) return processors;
+  std::sort(collated.begin(), collated.end());
+  if (collated.size() > 1)
+    input_error(collated[1].string(), "a second collated decomposition beside " + collated[0].filename().string() +
+                                          ": remove the one not wanted");
+  const uint64_t count = *number_after(collated[0].filename().string(), "processors");
+  if (count == 0 || count > (uint64_t(1) << 24))
+    input_error(collated[0].string(), "a collated decomposition into " + std::to_string(count) + " processors");
+  for (uint64_t k = 0; k < count; ++k) processors.push_back(collated[0] / ("processor" + std::to_string(k)));
   return processors;
 }
 
 // A processor's pointProcAddressing: each of its `points` points' number in the whole mesh
 // (decomposePar writes it, and reconstructPar joins the points through it).
-std::vector<int64_t> read_point_addressing(const fs::path& mesh_dir, uint64_t points) {
+std::vector<int64_t> read_point_addressing(CaseFiles& files, const fs::path& mesh_dir, uint64_t points) {
   if (!find_file(mesh_dir, "pointProcAddressing"))
     input_error((mesh_dir / "pointProcAddressing").string(),
                 "missing: the processors' shared points are joined through it (decomposePar writes it; or join "
                 "the case with reconstructPar, after reconstructParMesh where constant/polyMesh is gone)");
   Header h;
-  Cursor in = open_mesh_file(mesh_dir, "pointProcAddressing", h);
+  Cursor in = open_mesh_file(files, mesh_dir, "pointProcAddressing", h);
   std::vector<int64_t> ids = read_label_list(in, h, "point numbers");
   if (ids.size() != points)
     in.fail(std::to_string(ids.size()) + " point numbers for the processor's " + std::to_string(points) + " points");
@@ -565,13 +691,13 @@ void append_processor(PolyMesh& whole, const PolyMesh& part, const std::vector<i
 // The processors' meshes (`mesh_dirs`, one for each, in order) joined into one, their cells in
 // processor order; `cells` gets each processor's cell count. `pattern` names the processors' mesh
 // directories together in messages (case/processor*/constant/polyMesh).
-PolyMesh read_decomposed_mesh(const std::vector<fs::path>& mesh_dirs, const fs::path& pattern,
+PolyMesh read_decomposed_mesh(CaseFiles& files, const std::vector<fs::path>& mesh_dirs, const fs::path& pattern,
                               std::vector<uint64_t>& cells) {
   PolyMesh whole;
   std::vector<ProcessorPoints> points;
   for (const fs::path& mesh_dir : mesh_dirs) {
-    PolyMesh part = read_poly_mesh(mesh_dir);
-    std::vector<int64_t> ids = read_point_addressing(mesh_dir, part.points.size());
+    PolyMesh part = read_poly_mesh(files, mesh_dir);
+    std::vector<int64_t> ids = read_point_addressing(files, mesh_dir, part.points.size());
     append_processor(whole, part, ids);
     cells.push_back(part.cell_count);
     points.push_back({std::move(part.points), std::move(ids), *find_file(mesh_dir, "pointProcAddressing")});
@@ -627,7 +753,7 @@ std::optional<FieldFile> field_file(const fs::path& file) {
   std::string name = file.filename().string();
   if (name.empty() || name.front() == '.' || name.back() == '~' || name.ends_with(".orig")) return std::nullopt;
   if (name_ends_with(file, ".gz")) name.erase(name.size() - 3);
-  Cursor in(read_file_inflating(file, 4096), file.string());
+  Cursor in(CaseFiles::start(file, 4096), file.string());
   in.skip_space_and_comments();
   if (!in.rest().starts_with("FoamFile")) return std::nullopt;  // not an OpenFOAM file
   Header h;
@@ -643,8 +769,8 @@ std::optional<FieldFile> field_file(const fs::path& file) {
 }
 
 // A volScalarField's or volVectorField's internalField, for `cells` cells.
-std::vector<double> read_field(const FieldFile& f, uint64_t cells) {
-  Cursor in(read_file_inflating(f.file), f.file.string());
+std::vector<double> read_field(CaseFiles& files, const FieldFile& f, uint64_t cells) {
+  Cursor in(files.read(f.file), f.file.string());
   const Header h = in.header();
   if (h.class_name != f.class_name) in.fail("class '" + h.class_name + "' changed while reading");
   for (;;) {
@@ -701,9 +827,14 @@ fs::path case_directory_of(const fs::path& input) {
 
 bool is_openfoam_input(const fs::path& input) {
   std::error_code ec;
-  if (fs::is_directory(input, ec))
-    return fs::is_directory(input / "constant" / "polyMesh", ec) ||
-           fs::is_regular_file(input / "system" / "controlDict", ec) || fs::is_directory(input / "processor0", ec);
+  if (fs::is_directory(input, ec)) {
+    if (fs::is_directory(input / "constant" / "polyMesh", ec) ||
+        fs::is_regular_file(input / "system" / "controlDict", ec) || fs::is_directory(input / "processor0", ec))
+      return true;
+    for (const auto& e : fs::directory_iterator(input, ec))  // a collated case's processors<N>
+      if (e.path().filename().string().starts_with("processors") && e.is_directory(ec)) return true;
+    return false;
+  }
   return name_ends_with(input, ".foam") || name_ends_with(input, ".openfoam") ||
          (input.filename() == "controlDict" && input.parent_path().filename() == "system");
 }
@@ -725,11 +856,12 @@ fs::path in_region(const fs::path& dir, const std::string& region) {
 std::vector<std::string> regions_in(const fs::path& root) {
   std::error_code ec;
   std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(root / "constant", ec))
+  const fs::path constant = on_disk(root / "constant").path;
+  for (const auto& e : fs::directory_iterator(constant, ec))
     if (e.is_directory(ec) && e.path().filename() != "polyMesh" && fs::is_directory(e.path() / "polyMesh", ec))
       names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
-  if (fs::is_directory(root / "constant" / "polyMesh", ec)) names.insert(names.begin(), kDefaultRegion);
+  if (fs::is_directory(constant / "polyMesh", ec)) names.insert(names.begin(), kDefaultRegion);
   return names;
 }
 
@@ -746,6 +878,7 @@ struct OpenFoamCase::Impl {
   // Where the meshes and the time steps are: the case directory, or a decomposed case's
   // processor directories, whose cells follow one another in each region, processor0's first.
   std::vector<fs::path> roots;
+  CaseFiles case_files;
   struct Region {
     std::string name;                  // region0: constant/polyMesh
     std::vector<uint64_t> root_cells;  // the cells in each root
@@ -781,13 +914,6 @@ struct OpenFoamCase::Impl {
     } else if (!processors.empty()) {
       roots = processors;
     } else {
-      std::error_code ec;
-      for (const auto& e : fs::directory_iterator(dir, ec))
-        if (e.path().filename().string().starts_with("processors") && e.is_directory(ec))
-          input_error(e.path().string(),
-                      "a decomposed case in OpenFOAM's collated layout (processors<N>): not read; reconstruct it "
-                      "(reconstructParMesh, reconstructPar) or decompose it uncollated (decomposePar -fileHandler "
-                      "uncollated)");
       input_error((dir / "constant" / "polyMesh").string(),
                   "missing: not an OpenFOAM case (no constant/polyMesh, nor a region's constant/REGION/polyMesh)");
     }
@@ -822,17 +948,20 @@ struct OpenFoamCase::Impl {
     for (const std::string& n : names) regions.push_back({n, {}, 0});
   }
 
-  fs::path root_pattern() const { return roots.front() == dir ? dir : dir / "processor*"; }
+  // The roots in messages: the case, or case/processor* (case/processors<N>/processor* collated).
+  fs::path root_pattern() const { return roots.front() == dir ? dir : roots.front().parent_path() / "processor*"; }
 
-  PolyMesh read_region_mesh(Region& r) const {
+  PolyMesh read_region_mesh(Region& r) {
     PolyMesh m;
     if (roots.front() == dir) {
-      m = read_poly_mesh(in_region(dir / "constant", r.name) / "polyMesh");
+      m = read_poly_mesh(case_files, in_region(dir / "constant", r.name) / "polyMesh");
       r.root_cells = {m.cell_count};
     } else {
       std::vector<fs::path> mesh_dirs;
       for (const fs::path& root : roots) mesh_dirs.push_back(in_region(root / "constant", r.name) / "polyMesh");
-      m = read_decomposed_mesh(mesh_dirs, in_region(root_pattern() / "constant", r.name) / "polyMesh", r.root_cells);
+      m = read_decomposed_mesh(case_files, mesh_dirs, in_region(root_pattern() / "constant", r.name) / "polyMesh",
+                               r.root_cells);
+      case_files.forget();
     }
     r.cells = m.cell_count;
     return m;
@@ -842,7 +971,7 @@ struct OpenFoamCase::Impl {
   static double last_time(const fs::path& d) {
     std::error_code ec;
     double last = -INFINITY, t = 0;
-    for (const auto& e : fs::directory_iterator(d, ec))
+    for (const auto& e : fs::directory_iterator(on_disk(d).path, ec))
       if (e.is_directory(ec) && is_time_name(e.path().filename().string(), t)) last = std::max(last, t);
     return last;
   }
@@ -860,8 +989,8 @@ struct OpenFoamCase::Impl {
   std::map<std::string, FieldFile> fields_in(const fs::path& time_dir) {
     std::error_code ec;
     std::vector<fs::path> files;
-    for (const auto& e : fs::directory_iterator(time_dir, ec))
-      if (e.is_regular_file(ec)) files.push_back(e.path());
+    for (const auto& e : fs::directory_iterator(on_disk(time_dir).path, ec))
+      if (e.is_regular_file(ec)) files.push_back(time_dir / e.path().filename());
     std::sort(files.begin(), files.end());
     std::map<std::string, FieldFile> fields;
     for (const fs::path& file : files) {
@@ -882,7 +1011,7 @@ struct OpenFoamCase::Impl {
     std::error_code ec;
     for (size_t k = 1; k < roots.size(); ++k) {
       const fs::path other = in_region(roots[k] / time_name, region);
-      if (!fs::is_directory(other, ec))
+      if (!fs::is_directory(on_disk(other).path, ec))
         input_error(other.string(),
                     "missing, though processor0 has time " + time_name + ": every processor must have every time step");
       for (auto it = fields.begin(); it != fields.end();)
@@ -924,9 +1053,10 @@ struct OpenFoamCase::Impl {
   void find_steps() {
     std::error_code ec;
     std::vector<std::pair<double, fs::path>> times;
-    for (const auto& e : fs::directory_iterator(roots.front(), ec)) {
+    for (const auto& e : fs::directory_iterator(on_disk(roots.front()).path, ec)) {
       double t = 0;
-      if (e.is_directory(ec) && is_time_name(e.path().filename().string(), t)) times.push_back({t, e.path()});
+      const fs::path name = e.path().filename();
+      if (e.is_directory(ec) && is_time_name(name.string(), t)) times.push_back({t, roots.front() / name});
     }
     std::sort(times.begin(), times.end());
     std::vector<std::map<std::string, StepField>> found;
@@ -939,7 +1069,9 @@ struct OpenFoamCase::Impl {
     // Those in every step (of the same class) are read; the others are left out. A region
     // without a field has no data (NaN) there.
     for (size_t s = 0; s < steps.size(); ++s)
-      for (const auto& [name, f] : found[s]) {
+      for (const auto& entry : found[s]) {
+        const std::string& name = entry.first;  // not bindings: clang 14's lambdas cannot capture them
+        const StepField& f = entry.second;
         const bool everywhere = std::all_of(found.begin(), found.end(), [&](const auto& other) {
           const auto it = other.find(name);
           return it != other.end() && it->second.components == f.components;
@@ -987,7 +1119,7 @@ const FixedMeshSplit& OpenFoamCase::split_mesh() {
 }
 
 std::vector<MeshArray> OpenFoamCase::read_cell_data(size_t step) {
-  const Impl& c = *impl_;
+  Impl& c = *impl_;
   input_check(step < step_count(), c.dir.string(), "no time step " + std::to_string(step));
   const Impl::Step& s = c.steps[step];
   std::vector<MeshArray> cell_data;
@@ -1000,12 +1132,13 @@ std::vector<MeshArray> OpenFoamCase::read_cell_data(size_t step) {
         continue;
       }
       for (size_t k = 0; k < c.roots.size(); ++k) {
-        std::vector<double> values = read_field(c.field_file_in(s, f, r, k), region.root_cells[k]);
+        std::vector<double> values = read_field(c.case_files, c.field_file_in(s, f, r, k), region.root_cells[k]);
         if (a.values.empty())
           a.values = std::move(values);
         else
           a.values.insert(a.values.end(), values.begin(), values.end());
       }
+      c.case_files.forget();
     }
   }
   split_mesh().split_cell_data(cell_data, s.dir.string());

@@ -20,6 +20,9 @@
 // processors' values one after another, kept where every processor has it. A case with both
 // (its own mesh and processors, as one run in parallel from a whole mesh) is read from its
 // processors where their last time is later than its own, else from its own mesh.
+// A collated decomposed case (decomposePar -fileHandler collated: every processor's files in
+// one directory processors<N>, each file the N processors' blocks one after another) is read as
+// the same case uncollated, each file read once.
 // A multi-region case (chtMultiRegionFoam's: a mesh in constant/REGION/polyMesh for each region,
 // as splitMeshRegions writes them, fields in TIME/REGION; decomposed too, as decomposePar
 // -allRegions writes it) is read as one mesh of every region, by name, or of those asked for
@@ -33,8 +36,10 @@
 // numbers, a missing pointProcAddressing (decomposePar writes it; or run reconstructParMesh and
 // reconstructPar), one of another length than the points or with numbers out of range, a point
 // of the whole mesh in no processor, a shared point whose processors put it in places more than
-// a relative 1e-9 apart, a time step that some processor lacks; the collated layout
-// (processors<N>) by name; a region asked for that the case lacks.
+// a relative 1e-9 apart, a time step that some processor lacks; for a collated case a file that
+// is not a decomposedBlockData of as many blocks as processors<N> counts, a block cut short,
+// two collated decompositions, one over I/O ranks (processors<N>_<first>-<last>); a region
+// asked for that the case lacks.
 #pragma once
 #include <cstddef>
 #include <filesystem>
@@ -49,8 +54,8 @@ namespace vs {
 class FixedMeshSplit;  // umesh/polyhedra.h
 
 // An input that names an OpenFOAM case: its directory (holding constant/polyMesh, a
-// system/controlDict or a processor0 directory, for a decomposed case), a file named *.foam or *.OpenFOAM in it
-// (ParaView's convention), or its system/controlDict.
+// system/controlDict, or a processor0 or processors<N> directory, for a decomposed case), a file named *.foam or
+// *.OpenFOAM in it (ParaView's convention), or its system/controlDict.
 bool is_openfoam_input(const std::filesystem::path& input);
 
 class OpenFoamCase {

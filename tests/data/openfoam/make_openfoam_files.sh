@@ -12,6 +12,9 @@
 #   box_decomposed  box_ascii decomposed by decomposePar (method simple) for 3 processors, every
 #               time step: the processor directories alone (with each one's pointProcAddressing
 #               and the other addressing files decomposePar writes), and controlDict
+#   box_collated  box_ascii decomposed as box_decomposed, in OpenFOAM's collated layout
+#               (decomposePar -fileHandler collated: processors3/, each file every processor's)
+#   box_collated_binary  the same of box_binary (its one time step, binary blocks)
 #   box_regions a multi-region case (as chtMultiRegionFoam's): box_ascii's cells cut by
 #               topoSet cellZones and splitMeshRegions -cellZonesOnly into regions fluid (x > 0.5)
 #               and solid, each time step's fields mapped to both (TIME/fluid, TIME/solid); the
@@ -181,7 +184,8 @@ if [ -n "$bench_n" ]; then
   exit 0
 fi
 
-rm -rf "$here"/box_ascii "$here"/box_binary "$here"/box_gz "$here"/box_decomposed "$here"/box_regions* "$here"/reference*.vtu
+rm -rf "$here"/box_ascii "$here"/box_binary "$here"/box_gz "$here"/box_decomposed "$here"/box_collated* "$here"/box_regions* \
+  "$here"/reference*.vtu
 mkdir -p "$here"/box_ascii
 cp -r $c/0 $c/0.1 $c/0.2 $c/constant $c/system "$here"/box_ascii/
 touch "$here"/box_ascii/box_ascii.foam
@@ -214,6 +218,18 @@ mkdir -p "$here"/box_decomposed/system
 cp -r $d/processor* "$here"/box_decomposed/
 cp $d/system/controlDict "$here"/box_decomposed/system/
 touch "$here"/box_decomposed/box_decomposed.foam
+for from in ascii binary; do
+  d=$work/collated_$from
+  to="$here"/box_collated$([ $from = ascii ] || echo _binary)
+  cp -r "$here"/box_$from $d
+  cp $work/decomposed/system/decomposeParDict $c/system/fvSchemes $c/system/fvSolution $d/system/
+  decomposePar -fileHandler collated -time '0:' -case $d > $work/log.collated 2>&1 ||
+    { cat $work/log.collated >&2; exit 1; }
+  mkdir -p "$to"/system
+  cp -r $d/processors3 "$to"/
+  cp $d/system/controlDict "$to"/system/
+  touch "$to"/$(basename "$to").foam
+done
 
 r=$work/regions
 cp -r $c $r

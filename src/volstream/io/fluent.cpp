@@ -429,9 +429,10 @@ class CaseReader {
   CaseMesh mesh_;
 };
 
-MeshData unsplit_mesh(const CaseMesh& m) {
+// The case's nodes move here: the split keeps them, and the data files need the cells alone.
+MeshData unsplit_mesh(CaseMesh& m) {
   MeshData mesh;
-  mesh.points = m.nodes;
+  mesh.points = std::move(m.nodes);
   mesh.cell_types.assign(m.cell_count, kVtkPolyhedron);
   mesh.cell_offsets.assign(m.cell_count + 1, 0);  // a polyhedron's vertices are its faces'
   return mesh;

@@ -249,6 +249,7 @@ class CaseSeries : public MeshSeries {
     for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
     return m;
   }
+  bool steps_need_points_alone() const override { return true; }
   StepData read_step_data(int step, const MeshData& first) override {
     StepData data{{}, case_->read_cell_data(size_t(step))};
     for (const RawScalars& s : scalars_)
@@ -425,10 +426,22 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
   stats.encode_seconds += watch.lap();  // the point-location structures of either encoding
 
   Progress progress("converting", uint64_t(series.step_count()) * fields.size(), !options.quiet);
-  std::optional<PointCells> point_cells;  // for cell arrays averaged to the points
+  // The cells around each point, for cell arrays averaged to the points (the same every step).
+  std::optional<PointCells> point_cells;
+  if (std::any_of(fields.begin(), fields.end(), [](const MeshFieldRef& f) { return f.cell; }))
+    point_cells = point_cells_of(first);
+  if (series.steps_need_points_alone()) {  // the first step's cells are not needed any more
+    first.cell_types = {};
+    first.cell_offsets = {};
+    first.connectivity = {};
+  }
   for (int step = 0; step < series.step_count(); ++step) {
     if (step > 0) {
       watch.lap();
+      // The last step's values go before this step's come: a solver case's cell arrays are the
+      // largest thing a convert holds (read_step_data needs the mesh of `first` alone).
+      first.point_data.clear();
+      first.cell_data.clear();
       StepData data = series.read_step_data(step, first);
       first.point_data = std::move(data.point_data);
       first.cell_data = std::move(data.cell_data);
@@ -443,7 +456,6 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
       });
       if (it == here.end()) input_error(series.origin(step), "no field '" + fields[f].name + "' in this step");
       watch.lap();
-      if (it->cell && !point_cells) point_cells = point_cells_of(first);  // the same for every step
       const std::vector<float> file_values = mesh_field_values(first, *it, point_cells ? &*point_cells : nullptr);
       check_field_values(file_values, series.origin(step), fields[f].name, step);
       const std::vector<float> values = reordered_values(file_values, order);

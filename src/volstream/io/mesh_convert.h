@@ -28,6 +28,9 @@ class MeshSeries {
   // origin(step) when it is not). By default the whole step is read and its mesh compared; a
   // solver's case, whose mesh is read once for every step, reads only the data.
   virtual StepData read_step_data(int step, const MeshData& first);
+  // True where read_step_data needs of `first` its point count alone (a solver's case), so that
+  // a convert may let go of the first step's cells once it has built what it needs of them.
+  virtual bool steps_need_points_alone() const { return false; }
   virtual std::string origin(int step) const = 0;  // the file named in errors about that step
   virtual std::string description() const = 0;     // for `info` ("VTK XML .vtu", "demo tets", ...)
 };

@@ -1109,7 +1109,7 @@ const FixedMeshSplit& OpenFoamCase::split_mesh() {
   Impl& c = *impl_;
   if (!c.split) {
     MeshData m;
-    m.points = c.mesh.points;
+    m.points = std::move(c.mesh.points);  // the split keeps them
     m.cell_types.assign(c.mesh.cell_count, kVtkPolyhedron);
     m.cell_offsets.assign(c.mesh.cell_count + 1, 0);  // a polyhedron's vertices are its faces'
     c.split.emplace(std::move(m), c.faces, c.mesh.owner_file.string());

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+
 #include "volstream/core/error.h"
 #include "volstream/umesh/polyhedra.h"
 #include "volstream/umesh/quadratic.h"
@@ -135,6 +137,26 @@ TEST(FixedMeshSplit, EachStepIsWhatItsOwnSplitGives) {
   unsplit.split_data(values.point_data, values.cell_data, "tet");
   expect_same_mesh(values, before);
   EXPECT_EQ(unsplit.mesh().connectivity, tet.connectivity);
+}
+
+// take_mesh_with hands the split mesh over as mesh_with would copy it; after it, the mesh is
+// gone (mesh_with and take_mesh_with throw) and steps' data still split.
+TEST(FixedMeshSplit, TakenMeshIsTheCopyAndDataStillSplit) {
+  PolyhedronFaces faces;
+  const MeshData mesh = cube_and_tet(faces);
+  FixedMeshSplit split(mesh, faces, "case");
+  MeshData values = with_step_values(mesh, 1);
+  split.split_data(values.point_data, values.cell_data, "step");
+  const MeshData copied = split.mesh_with(values.cell_data, "step");
+  const MeshData taken = split.take_mesh_with(values.cell_data, "step");
+  expect_same_mesh(taken, copied);
+  EXPECT_THROW(split.mesh_with(values.cell_data, "step"), std::logic_error);
+  EXPECT_THROW(split.take_mesh_with(values.cell_data, "step"), std::logic_error);
+  MeshData later = with_step_values(mesh, 2);
+  split.split_data(later.point_data, later.cell_data, "step");
+  MeshData own = with_step_values(mesh, 2);
+  split_polyhedra(own, faces, "step");
+  EXPECT_EQ(later.cell_data[0].values, own.cell_data[0].values);
 }
 
 // A quadratic hexahedron on the 3x3x3 grid of the cube [0, 1]^3 (VTK's node order), one node

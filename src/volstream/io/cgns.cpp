@@ -10,6 +10,7 @@
 #include <span>
 
 #include "volstream/core/error.h"
+#include "volstream/core/release.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/io/solver_files.h"
 #include "volstream/umesh/mesh_pieces.h"
@@ -309,7 +310,7 @@ struct CgnsFile::Impl {
     }
     zone.faces = polyhedra_from_face_cells(std::move(zone.faces.face_offsets), std::move(zone.faces.face_vertices),
                                            sides, numbers.size(), file);
-    zone.face_parents = {};
+    release(zone.face_parents);
     MeshData& t = zone.topology;
     t.cell_types.assign(numbers.size(), kVtkPolyhedron);
     t.cell_offsets.assign(numbers.size() + 1, 0);

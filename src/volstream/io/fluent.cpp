@@ -653,7 +653,7 @@ fs::path FluentFile::step_file(size_t step) const {
   return impl_->data_files.empty() ? impl_->case_file : impl_->data_files.at(step);
 }
 
-const FixedMeshSplit& FluentFile::split_mesh() {
+FixedMeshSplit& FluentFile::split_mesh() {
   if (!impl_->split) {
     impl_->split.emplace(unsplit_mesh(impl_->mesh), impl_->faces, impl_->case_file.string());
     impl_->faces = {};
@@ -675,6 +675,11 @@ std::vector<MeshArray> FluentFile::read_cell_data(size_t step) {
 MeshData FluentFile::read_step(size_t step) {
   std::vector<MeshArray> cell_data = read_cell_data(step);
   return split_mesh().mesh_with(std::move(cell_data), impl_->case_file.string());
+}
+
+MeshData FluentFile::take_step(size_t step) {
+  std::vector<MeshArray> cell_data = read_cell_data(step);
+  return split_mesh().take_mesh_with(std::move(cell_data), impl_->case_file.string());
 }
 
 std::string FluentFile::summary() const {

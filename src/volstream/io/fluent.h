@@ -45,6 +45,9 @@ class FluentFile {
   // The mesh with the step's cell values, polyhedra split (once for the series), checked
   // (check_mesh).
   MeshData read_step(size_t step);
+  // read_step for the split mesh's last use (a convert's first step): the mesh is handed over,
+  // not copied; read_step and take_step throw std::logic_error after it.
+  MeshData take_step(size_t step);
   // The step's cell values alone, on read_step's cells.
   std::vector<MeshArray> read_cell_data(size_t step);
   // The file a step's values come from (the case file for a mesh alone).
@@ -53,7 +56,7 @@ class FluentFile {
   std::string summary() const;
 
  private:
-  const FixedMeshSplit& split_mesh();  // made at the first call
+  FixedMeshSplit& split_mesh();  // made at the first call
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -8,6 +8,7 @@
 #include "volstream/backend/parallel.h"
 #include "volstream/core/error.h"
 #include "volstream/core/progress.h"
+#include "volstream/core/release.h"
 #include "volstream/core/stopwatch.h"
 #include "volstream/io/atomic_file.h"
 #include "volstream/io/binary_file.h"
@@ -244,11 +245,8 @@ class CaseSeries : public MeshSeries {
       : case_(std::move(c)), title_(std::move(title)), scalars_(std::move(scalars)) {}
   int step_count() const override { return int(case_->step_count()); }
   double step_time(int step) const override { return case_->step_time(size_t(step)); }
-  MeshData read_step(int step) override {
-    MeshData m = case_->read_step(size_t(step));
-    for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
-    return m;
-  }
+  MeshData read_step(int step) override { return with_scalars(case_->read_step(size_t(step))); }
+  MeshData read_first_step() override { return with_scalars(case_->take_step(0)); }
   bool steps_need_points_alone() const override { return true; }
   StepData read_step_data(int step, const MeshData& first) override {
     StepData data{{}, case_->read_cell_data(size_t(step))};
@@ -262,6 +260,10 @@ class CaseSeries : public MeshSeries {
   }
 
  private:
+  MeshData with_scalars(MeshData m) const {
+    for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
+    return m;
+  }
   std::unique_ptr<Case> case_;
   std::string title_;
   std::vector<RawScalars> scalars_;
@@ -383,7 +385,7 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
   MeshConvertStats stats;
   Stopwatch watch;
   if (options.file_order) throw UsageError("--file-order applies to AMR datasets, not meshes");
-  MeshData first = series.read_step(0);
+  MeshData first = series.read_first_step();
   stats.read_seconds += watch.lap();
   const std::string origin = series.origin(0);
   const WorldTransform transform = mesh_transform(first);
@@ -406,6 +408,15 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
   stats.vertices = mesh.vertices.size();
   const std::vector<MeshFieldRef> fields = selected(mesh_fields(first), options.fields, origin);
   if (fields.empty()) input_error(origin, "the mesh has no point or cell data arrays to render");
+  // The cells around each point, for cell arrays averaged to the points (the same every step).
+  std::optional<PointCells> point_cells;
+  if (std::any_of(fields.begin(), fields.end(), [](const MeshFieldRef& f) { return f.cell; }))
+    point_cells = point_cells_of(first);
+  if (series.steps_need_points_alone()) {  // the first step's cells are not needed any more
+    release(first.cell_types);
+    release(first.cell_offsets);
+    release(first.connectivity);
+  }
   check_free_space(target_dir, 0, 0, false);
 
   StagedDirectory staged(target_dir, dataset_files::kManifest);
@@ -426,22 +437,13 @@ MeshConvertStats convert_mesh_to_dataset(MeshSeries& series, const fs::path& tar
   stats.encode_seconds += watch.lap();  // the point-location structures of either encoding
 
   Progress progress("converting", uint64_t(series.step_count()) * fields.size(), !options.quiet);
-  // The cells around each point, for cell arrays averaged to the points (the same every step).
-  std::optional<PointCells> point_cells;
-  if (std::any_of(fields.begin(), fields.end(), [](const MeshFieldRef& f) { return f.cell; }))
-    point_cells = point_cells_of(first);
-  if (series.steps_need_points_alone()) {  // the first step's cells are not needed any more
-    first.cell_types = {};
-    first.cell_offsets = {};
-    first.connectivity = {};
-  }
   for (int step = 0; step < series.step_count(); ++step) {
     if (step > 0) {
       watch.lap();
       // The last step's values go before this step's come: a solver case's cell arrays are the
       // largest thing a convert holds (read_step_data needs the mesh of `first` alone).
-      first.point_data.clear();
-      first.cell_data.clear();
+      release(first.point_data);
+      release(first.cell_data);
       StepData data = series.read_step_data(step, first);
       first.point_data = std::move(data.point_data);
       first.cell_data = std::move(data.cell_data);

@@ -24,6 +24,9 @@ class MeshSeries {
   virtual int step_count() const = 0;
   virtual double step_time(int step) const { return double(step); }
   virtual MeshData read_step(int step) = 0;  // checked with check_mesh
+  // read_step(0) for a convert, which reads the first step once: a series may hand over what
+  // it would otherwise copy (a solver case's split mesh), after which read_step may fail.
+  virtual MeshData read_first_step() { return read_step(0); }
   // The data of a step whose mesh must be `first`'s (read_step(0)'s; InputError naming
   // origin(step) when it is not). By default the whole step is read and its mesh compared; a
   // solver's case, whose mesh is read once for every step, reads only the data.

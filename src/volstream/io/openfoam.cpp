@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "volstream/core/error.h"
+#include "volstream/core/release.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/io/byte_order.h"
 #include "volstream/io/parse_cursor.h"
@@ -729,8 +730,8 @@ PolyhedronFaces cell_faces(PolyMesh& m) {
   for (size_t f = 0; f < sides.size(); ++f)
     sides[f] = {uint64_t(m.owner[f]) + 1,
                 f < m.neighbour.size() && m.neighbour[f] >= 0 ? uint64_t(m.neighbour[f]) + 1 : 0};
-  m.owner = {};
-  m.neighbour = {};
+  release(m.owner);
+  release(m.neighbour);
   return polyhedra_from_face_cells(std::move(m.face_offsets), std::move(m.face_vertices), sides, m.cell_count,
                                    m.owner_file.string());
 }
@@ -1105,7 +1106,7 @@ double OpenFoamCase::step_time(size_t step) const { return impl_->steps.at(step)
 fs::path OpenFoamCase::step_file(size_t step) const { return impl_->steps.at(step).dir; }
 fs::path OpenFoamCase::case_directory() const { return impl_->dir; }
 
-const FixedMeshSplit& OpenFoamCase::split_mesh() {
+FixedMeshSplit& OpenFoamCase::split_mesh() {
   Impl& c = *impl_;
   if (!c.split) {
     MeshData m;
@@ -1148,6 +1149,11 @@ std::vector<MeshArray> OpenFoamCase::read_cell_data(size_t step) {
 MeshData OpenFoamCase::read_step(size_t step) {
   std::vector<MeshArray> cell_data = read_cell_data(step);
   return split_mesh().mesh_with(std::move(cell_data), impl_->steps[step].dir.string());
+}
+
+MeshData OpenFoamCase::take_step(size_t step) {
+  std::vector<MeshArray> cell_data = read_cell_data(step);
+  return split_mesh().take_mesh_with(std::move(cell_data), impl_->steps[step].dir.string());
 }
 
 std::string OpenFoamCase::summary() const {

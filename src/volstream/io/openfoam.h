@@ -72,6 +72,9 @@ class OpenFoamCase {
   double step_time(size_t step) const;  // the time directory's value
   // The mesh with the step's cell values, polyhedra split (once for the series), checked.
   MeshData read_step(size_t step);
+  // read_step for the split mesh's last use (a convert's first step): the mesh is handed over,
+  // not copied; read_step and take_step throw std::logic_error after it.
+  MeshData take_step(size_t step);
   // The step's cell values alone, on read_step's cells.
   std::vector<MeshArray> read_cell_data(size_t step);
   // The step's time directory (processor0's for a decomposed case; the polyMesh directory for the
@@ -84,7 +87,7 @@ class OpenFoamCase {
   std::string summary() const;
 
  private:
-  const FixedMeshSplit& split_mesh();  // made at the first call
+  FixedMeshSplit& split_mesh();  // made at the first call
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <stdexcept>
 
 #include "volstream/core/error.h"
 #include "volstream/umesh/cell_rebuild.h"
@@ -378,8 +379,22 @@ FixedMeshSplit::FixedMeshSplit(MeshData unsplit, const PolyhedronFaces& faces, c
   rebuild_->move_cells(mesh_);
 }
 
+void FixedMeshSplit::check_not_taken() const {
+  if (taken_) throw std::logic_error("FixedMeshSplit: the split mesh was taken already");
+}
+
 MeshData FixedMeshSplit::mesh_with(std::vector<MeshArray> cell_data, const std::string& file) const {
+  check_not_taken();
   MeshData m = mesh_;
+  m.cell_data = std::move(cell_data);
+  check_mesh(m, file);
+  return m;
+}
+
+MeshData FixedMeshSplit::take_mesh_with(std::vector<MeshArray> cell_data, const std::string& file) {
+  check_not_taken();
+  taken_ = true;
+  MeshData m = std::move(mesh_);
   m.cell_data = std::move(cell_data);
   check_mesh(m, file);
   return m;

@@ -87,9 +87,15 @@ class FixedMeshSplit {
   }
   // The split mesh with a step's split cell arrays, checked (check_mesh, naming `file`).
   MeshData mesh_with(std::vector<MeshArray> cell_data, const std::string& file) const;
+  // mesh_with for the split mesh's last use (a convert's first step): the mesh is moved out, not
+  // copied, and mesh_with and take_mesh_with throw std::logic_error after it; split_data and
+  // split_cell_data still work.
+  MeshData take_mesh_with(std::vector<MeshArray> cell_data, const std::string& file);
 
  private:
+  void check_not_taken() const;
   MeshData mesh_;
+  bool taken_ = false;
   std::optional<CellRebuild> rebuild_;  // its cells moved into mesh_; none where nothing was split
   uint64_t unsplit_points_ = 0, unsplit_cells_ = 0;
 };

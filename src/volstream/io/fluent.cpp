@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "volstream/core/error.h"
+#include "volstream/core/release.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/io/byte_order.h"
 #include "volstream/io/parse_cursor.h"
@@ -642,6 +643,7 @@ FluentFile::FluentFile(const fs::path& case_file, std::vector<fs::path> data_fil
   CaseMesh& m = impl_->mesh;
   impl_->faces = polyhedra_from_face_cells(std::move(m.face_offsets), std::move(m.face_vertices), m.faces, m.cell_count,
                                            case_file.string());
+  release(m.faces);  // each cell has its faces now
   if (impl_->data_files.empty()) impl_->find_data_file();
   impl_->read_times();
 }

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "test_util.h"
 #include "volstream/core/error.h"
 #include "volstream/io/mesh_convert.h"
@@ -199,21 +201,46 @@ TEST_F(EditedFluent, DataOutsideItsZone) {
   EXPECT_NE(error().find("in cell zone 2"), std::string::npos) << error();
 }
 
-// A solid zone without velocity (as Fluent writes a conjugate heat transfer case): the vector is
-// left out, and the summary says so; the other fields are read.
-TEST_F(EditedFluent, VariableMissingOnAZoneIsLeftOut) {
+// A zone without a variable (as Fluent writes a conjugate heat transfer case's solid, without
+// velocity): the variable is kept, NaN (no data) on that zone's cells, and the summary says so;
+// a variable on part of a zone's cells is left out.
+TEST_F(EditedFluent, VariableMissingOnAZoneIsNoDataThere) {
   std::string t = test::file_bytes(dir_ / "fluent_mixed.dat");
   const size_t at = t.find("(300 (111 3 1 0 0 57 120)(");
   ASSERT_NE(at, std::string::npos);
-  t.erase(at, t.find("))\n", at) + 3 - at);
+  const std::string section = t.substr(at, t.find("))\n", at) + 3 - at);
+  t.erase(at, section.size());
   test::write_bytes(dir_ / "fluent_mixed.dat", t);
   FluentFile fluent(dir_ / "fluent_mixed.cas");
-  const MeshData m = fluent.read_step(0);
-  EXPECT_EQ(m.cell_data.size(), 4u);  // pressure, temperature, y_velocity, z_velocity
-  EXPECT_THROW(test::array_named(m.cell_data, "velocity"), std::runtime_error);
-  EXPECT_EQ(test::array_named(m.cell_data, "y_velocity").values.size(), 120u);
-  EXPECT_NE(fluent.summary().find("left out (not on every cell zone): x_velocity"), std::string::npos)
-      << fluent.summary();
+  const MeshData m = fluent.read_step(0), whole = FluentFile(kDir / "fluent_mixed.cas").read_step(0);
+  ASSERT_EQ(m.cell_data.size(), whole.cell_data.size());
+  const MeshArray &v = test::array_named(m.cell_data, "velocity"), &w = test::array_named(whole.cell_data, "velocity");
+  // Zone 3 is cells 57..120, the last, and a cell's pieces come in its place: the pieces
+  // without x come last.
+  size_t first_without = m.cell_types.size();
+  while (first_without > 0 && std::isnan(v.values[3 * (first_without - 1)])) --first_without;
+  EXPECT_GT(first_without, 0u);
+  EXPECT_LT(first_without, m.cell_types.size());
+  for (size_t e = 0; e < m.cell_types.size(); ++e) {
+    if (e < first_without) {
+      EXPECT_EQ(v.values[3 * e], w.values[3 * e]) << e;
+    }
+    for (size_t k = 1; k < 3; ++k) EXPECT_EQ(v.values[3 * e + k], w.values[3 * e + k]) << e;
+  }
+  EXPECT_NE(fluent.summary().find("; no data (NaN) for x_velocity in solid"), std::string::npos) << fluent.summary();
+
+  // The section on cells 58..120 alone: part of the zone.
+  std::string part = section;
+  part.replace(0, std::string("(300 (111 3 1 0 0 57 120)(").size(), "(300 (111 3 1 0 0 58 120)(");
+  part.erase(part.find('(', 10) + 1, part.find('\n', part.find('(', 10) + 2) - part.find('(', 10));
+  t.insert(at, part);
+  test::write_bytes(dir_ / "fluent_mixed.dat", t);
+  FluentFile partly(dir_ / "fluent_mixed.cas");
+  const MeshData p = partly.read_step(0);
+  EXPECT_THROW(test::array_named(p.cell_data, "velocity"), std::runtime_error);
+  EXPECT_EQ(test::array_named(p.cell_data, "y_velocity").values.size(), m.cell_types.size());
+  EXPECT_NE(partly.summary().find("left out (on part of a cell zone's cells): x_velocity"), std::string::npos)
+      << partly.summary();
 }
 
 }  // namespace

@@ -198,6 +198,12 @@ struct CaseMesh {
   std::map<uint64_t, std::string> zone_names;
 };
 
+// Cell zone z's name (sections 39 and 45), or its id where the case names it not.
+std::string zone_name(const CaseMesh& m, size_t z) {
+  const auto name = m.zone_names.find(m.cell_zones[z].id);
+  return name != m.zone_names.end() ? name->second : std::to_string(m.cell_zones[z].id);
+}
+
 class CaseReader {
  public:
   explicit CaseReader(const fs::path& file) : in_(read_file_inflating(file), file.string()) {}
@@ -470,25 +476,33 @@ constexpr uint64_t kSvU = 111, kSvV = 112, kSvW = 113;
 // One variable's values over the cells, as the data file's sections fill them.
 struct Variable {
   int components = 0;
-  std::vector<double> values;
-  std::vector<bool> zones_read;  // per cell zone
+  std::vector<double> values;               // NaN ("no data") where nothing was read
+  std::vector<bool> zones_read, zones_met;  // per cell zone: every cell read, some cell read
 };
 
 class DataReader {
  public:
   DataReader(const fs::path& file, const CaseMesh& mesh) : in_(read_file_inflating(file), file.string()), mesh_(mesh) {}
 
-  // The cell values by variable id; a variable without values on some cell zone is left out
-  // (its name goes to `left_out`).
-  std::map<uint64_t, Variable> read(std::vector<std::string>& left_out) {
+  // The cell values by variable id. A variable without values on a cell zone (as a solid's
+  // velocity) has NaN, no data, there ("NAME in ZONE" goes to `no_data`); one with values on
+  // part of a zone's cells is left out (its name goes to `left_out`).
+  std::map<uint64_t, Variable> read(std::vector<std::string>& left_out, std::vector<std::string>& no_data) {
     while (!in_.at_end()) section();
     if (variables_.empty())
       input_error(in_.file(), "no cell values (no data section 300, 2300 or 3300 on a cell zone)");
     for (auto it = variables_.begin(); it != variables_.end();) {
-      const bool whole =
-          std::all_of(it->second.zones_read.begin(), it->second.zones_read.end(), [](bool b) { return b; });
-      if (!whole) left_out.push_back(variable_name(it->first));
-      it = whole ? std::next(it) : variables_.erase(it);
+      const Variable& v = it->second;
+      bool partly = false;
+      for (size_t z = 0; z < v.zones_read.size(); ++z) partly = partly || (v.zones_met[z] && !v.zones_read[z]);
+      if (partly) {
+        left_out.push_back(variable_name(it->first));
+        it = variables_.erase(it);
+        continue;
+      }
+      for (size_t z = 0; z < v.zones_read.size(); ++z)
+        if (!v.zones_met[z]) no_data.push_back(variable_name(it->first) + " in " + zone_name(mesh_, z));
+      ++it;
     }
     return std::move(variables_);
   }
@@ -545,6 +559,7 @@ class DataReader {
       v.components = size;
       v.values.assign(mesh_.cell_count * uint64_t(size), NAN);
       v.zones_read.assign(mesh_.cell_zones.size(), false);
+      v.zones_met.assign(mesh_.cell_zones.size(), false);
     }
     if (v.components != size)
       in_.fail("variable " + std::to_string(sv) + " of both " + std::to_string(v.components) + " and " +
@@ -557,6 +572,7 @@ class DataReader {
       load_values<double>(in_.take(n * 8, "the values"), n, false, out);
     else
       load_values<float>(in_.take(n * 4, "the values"), n, false, out);
+    v.zones_met[zone_index] = true;
     if (r.first == zone.cells.first && r.last == zone.cells.last) v.zones_read[zone_index] = true;
   }
 
@@ -620,7 +636,7 @@ struct FluentFile::Impl {
   PolyhedronFaces faces;                // each cell's, from the mesh's faces; released once split
   std::optional<FixedMeshSplit> split;  // made at the first step read
   std::vector<double> times;
-  std::vector<std::string> left_out;  // of the last step read
+  std::vector<std::string> left_out, no_data;  // of the last step read
 
   void find_data_file() {
     for (const char* ext : {".dat", ".dat.gz"}) {
@@ -668,7 +684,8 @@ std::vector<MeshArray> FluentFile::read_cell_data(size_t step) {
   std::vector<MeshArray> cell_data;
   if (!impl_->data_files.empty()) {
     impl_->left_out.clear();
-    cell_data = cell_arrays(DataReader(impl_->data_files[step], impl_->mesh).read(impl_->left_out));
+    impl_->no_data.clear();
+    cell_data = cell_arrays(DataReader(impl_->data_files[step], impl_->mesh).read(impl_->left_out, impl_->no_data));
   }
   split_mesh().split_cell_data(cell_data, step_file(step).string());
   return cell_data;
@@ -687,10 +704,7 @@ MeshData FluentFile::take_step(size_t step) {
 std::string FluentFile::summary() const {
   const CaseMesh& m = impl_->mesh;
   std::string s = std::to_string(m.cell_zones.size()) + (m.cell_zones.size() == 1 ? " cell zone (" : " cell zones (");
-  for (size_t z = 0; z < m.cell_zones.size(); ++z) {
-    const auto name = m.zone_names.find(m.cell_zones[z].id);
-    s += (z ? ", " : "") + (name != m.zone_names.end() ? name->second : std::to_string(m.cell_zones[z].id));
-  }
+  for (size_t z = 0; z < m.cell_zones.size(); ++z) s += (z ? ", " : "") + zone_name(m, z);
   std::map<std::string, uint64_t> counts;
   for (uint8_t t : m.cell_types) ++counts[element_name(t)];
   const char* sep = "): ";
@@ -698,8 +712,12 @@ std::string FluentFile::summary() const {
     s += sep + type + " x " + std::to_string(n);
     sep = ", ";
   }
+  if (!impl_->no_data.empty()) {
+    s += "; no data (NaN) for";
+    for (const std::string& name : impl_->no_data) s += (name == impl_->no_data.front() ? " " : ", ") + name;
+  }
   if (!impl_->left_out.empty()) {
-    s += "; left out (not on every cell zone):";
+    s += "; left out (on part of a cell zone's cells):";
     for (const std::string& name : impl_->left_out) s += " " + name;
   }
   return s;

@@ -7,7 +7,8 @@
 // are those of a tet, pyramid, wedge or hex stays one). Data sections 300/2300/3300 on cell zones
 // as cell data, named by their Fluent variable (SV_) id ("pressure", "temperature", SV_U, SV_V,
 // SV_W as one vector "velocity", others "SV_<id>"); a variable without values on some cell zone is
-// left out (summary() says so); face zones' values are skipped. Refused with one line: 2D cases,
+// NaN (no data) on that zone, one on part of a zone's cells left out (summary() says which);
+// face zones' values are skipped. Refused with one line: 2D cases,
 // hanging-node adaption (cell and face trees, sections 58 and 59), non-conformal interface
 // parents (61), node or cell ids out of range, unbalanced parentheses, a file cut short.
 #pragma once
@@ -52,7 +53,8 @@ class FluentFile {
   std::vector<MeshArray> read_cell_data(size_t step);
   // The file a step's values come from (the case file for a mesh alone).
   std::filesystem::path step_file(size_t step) const;
-  // "2 cell zones (fluid, solid): hex x 8, tet x 48", and the variables left out, for `info`.
+  // "2 cell zones (fluid, solid): hex x 8, tet x 48", and the variables with no data on a zone or
+  // left out, for `info`.
   std::string summary() const;
 
  private:

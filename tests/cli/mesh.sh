@@ -280,6 +280,17 @@ head -c 3000 "$FL/fluent_mixed_bin-2.dat" >cut.dat
 expect_bad_input "a Fluent data file cut short" convert "$FL/fluent_mixed_bin.cas" cut.dat -o cut_fluent
 sed 's/^(2 3)$/(2 2)/' "$FL/fluent_mixed.cas" >flat.cas
 expect_bad_input "a 2D Fluent case" convert flat.cas -o flat_fluent
+# A cell zone alone (--region): the fluid's probes are the whole case's where the fluid is (to a
+# relative 1e-5: the points' averages are summed in another order), NaN elsewhere; a zone the
+# case lacks is one line.
+"$VS" convert "$FL/fluent_mixed_bin.cas" "$FL/fluent_mixed_bin.dat" "$FL/fluent_mixed_bin-2.dat" --region fluid \
+  -o fl_fluid -q
+"$VS" info fl_fluid | grep -q "2 cell zones (fluid, solid; read: fluid)" || fail "Fluent --region: info"
+"$VS" probe fl_fluid --field temperature --step 1 --points fl_points.txt >fl_t_fluid.txt
+paste fl_t_fluid.txt fl_t.txt | awk '$1 != "nan" { n++; d = $1 - $2; if (d < 0) d = -d; if (d > 1e-5 * $2) bad++ }
+  END { exit (bad || n == 0) }' || fail "Fluent --region fluid: not the whole case's values"
+[ "$(grep -c nan fl_t_fluid.txt)" -gt "$(grep -c nan fl_t.txt)" ] || fail "Fluent --region fluid: the solid is still there"
+expect_bad_input "a Fluent cell zone the case lacks" convert "$FL/fluent_mixed_bin.cas" --region air -o fl_air
 # OpenFOAM (tests/data/openfoam/make_openfoam_files.sh, made with OpenFOAM itself): the ascii
 # case's directory is 3 steps at its time directories' values; its binary copy, given by its .foam
 # file, probes as the ascii one at the last step; a decomposed case and a faces file cut short are

@@ -201,6 +201,39 @@ TEST_F(EditedFluent, DataOutsideItsZone) {
   EXPECT_NE(error().find("in cell zone 2"), std::string::npos) << error();
 }
 
+// The cell zones asked for alone: the fluid's cells (1..56) and the solid's (57..120) are the
+// whole case's pieces, first and last, the same elements at the same places with the same values;
+// each zone keeps only its own nodes; a zone the case lacks is one line naming the case's zones.
+TEST(Fluent, CellZonesAskedForAreTheWholeCasesPieces) {
+  const fs::path cas = kDir / "fluent_mixed.cas";
+  FluentFile whole_case(cas), fluid_case(cas, {}, {"fluid"}), solid_case(cas, {}, {"solid"});
+  const MeshData whole = whole_case.read_step(0), fluid = fluid_case.read_step(0), solid = solid_case.read_step(0);
+  EXPECT_NE(fluid_case.summary().find("2 cell zones (fluid, solid; read: fluid): hex x 8, tet x 48"), std::string::npos)
+      << fluid_case.summary();
+  ASSERT_EQ(fluid.cell_types.size() + solid.cell_types.size(), whole.cell_types.size());
+  EXPECT_LT(fluid.points.size(), whole.points.size());
+  EXPECT_LT(solid.points.size(), whole.points.size());
+  const auto expect_piece = [&](const MeshData& part, size_t e, size_t w) {
+    ASSERT_EQ(part.cell_types[e], whole.cell_types[w]);
+    const uint64_t n = part.cell_offsets[e + 1] - part.cell_offsets[e];
+    ASSERT_EQ(n, whole.cell_offsets[w + 1] - whole.cell_offsets[w]);
+    for (uint64_t k = 0; k < n; ++k)
+      EXPECT_EQ(part.points[part.connectivity[part.cell_offsets[e] + k]],
+                whole.points[whole.connectivity[whole.cell_offsets[w] + k]])
+          << "piece " << e << " corner " << k;
+    for (size_t a = 0; a < whole.cell_data.size(); ++a) {
+      const MeshArray &x = test::array_named(part.cell_data, whole.cell_data[a].name), &y = whole.cell_data[a];
+      for (int c = 0; c < y.components; ++c)
+        EXPECT_EQ(x.values[e * size_t(y.components) + size_t(c)], y.values[w * size_t(y.components) + size_t(c)]);
+    }
+  };
+  for (size_t e = 0; e < fluid.cell_types.size(); ++e) expect_piece(fluid, e, e);
+  for (size_t e = 0; e < solid.cell_types.size(); ++e) expect_piece(solid, e, fluid.cell_types.size() + e);
+  const std::string error = test::input_error_line([&] { FluentFile f(cas, {}, {"fluid", "air"}); });
+  EXPECT_NE(error.find("no cell zone 'air' in this case (its cell zones: fluid, solid)"), std::string::npos) << error;
+  EXPECT_NO_THROW(open_mesh_files({cas}, {}, {"solid"}));
+}
+
 // A zone without a variable (as Fluent writes a conjugate heat transfer case's solid, without
 // velocity): the variable is kept, NaN (no data) on that zone's cells, and the summary says so;
 // a variable on part of a zone's cells is left out.
@@ -239,7 +272,8 @@ TEST_F(EditedFluent, VariableMissingOnAZoneIsNoDataThere) {
   const MeshData p = partly.read_step(0);
   EXPECT_THROW(test::array_named(p.cell_data, "velocity"), std::runtime_error);
   EXPECT_EQ(test::array_named(p.cell_data, "y_velocity").values.size(), m.cell_types.size());
-  EXPECT_NE(partly.summary().find("left out (on part of a cell zone's cells): x_velocity"), std::string::npos)
+  EXPECT_NE(partly.summary().find("left out (on part of a cell zone's cells, or on no zone read): x_velocity"),
+            std::string::npos)
       << partly.summary();
 }
 

@@ -89,6 +89,12 @@ TEST(FromMeshData, FieldsNameVectorsAndAverageCellData) {
   EXPECT_FLOAT_EQ(cell[0], 10.f);  // only in tet 0
   EXPECT_FLOAT_EQ(cell[1], 15.f);  // shared
   EXPECT_FLOAT_EQ(cell[4], 20.f);  // only in tet 1
+  // A cell without data (NaN) is left out of the means: its points of no other cell have none.
+  MeshData half = m;
+  half.cell_data[0].values[1] = NAN;
+  const std::vector<float> one = mesh_field_values(half, fields[5]);
+  EXPECT_FLOAT_EQ(one[1], 10.f);
+  EXPECT_TRUE(std::isnan(one[4]));
 }
 
 TEST(FromMeshData, ATimeSeriesMustKeepItsMesh) {

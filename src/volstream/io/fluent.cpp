@@ -437,12 +437,85 @@ class CaseReader {
 };
 
 // The case's nodes move here: the split keeps them, and the data files need the cells alone.
-MeshData unsplit_mesh(CaseMesh& m) {
+MeshData unsplit_mesh(CaseMesh& m, uint64_t cells) {
   MeshData mesh;
   mesh.points = std::move(m.nodes);
-  mesh.cell_types.assign(m.cell_count, kVtkPolyhedron);
-  mesh.cell_offsets.assign(m.cell_count + 1, 0);  // a polyhedron's vertices are its faces'
+  mesh.cell_types.assign(cells, kVtkPolyhedron);
+  mesh.cell_offsets.assign(cells + 1, 0);  // a polyhedron's vertices are its faces'
   return mesh;
+}
+
+// The cell zones named (by name, or id where a zone has no name), in a mask over the case's
+// zones; every zone where none is named. InputError naming `file` for a name the case lacks.
+std::vector<char> chosen_zones(const CaseMesh& m, const std::vector<std::string>& names, const std::string& file) {
+  std::vector<char> chosen(m.cell_zones.size(), names.empty());
+  for (const std::string& name : names) {
+    size_t z = 0;
+    while (z < m.cell_zones.size() && zone_name(m, z) != name) ++z;
+    if (z == m.cell_zones.size()) {
+      std::string zones;
+      for (size_t k = 0; k < m.cell_zones.size(); ++k) zones += (k ? ", " : "") + zone_name(m, k);
+      input_error(file, "no cell zone '" + name + "' in this case (its cell zones: " + zones + ")");
+    }
+    chosen[z] = 1;
+  }
+  return chosen;
+}
+
+// The mesh of the chosen zones' cells alone: their faces (a face between a chosen and another
+// cell is on the boundary), the nodes of those faces renumbered in order, the cells renumbered in
+// order; returns the cells kept (0-based, of the case's numbering), whose values the data files
+// give among the others'.
+std::vector<uint64_t> keep_zones(CaseMesh& m, const std::vector<char>& chosen) {
+  std::vector<uint64_t> kept, new_cell(m.cell_count + 1, 0);  // by 1-based cell; 0: not kept
+  for (size_t z = 0; z < m.cell_zones.size(); ++z)
+    if (chosen[z])
+      for (uint64_t c = m.cell_zones[z].cells.first; c <= m.cell_zones[z].cells.last; ++c) new_cell[c] = 1;
+  for (uint64_t c = 1; c <= m.cell_count; ++c)
+    if (new_cell[c]) {
+      kept.push_back(c - 1);
+      new_cell[c] = kept.size();
+    }
+  constexpr uint64_t kUnused = ~uint64_t(0);
+  std::vector<uint64_t> new_node(m.nodes.size(), kUnused);
+  std::vector<uint64_t> offsets{0}, vertices;
+  std::vector<FaceCells> faces;
+  for (size_t f = 0; f < m.faces.size(); ++f) {
+    const FaceCells sides{new_cell[m.faces[f].first], new_cell[m.faces[f].second]};
+    if (sides.first == 0 && sides.second == 0) continue;
+    faces.push_back(sides);
+    for (uint64_t k = m.face_offsets[f]; k < m.face_offsets[f + 1]; ++k) vertices.push_back(m.face_vertices[k]);
+    offsets.push_back(vertices.size());
+  }
+  std::vector<vec3d> nodes;
+  for (uint64_t& v : vertices) {
+    if (new_node[v] == kUnused) {
+      new_node[v] = nodes.size();
+      nodes.push_back(m.nodes[v]);
+    }
+    v = new_node[v];
+  }
+  std::vector<uint8_t> types;
+  for (uint64_t c : kept) types.push_back(m.cell_types[c]);
+  m.nodes = std::move(nodes);
+  m.faces = std::move(faces);
+  m.face_offsets = std::move(offsets);
+  m.face_vertices = std::move(vertices);
+  m.cell_types = std::move(types);
+  return kept;
+}
+
+// The kept cells' values of each array (all where `kept` is empty).
+void keep_cells(std::vector<MeshArray>& arrays, const std::vector<uint64_t>& kept) {
+  if (kept.empty()) return;
+  for (MeshArray& a : arrays) {
+    const auto n = uint64_t(a.components);
+    std::vector<double> values;
+    values.reserve(kept.size() * n);
+    for (uint64_t c : kept)
+      values.insert(values.end(), a.values.begin() + int64_t(c * n), a.values.begin() + int64_t((c + 1) * n));
+    a.values = std::move(values);
+  }
 }
 
 // Fluent's variable (SV_) ids of the fields solvers write most, as they are called here.
@@ -487,21 +560,26 @@ class DataReader {
   // The cell values by variable id. A variable without values on a cell zone (as a solid's
   // velocity) has NaN, no data, there ("NAME in ZONE" goes to `no_data`); one with values on
   // part of a zone's cells is left out (its name goes to `left_out`).
-  std::map<uint64_t, Variable> read(std::vector<std::string>& left_out, std::vector<std::string>& no_data) {
+  // Only the zones `chosen` count (those read; a variable on none of them is left out too).
+  std::map<uint64_t, Variable> read(const std::vector<char>& chosen, std::vector<std::string>& left_out,
+                                    std::vector<std::string>& no_data) {
     while (!in_.at_end()) section();
     if (variables_.empty())
       input_error(in_.file(), "no cell values (no data section 300, 2300 or 3300 on a cell zone)");
     for (auto it = variables_.begin(); it != variables_.end();) {
       const Variable& v = it->second;
-      bool partly = false;
-      for (size_t z = 0; z < v.zones_read.size(); ++z) partly = partly || (v.zones_met[z] && !v.zones_read[z]);
-      if (partly) {
+      bool partly = false, anywhere = false;
+      for (size_t z = 0; z < v.zones_read.size(); ++z) {
+        partly = partly || (chosen[z] && v.zones_met[z] && !v.zones_read[z]);
+        anywhere = anywhere || (chosen[z] && v.zones_met[z]);
+      }
+      if (partly || !anywhere) {
         left_out.push_back(variable_name(it->first));
         it = variables_.erase(it);
         continue;
       }
       for (size_t z = 0; z < v.zones_read.size(); ++z)
-        if (!v.zones_met[z]) no_data.push_back(variable_name(it->first) + " in " + zone_name(mesh_, z));
+        if (chosen[z] && !v.zones_met[z]) no_data.push_back(variable_name(it->first) + " in " + zone_name(mesh_, z));
       ++it;
     }
     return std::move(variables_);
@@ -632,7 +710,9 @@ bool is_fluent_data_file(const fs::path& file) {
 struct FluentFile::Impl {
   fs::path case_file;
   std::vector<fs::path> data_files;
-  CaseMesh mesh;
+  CaseMesh mesh;                        // its zones and cell count as declared, for the data files
+  std::vector<char> chosen;             // the cell zones read, by index
+  std::vector<uint64_t> kept;           // the cells read (empty: every cell)
   PolyhedronFaces faces;                // each cell's, from the mesh's faces; released once split
   std::optional<FixedMeshSplit> split;  // made at the first step read
   std::vector<double> times;
@@ -652,13 +732,18 @@ struct FluentFile::Impl {
   }
 };
 
-FluentFile::FluentFile(const fs::path& case_file, std::vector<fs::path> data_files) : impl_(std::make_unique<Impl>()) {
+FluentFile::FluentFile(const fs::path& case_file, std::vector<fs::path> data_files,
+                       const std::vector<std::string>& zones)
+    : impl_(std::make_unique<Impl>()) {
   impl_->case_file = case_file;
   impl_->data_files = std::move(data_files);
   impl_->mesh = CaseReader(case_file).read();
   CaseMesh& m = impl_->mesh;
-  impl_->faces = polyhedra_from_face_cells(std::move(m.face_offsets), std::move(m.face_vertices), m.faces, m.cell_count,
-                                           case_file.string());
+  impl_->chosen = chosen_zones(m, zones, case_file.string());
+  if (std::find(impl_->chosen.begin(), impl_->chosen.end(), 0) != impl_->chosen.end())
+    impl_->kept = keep_zones(m, impl_->chosen);
+  impl_->faces = polyhedra_from_face_cells(std::move(m.face_offsets), std::move(m.face_vertices), m.faces,
+                                           m.cell_types.size(), case_file.string());
   release(m.faces);  // each cell has its faces now
   if (impl_->data_files.empty()) impl_->find_data_file();
   impl_->read_times();
@@ -673,7 +758,8 @@ fs::path FluentFile::step_file(size_t step) const {
 
 FixedMeshSplit& FluentFile::split_mesh() {
   if (!impl_->split) {
-    impl_->split.emplace(unsplit_mesh(impl_->mesh), impl_->faces, impl_->case_file.string());
+    impl_->split.emplace(unsplit_mesh(impl_->mesh, impl_->mesh.cell_types.size()), impl_->faces,
+                         impl_->case_file.string());
     impl_->faces = {};
   }
   return *impl_->split;
@@ -685,7 +771,9 @@ std::vector<MeshArray> FluentFile::read_cell_data(size_t step) {
   if (!impl_->data_files.empty()) {
     impl_->left_out.clear();
     impl_->no_data.clear();
-    cell_data = cell_arrays(DataReader(impl_->data_files[step], impl_->mesh).read(impl_->left_out, impl_->no_data));
+    cell_data = cell_arrays(
+        DataReader(impl_->data_files[step], impl_->mesh).read(impl_->chosen, impl_->left_out, impl_->no_data));
+    keep_cells(cell_data, impl_->kept);
   }
   split_mesh().split_cell_data(cell_data, step_file(step).string());
   return cell_data;
@@ -705,6 +793,11 @@ std::string FluentFile::summary() const {
   const CaseMesh& m = impl_->mesh;
   std::string s = std::to_string(m.cell_zones.size()) + (m.cell_zones.size() == 1 ? " cell zone (" : " cell zones (");
   for (size_t z = 0; z < m.cell_zones.size(); ++z) s += (z ? ", " : "") + zone_name(m, z);
+  if (!impl_->kept.empty()) {
+    s += "; read:";
+    for (size_t z = 0; z < m.cell_zones.size(); ++z)
+      if (impl_->chosen[z]) s += " " + zone_name(m, z);
+  }
   std::map<std::string, uint64_t> counts;
   for (uint8_t t : m.cell_types) ++counts[element_name(t)];
   const char* sep = "): ";
@@ -717,7 +810,7 @@ std::string FluentFile::summary() const {
     for (const std::string& name : impl_->no_data) s += (name == impl_->no_data.front() ? " " : ", ") + name;
   }
   if (!impl_->left_out.empty()) {
-    s += "; left out (on part of a cell zone's cells):";
+    s += "; left out (on part of a cell zone's cells, or on no zone read):";
     for (const std::string& name : impl_->left_out) s += " " + name;
   }
   return s;

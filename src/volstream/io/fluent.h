@@ -34,7 +34,11 @@ class FluentFile {
   // file is one step, in the order given; with none given, the data file of the case's name
   // (NAME.dat or NAME.dat.gz beside NAME.cas) if there is one, else the mesh alone (one step
   // without values).
-  explicit FluentFile(const std::filesystem::path& case_file, std::vector<std::filesystem::path> data_files = {});
+  // `zones`: the cell zones to read, by name (or id where a zone has no name); none: all. A face
+  // between a zone read and another is then on the boundary, and the nodes of no face read are
+  // left out.
+  explicit FluentFile(const std::filesystem::path& case_file, std::vector<std::filesystem::path> data_files = {},
+                      const std::vector<std::string>& zones = {});
   ~FluentFile();
   FluentFile(const FluentFile&) = delete;
   FluentFile& operator=(const FluentFile&) = delete;

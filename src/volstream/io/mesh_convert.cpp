@@ -270,13 +270,14 @@ class CaseSeries : public MeshSeries {
 };
 
 // A Fluent case file and the data files after it (UsageError for any other file among them).
-std::unique_ptr<MeshSeries> open_fluent_files(const std::vector<fs::path>& files, std::vector<RawScalars> scalars) {
+std::unique_ptr<MeshSeries> open_fluent_files(const std::vector<fs::path>& files, std::vector<RawScalars> scalars,
+                                              const std::vector<std::string>& zones) {
   const std::vector<fs::path> data(files.begin() + 1, files.end());
   for (const fs::path& f : data)
     if (!is_fluent_data_file(f))
       throw UsageError(f.string() +
                        " is not a Fluent data file (.dat, .dat.gz): a .cas is converted with its data files");
-  return std::make_unique<CaseSeries<FluentFile>>(std::make_unique<FluentFile>(files.front(), data),
+  return std::make_unique<CaseSeries<FluentFile>>(std::make_unique<FluentFile>(files.front(), data, zones),
                                                   "Fluent case " + files.front().filename().string(),
                                                   std::move(scalars));
 }
@@ -326,8 +327,9 @@ RawScalars parse_raw_scalars(const std::string& spec) {
 std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, const std::vector<RawScalars>& scalars,
                                             const std::vector<std::string>& regions) {
   if (files.empty()) throw UsageError("no mesh files given");
-  if (!regions.empty() && !is_openfoam_input(files.front()))
-    throw UsageError("--region applies to OpenFOAM cases (" + files.front().string() + " is not one)");
+  if (!regions.empty() && !is_openfoam_input(files.front()) && !is_fluent_case_file(files.front()))
+    throw UsageError("--region applies to OpenFOAM cases and Fluent case files (" + files.front().string() +
+                     " is neither)");
   std::vector<PvdStep> steps;
   const std::string ext = lower_extension(files.front());
   if (ext == ".case") {
@@ -352,7 +354,7 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, 
     if (files.size() > 1) throw UsageError("a CGNS file is converted on its own (it holds its time steps)");
     return std::make_unique<SolverFileSeries<CgnsFile>>(files, scalars, "CGNS");
   }
-  if (is_fluent_case_file(files.front())) return open_fluent_files(files, scalars);
+  if (is_fluent_case_file(files.front())) return open_fluent_files(files, scalars, regions);
   if (is_openfoam_input(files.front())) {
     if (files.size() > 1)
       throw UsageError("an OpenFOAM case is converted on its own (its time directories are its steps)");

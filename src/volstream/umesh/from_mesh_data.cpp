@@ -164,9 +164,15 @@ std::vector<float> mesh_field_values(const MeshData& data, const MeshFieldRef& f
       int64_t(out.size()),
       [&](int64_t begin, int64_t end) {
         for (auto p = uint64_t(begin); p < uint64_t(end); ++p) {
-          const uint64_t first = cells->offsets[p], count = cells->offsets[p + 1] - first;
+          // A cell without data (NaN: a solid's velocity) is left out of its points' means.
           double sum = 0.0;
-          for (uint64_t k = first; k < first + count; ++k) sum += tuple_value(a, cells->cells[k], f.component);
+          uint64_t count = 0;
+          for (uint64_t k = cells->offsets[p]; k < cells->offsets[p + 1]; ++k) {
+            const double v = tuple_value(a, cells->cells[k], f.component);
+            if (std::isnan(v)) continue;
+            sum += v;
+            ++count;
+          }
           out[p] = count ? float(sum / double(count)) : NAN;
         }
       },

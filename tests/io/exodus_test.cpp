@@ -117,6 +117,33 @@ TEST(Exodus, QuadraticElementsSplitAsTheVtusCells) {
 // A small Exodus file written here: one unit cube of 8 nodes and one block of `type` whose
 // elements are `connect` (1-based, `nodes` per element); `dims` spatial dimensions; an element
 // variable over the block when `element_variable`.
+// An element variable without values on one block of several (a material's variable) is NaN, no
+// data, on that block's elements alone, and the summary says where.
+TEST(Exodus, ElementVariableMissingOnABlockIsNoDataThere) {
+  const fs::path copy = test::scratch_dir("exodus") / "partial_blocks.exo";
+  fs::copy_file(kDir / "exodus_mixed.exo", copy, fs::copy_options::overwrite_existing);
+  int nc = 0, var = 0;
+  ASSERT_EQ(nc_open(copy.c_str(), NC_WRITE, &nc), NC_NOERR);
+  ASSERT_EQ(nc_redef(nc), NC_NOERR);
+  ASSERT_EQ(nc_inq_varid(nc, "vals_elem_var2eb2", &var), NC_NOERR);  // pressure on block 2 (id 20)
+  ASSERT_EQ(nc_rename_var(nc, var, "not_a_value_var"), NC_NOERR);
+  ASSERT_EQ(nc_close(nc), NC_NOERR);
+  ExodusFile partial(copy);
+  EXPECT_NE(partial.summary().find("element variable pressure no data (NaN) on element block 20"), std::string::npos)
+      << partial.summary();
+  const MeshData a = partial.read_step(1), b = ExodusFile(kDir / "exodus_mixed.exo").read_step(1);
+  const MeshArray &p = test::array_named(a.cell_data, "pressure"), &q = test::array_named(b.cell_data, "pressure");
+  ASSERT_EQ(p.values.size(), q.values.size());
+  for (size_t e = 0; e < p.values.size(); ++e) {
+    const bool block_2 = e >= 48 && e < 56;  // block 1's 48 tets, then block 2's 8 hexes
+    if (block_2)
+      EXPECT_TRUE(std::isnan(p.values[e])) << e;
+    else
+      EXPECT_EQ(p.values[e], q.values[e]) << e;
+  }
+  EXPECT_EQ(test::array_named(a.cell_data, "cell_id").values, test::array_named(b.cell_data, "cell_id").values);
+}
+
 struct BadFile {
   int dims = 3;
   std::string type = "HEX8";
@@ -192,7 +219,7 @@ TEST(Exodus, BadFilesAreRefusedWithOneLine) {
             "element block 1: unsupported element type TETRA with");
   EXPECT_EQ(refusal(write_exodus({.type = "SHELL4", .nodes = 4, .connect = {1, 2, 3, 4}}, "shell.exo")),
             "no volume elements (only surface, line or point element blocks)");
-  // An element variable without values on a block is left out, and the summary says so.
+  // An element variable without values on its only block is left out, and the summary says so.
   ExodusFile partial(write_exodus({.element_variable_names = true}, "partial.exo"));
   EXPECT_EQ(partial.summary(),
             "64-bit offset: HEX8 x 1; element variable pressure left out (no values on element block 1)");

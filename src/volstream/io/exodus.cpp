@@ -221,7 +221,7 @@ struct ExodusFile::Impl {
   MeshData topology;  // points and kept cells, VTK order; no data
   std::vector<ArrayOfVariables> nodal, element;
   bool nodal_in_one_variable = false;  // old files: vals_nod_var[time][variable][node]
-  std::vector<std::string> left_out;   // element variables without values on some volume block
+  std::vector<std::string> left_out;   // element variables left out, or without values on some block
 
   ~Impl() {
     if (ncid >= 0) nc_close(ncid);
@@ -316,27 +316,36 @@ struct ExodusFile::Impl {
     read_times();
     nodal = group_vector_variables(names("name_nod_var", dimension("num_nod_var", 0)));
     element = group_vector_variables(names("name_elem_var", dimension("num_elem_var", 0)));
-    leave_out_partial_element_arrays();
+    note_partial_element_arrays();
     nodal_in_one_variable = !nodal.empty() && has_variable("vals_nod_var");
   }
 
-  // The first kept block without values of element variable `v` (0-based), or null.
-  const Block* block_without(int v) const {
-    for (const Block& b : blocks)
-      if (b.kept && !has_variable("vals_elem_var" + std::to_string(v + 1) + "eb" + std::to_string(b.index))) return &b;
-    return nullptr;
+  bool has_values(const Block& b, int v) const {
+    return has_variable("vals_elem_var" + std::to_string(v + 1) + "eb" + std::to_string(b.index));
   }
 
-  // Solvers often write an element variable on some blocks only (a material's stress); a cell
-  // array needs a value on every element, so such a variable is left out, and the summary says so.
-  void leave_out_partial_element_arrays() {
+  // Solvers often write an element variable on some blocks only (a material's stress): it is
+  // NaN, no data, on the others, and the summary says where; one on no volume block is left out.
+  void note_partial_element_arrays() {
     if (dimension("time_step", 0) == 0) return;  // no values at all: nothing is read
     std::erase_if(element, [&](const ArrayOfVariables& a) {
-      for (int c = 0; c < a.components; ++c)
-        if (const Block* b = block_without(a.first + c)) {
-          left_out.push_back(a.name + " left out (no values on " + block_name(*b) + ")");
-          return true;
-        }
+      std::vector<std::string> without;
+      for (const Block& b : blocks) {
+        if (!b.kept) continue;
+        bool all = true;
+        for (int c = 0; c < a.components; ++c) all = all && has_values(b, a.first + c);
+        if (!all) without.push_back(block_name(b));
+      }
+      const bool anywhere = std::any_of(blocks.begin(), blocks.end(), [&](const Block& b) {
+        for (int c = 0; c < a.components; ++c)
+          if (b.kept && has_values(b, a.first + c)) return true;
+        return false;
+      });
+      if (!anywhere) {
+        left_out.push_back(a.name + " left out (no values on " + without.front() + ")");
+        return true;
+      }
+      for (const std::string& b : without) left_out.push_back(a.name + " no data (NaN) on " + b);
       return false;
     });
   }
@@ -451,6 +460,10 @@ struct ExodusFile::Impl {
     std::vector<double> out;
     for (const Block& b : blocks) {
       if (!b.kept) continue;
+      if (!has_values(b, variable_index)) {  // no data there
+        out.insert(out.end(), b.count, std::nan(""));
+        continue;
+      }
       const std::string name = "vals_elem_var" + std::to_string(variable_index + 1) + "eb" + std::to_string(b.index);
       const std::vector<double> v = step_values(name, step, b.count);
       out.insert(out.end(), v.begin(), v.end());

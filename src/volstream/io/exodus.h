@@ -8,7 +8,8 @@
 // model keeps beside its volume) are left out; nodal variables as point data and element
 // variables as cell data, three consecutive variables NAME_x, NAME_y, NAME_z (or NAMEX, ...)
 // as one vector NAME; an element variable without values on some block of volume elements is
-// left out (summary() says so). Refused with one line: 1D and 2D meshes, other element types
+// NaN (no data) there, one on no block left out (summary() says which). Refused with one line:
+// 1D and 2D meshes, other element types
 // (polyhedra, other node counts), node indices out of range, a classic file cut short.
 #pragma once
 #include <cstddef>

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "test_util.h"
 #include "volstream/core/error.h"
 #include "volstream/umesh/demo.h"
 
@@ -114,6 +117,38 @@ TEST(MeshPieces, PiecesWithOtherArraysAreRefused) {
   std::vector<MeshData> out_of_range = cut_into_pieces(whole, 2, 0);
   out_of_range[1].connectivity[0] = out_of_range[1].points.size();
   EXPECT_THROW(join_pieces(std::move(out_of_range), "pieces"), InputError);
+}
+
+// The parts of a model (MissingArrays::no_data): an array a part lacks is NaN on that part's
+// points or cells, the others' values as they were; an array of other components is refused.
+TEST(MeshPieces, PartsWithoutAnArrayHaveNoDataThere) {
+  const MeshData whole = demo_mesh("tets");
+  std::vector<MeshData> parts = cut_into_pieces(whole, 2, 0);
+  ASSERT_FALSE(parts[0].cell_data.empty());
+  const std::string cell_name = parts[1].cell_data[0].name, point_name = parts[0].point_data[0].name;
+  parts[1].cell_data.erase(parts[1].cell_data.begin());
+  parts[0].point_data.erase(parts[0].point_data.begin());
+  const uint64_t cells_0 = parts[0].cell_count();
+  const std::vector<double> first_cells = test::array_named(parts[0].cell_data, cell_name).values;
+  const MeshData joined = join_pieces(parts, "parts", MissingArrays::no_data);
+  EXPECT_THROW(join_pieces(parts, "parts"), InputError);
+  const MeshArray& c = test::array_named(joined.cell_data, cell_name);
+  ASSERT_EQ(c.values.size(), joined.cell_count() * uint64_t(c.components));
+  for (uint64_t e = 0; e < joined.cell_count(); ++e)
+    for (int k = 0; k < c.components; ++k) {
+      const double v = c.values[e * uint64_t(c.components) + uint64_t(k)];
+      if (e < cells_0)
+        EXPECT_EQ(v, first_cells[e * uint64_t(c.components) + uint64_t(k)]);
+      else
+        EXPECT_TRUE(std::isnan(v)) << e;
+    }
+  const MeshArray& p = test::array_named(joined.point_data, point_name);
+  size_t nan = 0;
+  for (double v : p.values) nan += std::isnan(v);
+  EXPECT_GT(nan, 0u);
+  EXPECT_LT(nan, p.values.size());
+  parts[1].cell_data.push_back({cell_name, 7, std::vector<double>(parts[1].cell_count() * 7, 0.0)});
+  EXPECT_THROW(join_pieces(parts, "parts", MissingArrays::no_data), InputError);
 }
 
 }  // namespace

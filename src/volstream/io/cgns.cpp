@@ -606,7 +606,8 @@ struct CgnsFile::Impl {
       pieces.push_back(zone_step(z, s));
       split_polyhedra(pieces.back(), z.faces, file, times.size() > 1 ? &z.polyhedra_split : nullptr);
     }
-    MeshData m = pieces.size() == 1 ? std::move(pieces.front()) : join_pieces(std::move(pieces), file);
+    MeshData m =
+        pieces.size() == 1 ? std::move(pieces.front()) : join_pieces(std::move(pieces), file, MissingArrays::no_data);
     split_quadratic_cells(m, file, times.size() > 1 ? &quadratic_split : nullptr);
     check_mesh(m, file);
     return m;

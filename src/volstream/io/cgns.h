@@ -5,7 +5,8 @@
 // TETRA_10, PYRA_13, PENTA_15, HEXA_20, HEXA_27, and MIXED sections of them, turned into VTK's
 // node orders; polyhedra, NFACE_n cells of NGON_n faces, split as VTK's (umesh/polyhedra.h);
 // boundary sections of faces, edges and nodes left out) and structured (each cell a
-// hexahedron), joined into one mesh (umesh/mesh_pieces.h: nodes the zones share welded);
+// hexahedron), joined into one mesh (umesh/mesh_pieces.h: nodes the zones share welded; a field
+// some zones lack NaN, no data, on theirs);
 // FlowSolution nodes at Vertex (point data) and CellCenter (cell data), three fields NAMEX,
 // NAMEY, NAMEZ as one vector NAME; time steps from BaseIterativeData's TimeValues and each
 // zone's FlowSolutionPointers, else one step holding every solution. Refused with one line:

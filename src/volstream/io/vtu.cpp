@@ -723,7 +723,7 @@ MeshData read_vtm(const std::filesystem::path& file, SeriesSplits* splits) {
   if (volumes.size() == 1 && lower_extension(volumes.front()) == ".vtu")
     return checked(read_vtu_unchecked(volumes.front(), splits ? &splits->polyhedra : nullptr), file,
                    splits ? &splits->quadratic : nullptr);
-  return checked(join_pieces(read_each(volumes, read_block), file.string()), file);
+  return checked(join_pieces(read_each(volumes, read_block), file.string(), MissingArrays::no_data), file);
 }
 
 // =============================================================================================

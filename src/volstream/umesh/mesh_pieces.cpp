@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <numeric>
 #include <string_view>
 
@@ -20,6 +21,32 @@ bool same_layout(const std::vector<MeshArray>& a, const std::vector<MeshArray>& 
   for (size_t i = 0; i < a.size(); ++i)
     if (a[i].name != b[i].name || a[i].components != b[i].components) return false;
   return true;
+}
+
+// Each piece's `arrays` (point or cell data, of `tuples(piece)` tuples) made the union of all
+// pieces' in the order first met, those a piece lacks NaN (no data) on it; the arrays are then
+// alike in every piece, unless one name comes with other components somewhere (which
+// append_piece refuses).
+template <class Tuples>
+void give_every_piece_every_array(std::vector<MeshData>& pieces, std::vector<MeshArray> MeshData::*arrays,
+                                  Tuples tuples) {
+  std::vector<std::pair<std::string, int>> all;  // name, components
+  for (const MeshData& p : pieces)
+    for (const MeshArray& a : p.*arrays)
+      if (std::find_if(all.begin(), all.end(), [&](const auto& n) { return n.first == a.name; }) == all.end())
+        all.push_back({a.name, a.components});
+  for (MeshData& p : pieces) {
+    std::vector<MeshArray> ordered;
+    for (const auto& [name, components] : all) {
+      const auto it =
+          std::find_if((p.*arrays).begin(), (p.*arrays).end(), [&](const MeshArray& a) { return a.name == name; });
+      if (it != (p.*arrays).end())
+        ordered.push_back(std::move(*it));
+      else
+        ordered.push_back({name, components, std::vector<double>(tuples(p) * uint64_t(components), NAN)});
+    }
+    p.*arrays = std::move(ordered);
+  }
 }
 
 void append_arrays(std::vector<MeshArray>& to, const std::vector<MeshArray>& from) {
@@ -187,10 +214,14 @@ MeshData cut_piece(const MeshData& m, uint64_t begin, uint64_t end, uint64_t gho
 
 }  // namespace
 
-MeshData join_pieces(std::vector<MeshData> pieces, const std::string& origin) {
+MeshData join_pieces(std::vector<MeshData> pieces, const std::string& origin, MissingArrays missing) {
   // An empty piece (a rank with no cells) adds nothing, and may not declare the arrays at all.
   std::erase_if(pieces, [](const MeshData& p) { return p.points.empty() && p.cell_count() == 0; });
   if (pieces.empty()) input_error(origin, "every piece is empty");
+  if (missing == MissingArrays::no_data) {
+    give_every_piece_every_array(pieces, &MeshData::point_data, [](const MeshData& p) { return p.points.size(); });
+    give_every_piece_every_array(pieces, &MeshData::cell_data, [](const MeshData& p) { return p.cell_count(); });
+  }
   MeshData mesh = std::move(pieces.front());
   for (size_t i = 1; i < pieces.size(); ++i) {
     append_piece(mesh, pieces[i], i, origin);

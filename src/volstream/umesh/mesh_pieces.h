@@ -21,9 +21,15 @@ constexpr uint8_t kGhostDuplicateCell = 1, kGhostHiddenCell = 32;
 //   Points at one place with different values (a discontinuity the writer meant) stay apart;
 // - points no cell uses any more (a ghost cell's) are dropped.
 // Empty pieces (no points, no cells: a rank that had none) are skipped. One piece without ghost
-// cells comes back as it is, but for its vtkGhostType arrays. Every piece must carry the same point and
-// cell arrays (names and components, in order): InputError naming `origin` otherwise.
-MeshData join_pieces(std::vector<MeshData> pieces, const std::string& origin);
+// cells comes back as it is, but for its vtkGhostType arrays. With `missing` refused, every piece
+// must carry the same point and cell arrays (names and components, in order), as the pieces of
+// one parallel writer's step do: InputError naming `origin` otherwise. With `missing` no_data
+// (the parts of a model, as a multiblock's blocks or a CGNS file's zones: a solid without a
+// fluid's velocity), an array some piece lacks is NaN, no data, on that piece's points or cells;
+// an array with other components in another piece is still refused.
+enum class MissingArrays { refused, no_data };
+MeshData join_pieces(std::vector<MeshData> pieces, const std::string& origin,
+                     MissingArrays missing = MissingArrays::refused);
 
 // The inverse, as a parallel run would write the mesh: `count` pieces of consecutive cells, each
 // with its own copy of the points it uses (in first-use order) and their data; with `ghosts` > 0,

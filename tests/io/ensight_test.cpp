@@ -193,10 +193,29 @@ TEST_F(EditedEnsight, TruncatedGeometry) {
   std::ofstream(dir_ / "mesh.geo") << t.substr(0, t.size() / 2);
   EXPECT_FALSE(error().empty());
 }
-TEST_F(EditedEnsight, VariableWithoutAPart) {
+// A variable file without a part's values: NaN (no data) on that part's nodes, the other parts'
+// values as they were; one without any part's values is refused.
+TEST_F(EditedEnsight, VariableWithoutAPartIsNoDataThere) {
   const std::string t = text("f.0");
   std::ofstream(dir_ / "f.0") << t.substr(0, t.find("part\n         2"));
-  EXPECT_NE(error().find("no values for part 2"), std::string::npos);
+  EXPECT_EQ(error(), "");
+  const MeshData edited = read_case(dir_ / "mesh.case", 0), whole = read_case(kDir / "ascii" / "mesh.case", 0);
+  const MeshArray &f = test::array_named(edited.point_data, "f"), &w = test::array_named(whole.point_data, "f");
+  size_t no_data = 0;
+  for (uint64_t p = 0; p < edited.points.size(); ++p) {
+    if (std::isnan(f.values[p])) {
+      ++no_data;
+      continue;
+    }
+    // The same value at the same place in the whole case.
+    bool found = false;
+    for (uint64_t q = 0; q < whole.points.size() && !found; ++q)
+      found = whole.points[q] == edited.points[p] && w.values[q] == f.values[p];
+    EXPECT_TRUE(found) << p;
+  }
+  EXPECT_GT(no_data, 0u);
+  std::ofstream(dir_ / "f.0") << t.substr(0, t.find("part\n         1"));
+  EXPECT_NE(error().find("no values for any part"), std::string::npos) << error();
 }
 TEST_F(EditedEnsight, PartialValues) {
   replace("f.0", "coordinates", "coordinates partial");

@@ -522,7 +522,8 @@ std::vector<double> read_tuples(EnsightFile& f, uint64_t count, int components, 
 }
 
 // One variable file into each part's point or cell data (`arrays`: one per part, in the
-// geometry's order; NaN-free values for every kept cell or node of every part it lists).
+// geometry's order; values for every kept cell or node of every part it lists, NaN, no data, for
+// every one of a part it does not list, as a solid part without the fluid's velocity).
 void read_variable(const EnsightCase::Variable& v, const fs::path& path, const EnsightGeometry& g,
                    std::vector<MeshArray>& arrays) {
   EnsightFile f(path, g.binary, g.big_endian);
@@ -550,7 +551,11 @@ void read_variable(const EnsightCase::Variable& v, const fs::path& path, const E
     }
   }
   for (size_t i = 0; i < g.parts.size(); ++i)
-    if (!seen[i] && g.parts[i].mesh.cell_count() > 0) f.fail("no values for part " + std::to_string(g.parts[i].number));
+    if (!seen[i]) {
+      const MeshData& m = g.parts[i].mesh;
+      arrays[i].values.assign((v.per_element ? m.cell_count() : m.points.size()) * uint64_t(v.components), NAN);
+    }
+  if (std::find(seen.begin(), seen.end(), true) == seen.end()) f.fail("no values for any part");
 }
 
 }  // namespace

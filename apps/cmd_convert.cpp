@@ -61,8 +61,9 @@ void add_convert_command(CLI::App& app) {
   cmd->add_option("--scalars", a->scalars,
                   "meshes (UGRID): NAME=FILE, a raw little-endian float32 file of one value per point; repeatable");
   cmd->add_option("--region", a->in.regions,
-                  "OpenFOAM cases: a region to read (repeatable; region0 is constant/polyMesh); Fluent cases: a "
-                  "cell zone, by name; default: every region of a multi-region case, every cell zone, joined");
+                  "a part of the model to read (repeatable): an OpenFOAM case's region (region0 is "
+                  "constant/polyMesh), a Fluent case's cell zone, an Exodus file's element block (name or id); "
+                  "default: all, joined");
   cmd->callback([a] {
     a->in.inputs.assign(a->inputs.begin(), a->inputs.end());
     for (const std::string& s : a->scalars) a->in.scalars.push_back(parse_raw_scalars(s));

@@ -541,9 +541,9 @@ PYBIND11_MODULE(volstream, m) {
         "plotfile | exabrick | raw\n"
         "| mesh; fields: keep only these; encoding: how a converted mesh is stored, 'compact' (paper 002's\n"
         "encoding, as `volstream convert`) or 'reference'; split_into_tets: store a mesh's pyramids, wedges\n"
-        "and hexahedra as tets (convert --split-into-tets); regions: an OpenFOAM case's regions or a Fluent\n"
-        "case's cell zones to read (convert --region; default: all). OSError('<file>: <what>') for a\n"
-        "missing or damaged input.");
+        "and hexahedra as tets (convert --split-into-tets); regions: an OpenFOAM case's regions, a Fluent\n"
+        "case's cell zones or an Exodus file's element blocks to read (convert --region; default: all).\n"
+        "OSError('<file>: <what>') for a missing or damaged input.");
   m.def("demo", &demo, py::arg("name"), py::arg("cells") = 1e5, py::arg("steps") = 2, py::arg("elements") = 1e5,
         py::arg("encoding") = "compact", py::arg("split_into_tets") = false,
         "A built-in demo, AMR ('jet' or 'cosmo', about `cells` leaf cells) or a mesh ('tets', 'mixed' or\n"

@@ -196,6 +196,10 @@ if "$VS" convert "$EXO/exodus_mixed.exo" -o exo_mixed -q 2>exo_err.txt; then
   compare_probes exo_ranks_g.txt exo_g.txt || fail "the joined rank files probe otherwise than the whole file"
   cp "$EXO/exodus_mixed.exo.2.0" lonely.e.2.0
   expect_bad_input "a rank file of a set missing" convert lonely.e.2.0 -o lonely
+  "$VS" convert "$EXO/exodus_mixed.exo" --region 20 -o exo_hexes -q  # one element block, by id
+  "$VS" info exo_hexes | grep -q "HEX8 x 8; blocks read: 20" || fail "Exodus --region 20: info"
+  "$VS" info exo_hexes | grep -q "mesh      27 vertices, 8 elements" || fail "Exodus --region 20: not the hexes alone"
+  expect_bad_input "an Exodus element block the file lacks" convert "$EXO/exodus_mixed.exo" --region 60 -o exo_60
   head -c 9000 "$EXO/exodus_mixed.exo" >cut.exo
   expect_bad_input "truncated: its variables need 27404 bytes, the file has 9000" convert cut.exo -o cut_exo
 else

@@ -113,10 +113,44 @@ TEST(Exodus, QuadraticElementsSplitAsTheVtusCells) {
   EXPECT_NO_THROW(make_umesh(m, mesh_transform(m), "exodus"));
 }
 
+// The element blocks asked for alone (by id): their elements, the nodes they use with the same
+// values, the whole file's element values; a rank set the same; a block the file lacks, or only
+// surface blocks, one line.
+TEST(Exodus, ElementBlocksAskedForAreTheWholeFilesElements) {
+  SKIP_WITHOUT_NETCDF();
+  ExodusFile whole_file(kDir / "exodus_mixed.exo"), hexes_file(kDir / "exodus_mixed.exo", {"20"});
+  EXPECT_EQ(hexes_file.summary(), "64-bit offset: HEX8 x 8; blocks read: 20");
+  const MeshData whole = whole_file.read_step(2), hexes = hexes_file.read_step(2);
+  ASSERT_EQ(hexes.cell_count(), 8u);
+  EXPECT_EQ(hexes.points.size(), 27u);  // the 2x2x2 hexes' 3x3x3 nodes
+  const MeshArray& g = test::array_named(hexes.point_data, "g");
+  const MeshArray& whole_g = test::array_named(whole.point_data, "g");
+  for (uint64_t e = 0; e < 8; ++e) {
+    const uint64_t w = 48 + e;  // after block 10's 48 tets
+    ASSERT_EQ(hexes.cell_types[e], whole.cell_types[w]);
+    for (uint64_t k = 0; k < 8; ++k) {
+      const uint64_t a = hexes.connectivity[hexes.cell_offsets[e] + k],
+                     b = whole.connectivity[whole.cell_offsets[w] + k];
+      EXPECT_EQ(hexes.points[a], whole.points[b]);
+      EXPECT_EQ(g.values[a], whole_g.values[b]);
+    }
+    EXPECT_EQ(test::array_named(hexes.cell_data, "pressure").values[e],
+              test::array_named(whole.cell_data, "pressure").values[w]);
+  }
+  const auto ranks = open_mesh_files({kDir / "exodus_mixed.exo.2.0"}, {}, {"20", "30"});
+  const auto one = open_mesh_files({kDir / "exodus_mixed.exo"}, {}, {"30", "20"});
+  test::expect_probes_alike(ranks->read_step(1), "g", one->read_step(1), "g");
+  EXPECT_NE(test::input_error_line([&] {
+              ExodusFile f(kDir / "exodus_mixed.exo", {"20", "60"});
+            }).find("no element block '60' in this file (its blocks: 10, 20, 30, 40, 50)"),
+            std::string::npos);
+  EXPECT_NE(test::input_error_line([&] {
+              open_mesh_files({kDir / "exodus_mixed.exo"}, {}, {"50"})->read_step(0);
+            }).find("no volume elements in the element blocks asked for"),
+            std::string::npos);
+}
+
 #ifdef VOLSTREAM_HAVE_NETCDF
-// A small Exodus file written here: one unit cube of 8 nodes and one block of `type` whose
-// elements are `connect` (1-based, `nodes` per element); `dims` spatial dimensions; an element
-// variable over the block when `element_variable`.
 // An element variable without values on one block of several (a material's variable) is NaN, no
 // data, on that block's elements alone, and the summary says where.
 TEST(Exodus, ElementVariableMissingOnABlockIsNoDataThere) {
@@ -144,6 +178,9 @@ TEST(Exodus, ElementVariableMissingOnABlockIsNoDataThere) {
   EXPECT_EQ(test::array_named(a.cell_data, "cell_id").values, test::array_named(b.cell_data, "cell_id").values);
 }
 
+// A small Exodus file written here: one unit cube of 8 nodes and one block of `type` whose
+// elements are `connect` (1-based, `nodes` per element); `dims` spatial dimensions; an element
+// variable over the block when `element_variable`.
 struct BadFile {
   int dims = 3;
   std::string type = "HEX8";

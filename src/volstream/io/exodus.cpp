@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 
 bool exodus_supported() { return false; }
 struct ExodusFile::Impl {};
-ExodusFile::ExodusFile(const fs::path& file) {
+ExodusFile::ExodusFile(const fs::path& file, const std::vector<std::string>&) {
   input_error(file.string(),
               "this volstream was built without the NetCDF library, which Exodus II files need "
               "(Debian: apt-get install libnetcdf-dev, then build again)");
@@ -207,6 +207,7 @@ struct ExodusFile::Impl {
   struct Block {
     int index = 0;  // 1-based, as in the variable names (connect3, vals_elem_var2eb3)
     int64_t id = 0;
+    std::string name;  // eb_names' ("" where it has none)
     std::string type;
     uint64_t count = 0;
     bool kept = false;
@@ -218,7 +219,9 @@ struct ExodusFile::Impl {
   std::string format;
   std::vector<Block> blocks;
   std::vector<double> times;
-  MeshData topology;  // points and kept cells, VTK order; no data
+  MeshData topology;                 // points and kept cells, VTK order; no data
+  std::vector<std::string> wanted;   // the element blocks to read, by name or id (empty: all)
+  std::vector<uint64_t> kept_nodes;  // the nodes of the blocks read, where some are not (else empty)
   std::vector<ArrayOfVariables> nodal, element;
   bool nodal_in_one_variable = false;  // old files: vals_nod_var[time][variable][node]
   std::vector<std::string> left_out;   // element variables left out, or without values on some block
@@ -313,6 +316,7 @@ struct ExodusFile::Impl {
     input_check(dims == 3, file, "a " + std::to_string(dims) + "D Exodus mesh: volstream renders volumes (num_dim 3)");
     read_points();
     read_blocks();
+    if (!wanted.empty()) keep_nodes_of_kept_blocks();
     read_times();
     nodal = group_vector_variables(names("name_nod_var", dimension("num_nod_var", 0)));
     element = group_vector_variables(names("name_elem_var", dimension("num_elem_var", 0)));
@@ -341,8 +345,9 @@ struct ExodusFile::Impl {
           if (b.kept && has_values(b, a.first + c)) return true;
         return false;
       });
-      if (!anywhere) {
-        left_out.push_back(a.name + " left out (no values on " + without.front() + ")");
+      if (!anywhere) {  // `without` is empty where no volume block is read
+        left_out.push_back(a.name + " left out (no values on " + (without.empty() ? "a block read" : without.front()) +
+                           ")");
         return true;
       }
       for (const std::string& b : without) left_out.push_back(a.name + " no data (NaN) on " + b);
@@ -374,20 +379,56 @@ struct ExodusFile::Impl {
       input_check(variable_size(var) == count, file, "eb_prop1 is not one id per element block");
       check(nc_get_var_longlong(ncid, var, ids.data()), "reading eb_prop1");
     }
+    const std::vector<std::string> block_names = names("eb_names", count);
     topology.cell_offsets = {0};
     for (size_t b = 0; b < count; ++b) {
       Block block;
       block.index = int(b + 1);
       block.id = ids[b] ? ids[b] : block.index;
+      block.name = block_names[b];
       const std::string suffix = std::to_string(block.index);
       block.count = dimension("num_el_in_blk" + suffix, 0);
-      if (block.count) read_block(block, suffix);
+      if (block.count && is_wanted(block)) read_block(block, suffix);
       blocks.push_back(block);
     }
-    input_check(topology.cell_count() > 0, file, "no volume elements (only surface, line or point element blocks)");
+    for (const std::string& w : wanted)
+      if (std::none_of(blocks.begin(), blocks.end(), [&](const Block& b) { return answers_to(b, w); })) {
+        std::string all;
+        for (const Block& b : blocks) all += (all.empty() ? "" : ", ") + block_label(b);
+        input_error(file, "no element block '" + w + "' in this file (its blocks: " + all + ")");
+      }
+    // A rank file of a parallel run may hold none of the blocks asked for (the series checks the
+    // joined mesh).
+    input_check(topology.cell_count() > 0 || !wanted.empty(), file,
+                "no volume elements (only surface, line or point element blocks)");
   }
 
   std::string block_name(const Block& b) const { return "element block " + std::to_string(b.id); }
+  // "10" or "10 (fluid)": the block's id and its name, for messages.
+  static std::string block_label(const Block& b) {
+    return std::to_string(b.id) + (b.name.empty() ? "" : " (" + b.name + ")");
+  }
+  static bool answers_to(const Block& b, const std::string& w) { return w == b.name || w == std::to_string(b.id); }
+  bool is_wanted(const Block& b) const {
+    return wanted.empty() ||
+           std::any_of(wanted.begin(), wanted.end(), [&](const std::string& w) { return answers_to(b, w); });
+  }
+
+  // The mesh of the blocks read alone: the nodes their elements use, renumbered in order.
+  void keep_nodes_of_kept_blocks() {
+    constexpr uint64_t kUnused = ~uint64_t(0);
+    std::vector<uint64_t> new_index(topology.points.size(), kUnused);
+    for (uint64_t v : topology.connectivity) new_index[v] = 0;
+    std::vector<vec3d> points;
+    for (uint64_t n = 0; n < new_index.size(); ++n)
+      if (new_index[n] != kUnused) {
+        new_index[n] = points.size();
+        kept_nodes.push_back(n);
+        points.push_back(topology.points[n]);
+      }
+    for (uint64_t& v : topology.connectivity) v = new_index[v];
+    topology.points = std::move(points);
+  }
 
   void read_block(Block& block, const std::string& suffix) {
     const int var = variable("connect" + suffix);
@@ -451,9 +492,14 @@ struct ExodusFile::Impl {
   }
 
   std::vector<double> nodal_values(int variable_index, size_t step) const {
-    const size_t n = topology.points.size();
-    if (nodal_in_one_variable) return step_values("vals_nod_var", step, n, variable_index);
-    return step_values("vals_nod_var" + std::to_string(variable_index + 1), step, n);
+    const size_t n = dimension("num_nodes");
+    std::vector<double> all = nodal_in_one_variable
+                                  ? step_values("vals_nod_var", step, n, variable_index)
+                                  : step_values("vals_nod_var" + std::to_string(variable_index + 1), step, n);
+    if (kept_nodes.empty()) return all;
+    std::vector<double> kept(kept_nodes.size());
+    for (size_t k = 0; k < kept.size(); ++k) kept[k] = all[kept_nodes[k]];
+    return kept;
   }
 
   std::vector<double> element_values(int variable_index, size_t step) const {
@@ -503,6 +549,7 @@ struct ExodusFile::Impl {
   MeshData step(size_t s) const {
     input_check(s < times.size(), file, "no time step " + std::to_string(s));
     MeshData m = topology;
+    if (m.cell_count() == 0) return m;  // none of the blocks asked for are in this rank file
     read_values(s, m);
     split_quadratic_cells(m, file, times.size() > 1 ? &quadratic_split : nullptr);
     check_mesh(m, file);
@@ -519,16 +566,23 @@ struct ExodusFile::Impl {
       s += sep + type + " x " + std::to_string(n);
       sep = ", ";
     }
+    if (!wanted.empty()) {
+      s += "; blocks read:";
+      for (const Block& b : blocks)
+        if (b.kept) s += " " + block_label(b);
+    }
     for (const std::string& a : left_out) s += "; element variable " + a;
     return s;
   }
 };
 
-ExodusFile::ExodusFile(const fs::path& file) : impl_(std::make_unique<Impl>()) {
-  file_size_checked(file);                // a regular file (a FIFO would block every read below)
+ExodusFile::ExodusFile(const fs::path& file, const std::vector<std::string>& blocks) : impl_(std::make_unique<Impl>()) {
+  file_size_checked(file);  // a regular file (a FIFO would block every read below)
+  impl_->wanted = blocks;
   if (!is_classic_netcdf(file.string()))  // classic files are read by NetCDF's own code
     read_in_child_first(file.string(), "NetCDF-4", [&] {
       Impl first;
+      first.wanted = blocks;
       first.open(file);
       first.read_all_values();
     });

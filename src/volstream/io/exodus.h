@@ -29,8 +29,10 @@ bool exodus_supported();
 class ExodusFile {
  public:
   // Reads the header and the mesh (coordinates, element blocks); InputError naming the file for
-  // anything it does not read (see above).
-  explicit ExodusFile(const std::filesystem::path& file);
+  // anything it does not read (see above). `blocks`: the element blocks to read, by name (eb_names)
+  // or id (eb_prop1), the nodes of no block read left out; none: every block; InputError for a
+  // block the file lacks.
+  explicit ExodusFile(const std::filesystem::path& file, const std::vector<std::string>& blocks = {});
   ~ExodusFile();
   ExodusFile(const ExodusFile&) = delete;
   ExodusFile& operator=(const ExodusFile&) = delete;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <optional>
 #include <regex>
+#include <type_traits>
 
 #include "volstream/amr/ranges.h"
 #include "volstream/backend/parallel.h"
@@ -194,10 +195,16 @@ std::string with_step_count(const std::string& summary, size_t steps) {
 template <class File>
 class SolverFileSeries : public MeshSeries {
  public:
-  SolverFileSeries(const std::vector<fs::path>& files, std::vector<RawScalars> scalars, std::string format)
+  // `parts`: the parts of the model to read (an Exodus file's element blocks), for a File that
+  // takes them; empty: all.
+  SolverFileSeries(const std::vector<fs::path>& files, std::vector<RawScalars> scalars, std::string format,
+                   const std::vector<std::string>& parts = {})
       : files_(files), scalars_(std::move(scalars)), format_(std::move(format)) {
     for (const fs::path& f : files_) {
-      pieces_.push_back(std::make_unique<File>(f));
+      if constexpr (std::is_constructible_v<File, const fs::path&, const std::vector<std::string>&>)
+        pieces_.push_back(std::make_unique<File>(f, parts));
+      else
+        pieces_.push_back(std::make_unique<File>(f));
       if (pieces_.size() > 1 && !same_times(*pieces_.front(), *pieces_.back()))
         input_error(f.string(), "other time steps than " + files_.front().filename().string() + "'s");
     }
@@ -208,6 +215,7 @@ class SolverFileSeries : public MeshSeries {
     std::vector<MeshData> meshes;
     for (auto& p : pieces_) meshes.push_back(p->read_step(size_t(step)));  // one at a time: NetCDF is not thread-safe
     MeshData m = meshes.size() == 1 ? std::move(meshes.front()) : join_pieces(std::move(meshes), origin(step));
+    input_check(m.cell_count() > 0, origin(step), "no volume elements in the element blocks asked for");
     if (pieces_.size() > 1) check_mesh(m, origin(step));
     for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
     return m;
@@ -327,9 +335,10 @@ RawScalars parse_raw_scalars(const std::string& spec) {
 std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, const std::vector<RawScalars>& scalars,
                                             const std::vector<std::string>& regions) {
   if (files.empty()) throw UsageError("no mesh files given");
-  if (!regions.empty() && !is_openfoam_input(files.front()) && !is_fluent_case_file(files.front()))
-    throw UsageError("--region applies to OpenFOAM cases and Fluent case files (" + files.front().string() +
-                     " is neither)");
+  if (!regions.empty() && !is_openfoam_input(files.front()) && !is_fluent_case_file(files.front()) &&
+      !is_exodus_file(files.front()))
+    throw UsageError("--region applies to OpenFOAM cases, Fluent case files and Exodus II files (" +
+                     files.front().string() + " is none of them)");
   std::vector<PvdStep> steps;
   const std::string ext = lower_extension(files.front());
   if (ext == ".case") {
@@ -344,11 +353,11 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, 
     for (const fs::path& f : files)
       if (std::find(set.begin(), set.end(), f) == set.end())
         throw UsageError(f.string() + " is not a rank file of " + files.front().string() + "'s set");
-    return std::make_unique<SolverFileSeries<ExodusFile>>(set, scalars, "Exodus II");
+    return std::make_unique<SolverFileSeries<ExodusFile>>(set, scalars, "Exodus II", regions);
   }
   if (is_exodus_file(files.front())) {
     if (files.size() > 1) throw UsageError("an Exodus II file is converted on its own (it holds its time steps)");
-    return std::make_unique<SolverFileSeries<ExodusFile>>(files, scalars, "Exodus II");
+    return std::make_unique<SolverFileSeries<ExodusFile>>(files, scalars, "Exodus II", regions);
   }
   if (is_cgns_file(files.front())) {
     if (files.size() > 1) throw UsageError("a CGNS file is converted on its own (it holds its time steps)");

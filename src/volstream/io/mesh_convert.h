@@ -65,8 +65,9 @@ RawScalars parse_raw_scalars(const std::string& spec);
 // each are a series like .vtu files), or one Fluent .cas and its .dat files (a step each, in the
 // order given; none: the .dat of the case's name, if any), or one OpenFOAM case (its time
 // directories; the mesh read and split once). `scalars` are attached to every
-// step (UGRID carries no data of its own); `regions`: an OpenFOAM case's regions or a Fluent
-// case's cell zones to read (UsageError for another input; empty: the reader's default, all). Headers are read when a
+// step (UGRID carries no data of its own); `regions`: an OpenFOAM case's regions, a Fluent
+// case's cell zones or an Exodus file's element blocks to read (UsageError for another input;
+// empty: the reader's default, all). Headers are read when a
 // step is read.
 std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<std::filesystem::path>& files,
                                             const std::vector<RawScalars>& scalars = {},

@@ -37,13 +37,13 @@ void give_every_piece_every_array(std::vector<MeshData>& pieces, std::vector<Mes
         all.push_back({a.name, a.components});
   for (MeshData& p : pieces) {
     std::vector<MeshArray> ordered;
-    for (const auto& [name, components] : all) {
-      const auto it =
-          std::find_if((p.*arrays).begin(), (p.*arrays).end(), [&](const MeshArray& a) { return a.name == name; });
+    for (const auto& named : all) {  // not bindings: clang 14's lambdas cannot capture them
+      const auto it = std::find_if((p.*arrays).begin(), (p.*arrays).end(),
+                                   [&](const MeshArray& a) { return a.name == named.first; });
       if (it != (p.*arrays).end())
         ordered.push_back(std::move(*it));
       else
-        ordered.push_back({name, components, std::vector<double>(tuples(p) * uint64_t(components), NAN)});
+        ordered.push_back({named.first, named.second, std::vector<double>(tuples(p) * uint64_t(named.second), NAN)});
     }
     p.*arrays = std::move(ordered);
   }

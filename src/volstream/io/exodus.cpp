@@ -11,6 +11,7 @@
 #include "volstream/io/binary_file.h"
 #include "volstream/io/parse_cursor.h"
 #include "volstream/io/solver_files.h"
+#include "volstream/umesh/mesh_pieces.h"
 #include "volstream/umesh/quadratic.h"
 
 #ifdef VOLSTREAM_HAVE_NETCDF
@@ -219,9 +220,9 @@ struct ExodusFile::Impl {
   std::string format;
   std::vector<Block> blocks;
   std::vector<double> times;
-  MeshData topology;                 // points and kept cells, VTK order; no data
-  std::vector<std::string> wanted;   // the element blocks to read, by name or id (empty: all)
-  std::vector<uint64_t> kept_nodes;  // the nodes of the blocks read, where some are not (else empty)
+  MeshData topology;                // points and kept cells, VTK order; no data
+  std::vector<std::string> wanted;  // the element blocks to read, by name or id (empty: all)
+  std::vector<bool> kept_nodes;     // the nodes the blocks read use, where some blocks are not read (else empty)
   std::vector<ArrayOfVariables> nodal, element;
   bool nodal_in_one_variable = false;  // old files: vals_nod_var[time][variable][node]
   std::vector<std::string> left_out;   // element variables left out, or without values on some block
@@ -316,7 +317,7 @@ struct ExodusFile::Impl {
     input_check(dims == 3, file, "a " + std::to_string(dims) + "D Exodus mesh: volstream renders volumes (num_dim 3)");
     read_points();
     read_blocks();
-    if (!wanted.empty()) keep_nodes_of_kept_blocks();
+    if (!wanted.empty()) kept_nodes = drop_unused_points(topology);
     read_times();
     nodal = group_vector_variables(names("name_nod_var", dimension("num_nod_var", 0)));
     element = group_vector_variables(names("name_elem_var", dimension("num_elem_var", 0)));
@@ -414,22 +415,6 @@ struct ExodusFile::Impl {
            std::any_of(wanted.begin(), wanted.end(), [&](const std::string& w) { return answers_to(b, w); });
   }
 
-  // The mesh of the blocks read alone: the nodes their elements use, renumbered in order.
-  void keep_nodes_of_kept_blocks() {
-    constexpr uint64_t kUnused = ~uint64_t(0);
-    std::vector<uint64_t> new_index(topology.points.size(), kUnused);
-    for (uint64_t v : topology.connectivity) new_index[v] = 0;
-    std::vector<vec3d> points;
-    for (uint64_t n = 0; n < new_index.size(); ++n)
-      if (new_index[n] != kUnused) {
-        new_index[n] = points.size();
-        kept_nodes.push_back(n);
-        points.push_back(topology.points[n]);
-      }
-    for (uint64_t& v : topology.connectivity) v = new_index[v];
-    topology.points = std::move(points);
-  }
-
   void read_block(Block& block, const std::string& suffix) {
     const int var = variable("connect" + suffix);
     block.type = trimmed_upper(text_attribute(var, "elem_type"));
@@ -497,8 +482,9 @@ struct ExodusFile::Impl {
                                   ? step_values("vals_nod_var", step, n, variable_index)
                                   : step_values("vals_nod_var" + std::to_string(variable_index + 1), step, n);
     if (kept_nodes.empty()) return all;
-    std::vector<double> kept(kept_nodes.size());
-    for (size_t k = 0; k < kept.size(); ++k) kept[k] = all[kept_nodes[k]];
+    std::vector<double> kept;
+    for (size_t node = 0; node < all.size(); ++node)
+      if (kept_nodes[node]) kept.push_back(all[node]);
     return kept;
   }
 

@@ -145,8 +145,9 @@ void weld_points(MeshData& m) {
   for (uint64_t& v : m.connectivity) v = same[v];
 }
 
-// Drops the points no cell uses, keeping the others' order.
-void drop_unused_points(MeshData& m) {
+}  // namespace
+
+std::vector<bool> drop_unused_points(MeshData& m) {
   std::vector<bool> used(m.points.size(), false);
   for (uint64_t v : m.connectivity) used[v] = true;
   std::vector<uint64_t> index(m.points.size());
@@ -156,7 +157,10 @@ void drop_unused_points(MeshData& m) {
   m.points.resize(next);
   for (uint64_t& v : m.connectivity) v = index[v];
   keep_tuples(m.point_data, used);
+  return used;
 }
+
+namespace {
 
 // What the steps below index by, checked (each reader checks its own file, but a piece may come
 // from any reader): offsets rising to the connectivity's end, indices in range, array sizes.

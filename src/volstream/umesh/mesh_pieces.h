@@ -28,6 +28,10 @@ constexpr uint8_t kGhostDuplicateCell = 1, kGhostHiddenCell = 32;
 // fluid's velocity), an array some piece lacks is NaN, no data, on that piece's points or cells;
 // an array with other components in another piece is still refused.
 enum class MissingArrays { refused, no_data };
+
+// Drops the points no cell of `m` uses, with their point data, keeping the others' order;
+// returns which of the old points are kept.
+std::vector<bool> drop_unused_points(MeshData& m);
 MeshData join_pieces(std::vector<MeshData> pieces, const std::string& origin,
                      MissingArrays missing = MissingArrays::refused);
 

@@ -232,6 +232,9 @@ if "$VS" convert "$CG/cgns_mixed.cgns" -o cg_mixed -q 2>cg_err.txt; then
   compare_probes cg_poly.txt poly_want.txt || fail "the CGNS polyhedra do not reproduce the linear field"
   head -c 40000 "$CG/cgns_mixed.cgns" >cut.cgns
   expect_bad_input "a CGNS file cut short" convert cut.cgns -o cut_cgns
+  "$VS" convert "$CG/cgns_mixed.cgns" --region block -o cg_block -q  # one zone alone
+  "$VS" info cg_block | grep -q "1 zone, 1 structured read (block): HEXA_8 (structured) x 24" || fail "CGNS --region: info"
+  expect_bad_input "a CGNS zone the file lacks" convert "$CG/cgns_mixed.cgns" --region fluid -o cg_fluid
 else
   grep -q "built without the CGNS library" cg_err.txt || fail "CGNS: $(cat cg_err.txt)"
   echo "CGNS: skipped (built without CGNS)"
@@ -264,6 +267,19 @@ done
 head -c 20000 "$GM/gmsh_tets_41b.msh" >cut.msh
 expect_bad_input "a Gmsh file cut short" convert cut.msh -o cut_msh
 expect_bad_input "14-node pyramids" convert "$GM/gmsh_pyramid14.msh" -o gm_pyr14
+# Physical groups (--region) by name and number, overlapping; 2.2's copies of an element in two
+# groups read once: the 2.2 file probes as the 4.1 file, group by group.
+for file in 41 22; do
+  "$VS" convert "$GM/gmsh_groups_$file.msh" --region top --region 8 -o gm_groups_$file -q
+  "$VS" info gm_groups_$file | grep -q "physical groups read: 8 (prisms) 9 (top)" || fail "Gmsh --region: info"
+  "$VS" info gm_groups_$file | grep -q " 169 elements" || fail "Gmsh --region top --region 8: not 169 elements"
+done
+random_points gm_groups_41 2000 17 >gm_group_points.txt
+"$VS" probe gm_groups_41 --field f --points gm_group_points.txt >gm_groups_41.txt
+"$VS" probe gm_groups_22 --field f --points gm_group_points.txt >gm_groups_22.txt
+echo -n "Gmsh physical groups, MSH 4.1 against 2.2: "
+compare_probes gm_groups_41.txt gm_groups_22.txt || fail "the Gmsh files' groups differ"
+expect_bad_input "a Gmsh physical group of surfaces" convert "$GM/gmsh_groups_41.msh" --region bottom -o gm_bottom
 # Fluent (tests/data/fluent/make_fluent_files.py): a binary case and two data files are two steps
 # at their flow times; step 1's cell values probe as the .vtu VTK wrote; the ASCII case alone
 # finds its .dat by name; a data file cut short and a 2D case are one line and exit 2.

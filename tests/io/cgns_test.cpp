@@ -13,8 +13,10 @@
 
 #include "test_util.h"
 #include "volstream/core/error.h"
+#include "volstream/io/mesh_convert.h"
 #include "volstream/io/vtu.h"
 #include "volstream/umesh/from_mesh_data.h"
+#include "volstream/umesh/mesh_pieces.h"
 
 #ifdef VOLSTREAM_HAVE_CGNS
 #include <cgnslib.h>
@@ -58,6 +60,29 @@ TEST(Cgns, QuadraticSectionsAndCellCentredValues) {
   EXPECT_EQ(m.connectivity, vtu.connectivity);
   EXPECT_EQ(test::array_named(m.cell_data, "cell_id").values, test::array_named(vtu.cell_data, "cell_id").values);
   test::expect_probes_alike(vtu, "g", m, "g");
+}
+
+// The zones asked for alone (--region): their cells and their solutions; the two read one by
+// one and joined probe as the whole file; a zone the base lacks, one line listing its zones.
+TEST(Cgns, ZonesAskedForAreTheWholeFilesZones) {
+  SKIP_WITHOUT_CGNS();
+  const fs::path file = kDir / "cgns_mixed.cgns";
+  CgnsFile whole(file), block(file, {"block"}), mixed(file, {"mixed"}), both(file, {"mixed", "block"});
+  EXPECT_EQ(mixed.summary(), "1 zone read (mixed): HEXA_8 x 8, PENTA_6 x 16, PYRA_5 x 48, TETRA_4 x 48");
+  EXPECT_EQ(block.summary(), "1 zone, 1 structured read (block): HEXA_8 (structured) x 24");
+  ASSERT_EQ(mixed.step_count(), 3u);
+  const MeshData block_step = block.read_step(2), mixed_step = mixed.read_step(2), whole_step = whole.read_step(2);
+  EXPECT_EQ(block_step.cell_count(), 24u);
+  EXPECT_EQ(mixed_step.cell_count(), 120u);
+  EXPECT_EQ(both.read_step(2).cell_count(), whole_step.cell_count());
+  const MeshData joined = join_pieces({block_step, mixed_step}, "zones", MissingArrays::no_data);
+  test::expect_probes_alike(whole_step, "g", joined, "g");
+  test::expect_probes_alike(whole_step, "Velocity", both.read_step(2), "Velocity");
+  EXPECT_NE(test::input_error_line([&] {
+              CgnsFile f(file, {"mixed", "fluid"});
+            }).find("no zone 'fluid' in this file's base Base (its zones: block, mixed)"),
+            std::string::npos);
+  EXPECT_EQ(open_mesh_files({file}, {}, {"block"})->read_step(0).cell_count(), 24u);
 }
 
 // A polyhedral zone (NGON_n faces in two sections, after the NFACE_n cells in the file but numbered

@@ -146,7 +146,7 @@ TEST(Exodus, ElementBlocksAskedForAreTheWholeFilesElements) {
             std::string::npos);
   EXPECT_NE(test::input_error_line([&] {
               open_mesh_files({kDir / "exodus_mixed.exo"}, {}, {"50"})->read_step(0);
-            }).find("no volume elements in the element blocks asked for"),
+            }).find("no volume elements in the parts asked for"),
             std::string::npos);
 }
 

@@ -46,6 +46,16 @@ std::string refusal(const fs::path& file) {
   return "(read)";
 }
 
+// The refusal of the file read with physical `groups` asked for.
+std::string refusal_with(const fs::path& file, const std::vector<std::string>& groups) {
+  try {
+    GmshFile(file, groups).read_step(0);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(read)";
+}
+
 // The views make_gmsh_files.py wrote, against the formulas it wrote them from: f, vel, pressure
 // (element tag / 2 + step) and cell_id (element tag, given once) exactly at every point and cell.
 void expect_views_of_step(const MeshData& m, int step) {
@@ -208,6 +218,74 @@ TEST(Gmsh, ConvertsAsOneFileOrASeriesOfFiles) {
   EXPECT_EQ(two->read_step(1).cell_count(), 177u);
   const auto bad = open_mesh_files({kDir / "gmsh_mixed.msh", kDir / "gmsh_tets_41a.msh"});
   EXPECT_THROW(bad->read_step(1), InputError);
+}
+
+// Physical groups of volumes (--region), as Gmsh's model holds them (gmsh_groups.txt: each
+// group's element count and the sum of its elements' numbers, the view cell_id): by name or
+// number, overlapping groups as their union, the nodes of the other elements dropped, f (linear)
+// exact at every node kept. MSH 2.2 writes an element once per group holding it, under new
+// numbers: read once, its view values found under any copy's number.
+TEST(Gmsh, PhysicalGroupsAreThoseOfGmshsModel) {
+  std::map<int64_t, std::pair<uint64_t, double>> groups;  // number -> (elements, sum of cell_id)
+  std::istringstream table(test::file_bytes(kDir / "gmsh_groups.txt"));
+  for (std::string line; std::getline(table, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream row(line);
+    int64_t number = 0;
+    uint64_t count = 0;
+    double sum = 0;
+    row >> number >> count >> sum;
+    groups[number] = {count, sum};
+  }
+  ASSERT_EQ(groups.size(), 5u);
+  const std::map<int64_t, std::string> names = {{7, "hex block"}, {8, "prisms"}, {9, "top"}, {11, "lower"}};
+  const auto cell_id_sum = [](const MeshData& m) {
+    double sum = 0;
+    for (double v : test::array_named(m.cell_data, "cell_id").values) sum += v;
+    return sum;
+  };
+  const auto expect_nodes_used_and_f_exact = [](const MeshData& m) {
+    EXPECT_EQ(std::set<uint64_t>(m.connectivity.begin(), m.connectivity.end()).size(), m.points.size());
+    const MeshArray& f = test::array_named(m.point_data, "f");
+    for (size_t i = 0; i < m.points.size(); ++i)
+      EXPECT_NEAR(f.values[i], m.points[i].x + 2 * m.points[i].y + 3 * m.points[i].z, 1e-12);
+  };
+  for (const char* name : {"gmsh_groups_41.msh", "gmsh_groups_41b.msh", "gmsh_groups_22.msh"}) {
+    SCOPED_TRACE(name);
+    const MeshData whole = GmshFile(kDir / name).read_step(0);
+    EXPECT_EQ(whole.cell_count(), 177u);
+    EXPECT_EQ(cell_id_sum(whole), groups[7].second + groups[8].second + groups[9].second);
+    for (const auto& [number, expected] : groups) {
+      std::vector<std::string> keys = {std::to_string(number)};
+      if (names.count(number)) keys.push_back(names.at(number));
+      for (const std::string& key : keys) {
+        SCOPED_TRACE(key);
+        const MeshData m = GmshFile(kDir / name, {key}).read_step(0);
+        EXPECT_EQ(m.cell_count(), expected.first);
+        EXPECT_EQ(cell_id_sum(m), expected.second);
+        expect_nodes_used_and_f_exact(m);
+      }
+    }
+    const MeshData lower_and_hexes = GmshFile(kDir / name, {"lower", "hex block"}).read_step(0);
+    EXPECT_EQ(lower_and_hexes.cell_count(), groups[11].first);
+    EXPECT_NE(GmshFile(kDir / name, {"12", "hex block"}).summary().find("; physical groups read: 7 (hex block) 12"),
+              std::string::npos);
+    for (const char* missing : {"bottom", "13", "nope"})
+      EXPECT_EQ(refusal_with(kDir / name, {missing}),
+                std::string("no physical group '") + missing +
+                    "' of volume elements in this file (its groups of volumes: 7 (hex block), 8 (prisms), 9 (top), "
+                    "11 (lower), 12)");
+  }
+  EXPECT_EQ(GmshFile(kDir / "gmsh_groups_22.msh").summary(),
+            "MSH 2.2 binary: hex8 x 8, prism6 x 28, pyramid5 x 4, tet4 x 137; 101 copies of elements in a second "
+            "physical group read once");
+  test::expect_probes_alike(GmshFile(kDir / "gmsh_groups_41.msh").read_step(0), "f",
+                            GmshFile(kDir / "gmsh_groups_22.msh").read_step(0), "f");
+  // A file without groups, and --region on one .msh of several (a series), are refused.
+  EXPECT_EQ(refusal_with(kDir / "gmsh_tets_22a.msh", {"1"}),
+            "no physical group '1' of volume elements in this file (its groups of volumes: none)");
+  EXPECT_THROW(open_mesh_files({kDir / "gmsh_mixed.msh", kDir / "gmsh_mixed.msh"}, {}, {"7"}), UsageError);
+  EXPECT_EQ(open_mesh_files({kDir / "gmsh_groups_41.msh"}, {}, {"prisms"})->read_step(0).cell_count(), 28u);
 }
 
 // Sections not read are skipped to their end line; $ElementNodeData views are left out, and the

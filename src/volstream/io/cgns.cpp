@@ -29,7 +29,7 @@ namespace fs = std::filesystem;
 
 bool cgns_supported() { return false; }
 struct CgnsFile::Impl {};
-CgnsFile::CgnsFile(const fs::path& file) {
+CgnsFile::CgnsFile(const fs::path& file, const std::vector<std::string>&) {
   input_error(file.string(),
               "this volstream was built without the CGNS library, which CGNS files need "
               "(Debian: apt-get install libcgns-dev, then build again)");
@@ -125,6 +125,7 @@ struct CgnsFile::Impl {
   int fn = -1, base = 0;
   std::string base_name;  // the node path's first part (read_parent_elements)
   std::vector<Zone> zones;
+  std::vector<std::string> wanted;  // the zones to read, by name (empty: all)
   std::vector<double> times{0.0};
   std::map<std::string, uint64_t> element_counts;  // of structured zones' hexahedra, and cells by ParentElements
   std::vector<uint64_t> elements_of_type = std::vector<uint64_t>(NofValidElementTypes);
@@ -144,9 +145,34 @@ struct CgnsFile::Impl {
     find_3d_base();
     int count = 0;
     check(cg_nzones(fn, base, &count), "zones");
-    for (int z = 1; z <= count; ++z) zones.push_back(read_zone(z));
-    input_check(!zones.empty(), file, "a base without zones");
+    input_check(count > 0, file, "a base without zones");
+    std::vector<std::string> names;
+    for (int z = 1; z <= count; ++z) {
+      names.push_back(zone_name(z));
+      if (is_wanted(names.back())) zones.push_back(read_zone(z));
+    }
+    for (const std::string& w : wanted)
+      if (std::find(names.begin(), names.end(), w) == names.end())
+        input_error(file,
+                    "no zone '" + w + "' in this file's base " + base_name + " (its zones: " + joined(names) + ")");
     read_times();
+  }
+
+  bool is_wanted(const std::string& zone) const {
+    return wanted.empty() || std::find(wanted.begin(), wanted.end(), zone) != wanted.end();
+  }
+
+  static std::string joined(const std::vector<std::string>& names) {
+    std::string all;
+    for (const std::string& n : names) all += (all.empty() ? "" : ", ") + n;
+    return all;
+  }
+
+  std::string zone_name(int z) const {
+    char name[33] = {};
+    cgsize_t size[9] = {};
+    check(cg_zone_read(fn, base, z, name, size), "zone");
+    return name;
   }
 
   void find_3d_base() {
@@ -617,6 +643,11 @@ struct CgnsFile::Impl {
     const auto structured = std::count_if(zones.begin(), zones.end(), [](const Zone& z) { return z.structured; });
     std::string s = std::to_string(zones.size()) + (zones.size() == 1 ? " zone" : " zones");
     if (structured) s += ", " + std::to_string(structured) + " structured";
+    if (!wanted.empty()) {
+      std::vector<std::string> read;
+      for (const Zone& z : zones) read.push_back(z.name);
+      s += " read (" + joined(read) + ")";
+    }
     const char* sep = ": ";
     std::map<std::string, uint64_t> counts = element_counts;
     for (size_t type = 0; type < elements_of_type.size(); ++type)
@@ -629,10 +660,12 @@ struct CgnsFile::Impl {
   }
 };
 
-CgnsFile::CgnsFile(const fs::path& file) : impl_(std::make_unique<Impl>()) {
+CgnsFile::CgnsFile(const fs::path& file, const std::vector<std::string>& zones) : impl_(std::make_unique<Impl>()) {
   file_size_checked(file);  // a regular file (a FIFO would block every read below)
+  impl_->wanted = zones;
   read_in_child_first(file.string(), "CGNS", [&] {
     Impl first;
+    first.wanted = zones;
     first.open(file);
     first.read_all_values();
   });

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "volstream/umesh/mesh_data.h"
 
@@ -30,8 +31,9 @@ class CgnsFile {
  public:
   // Reads the file's structure and grids (InputError naming the file for anything it does not
   // read). The file is read whole in a child process first (io/solver_files.h: HDF5 reads some
-  // damaged files unsafely).
-  explicit CgnsFile(const std::filesystem::path& file);
+  // damaged files unsafely). `zones`: the zones to read, by name, and not the others (a name the
+  // base lacks is refused, listing its zones); empty: all.
+  explicit CgnsFile(const std::filesystem::path& file, const std::vector<std::string>& zones = {});
   ~CgnsFile();
   CgnsFile(const CgnsFile&) = delete;
   CgnsFile& operator=(const CgnsFile&) = delete;

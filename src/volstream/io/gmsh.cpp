@@ -5,12 +5,14 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
 
 #include "volstream/core/error.h"
 #include "volstream/io/parse_cursor.h"
+#include "volstream/umesh/mesh_pieces.h"
 #include "volstream/umesh/quadratic.h"
 
 namespace vs {
@@ -86,20 +88,25 @@ const VolumeKind* volume_kind(int64_t type) {
 // small file costs no memory.
 class TagIndex {
  public:
-  // False if a tag is repeated.
-  bool build(const std::vector<uint64_t>& tags) {
+  // Tag tags[i] is index i, and each of `aliases` (tag, index) names an index too (an element's
+  // other copies). False if a tag is repeated.
+  bool build(const std::vector<uint64_t>& tags, const std::vector<std::pair<uint64_t, uint64_t>>& aliases = {}) {
     uint64_t max = 0;
     for (uint64_t t : tags) max = std::max(max, t);
-    dense_ = max <= 2 * uint64_t(tags.size()) + 1024;
+    for (const auto& a : aliases) max = std::max(max, a.first);
+    const uint64_t n = tags.size() + aliases.size();
+    dense_ = max <= 2 * n + 1024;
     if (dense_) table_.assign(max + 1, kNone);
-    for (size_t i = 0; i < tags.size(); ++i) {
-      if (dense_) {
-        if (table_[tags[i]] != kNone) return false;
-        table_[tags[i]] = i;
-      } else if (!map_.emplace(tags[i], i).second) {
-        return false;
-      }
-    }
+    for (size_t i = 0; i < tags.size(); ++i)
+      if (!add(tags[i], i)) return false;
+    for (const auto& [tag, index] : aliases)
+      if (!add(tag, index)) return false;
+    return true;
+  }
+  bool add(uint64_t tag, uint64_t index) {
+    if (!dense_) return map_.emplace(tag, index).second;
+    if (table_[tag] != kNone) return false;
+    table_[tag] = index;
     return true;
   }
   std::optional<uint64_t> find(int64_t tag) const {
@@ -142,7 +149,9 @@ struct GmshContents {
   TagIndex nodes;
   MeshData cells;  // connectivity, types and offsets only
   std::vector<uint64_t> node_tags, element_tags;
+  std::vector<std::pair<uint64_t, uint64_t>> element_copies;  // 2.2: (tag, element) of a copy read as its first
   TagIndex elements;
+  std::map<int64_t, std::string> groups_read;        // --region: the physical groups of volumes read, and their names
   std::map<std::string_view, uint64_t> kind_counts;  // "tet4" -> elements read (no string made per element)
   std::vector<View> views;
   std::vector<std::string> left_out;  // for summary()
@@ -150,7 +159,10 @@ struct GmshContents {
 
 class MshParser {
  public:
-  explicit MshParser(const fs::path& file) : in_(file) {}
+  // `groups`: the physical groups of volumes to read, by name or number (empty: every element).
+  MshParser(const fs::path& file, std::vector<std::string> groups) : in_(file), wanted_(std::move(groups)) {
+    matched_.assign(wanted_.size(), false);
+  }
   GmshContents parse();
 
  private:
@@ -171,11 +183,23 @@ class MshParser {
   uint64_t ascii_count(const char* what);
   void finish_nodes();
   void read_elements();
-  void read_element(int64_t type, uint64_t element_tag, std::vector<int64_t>& nodes);
+  void read_element(int64_t type, uint64_t element_tag, std::vector<int64_t>& nodes, bool wanted = true);
   void keep_element(int64_t type, uint64_t element_tag, const std::vector<int64_t>& nodes);
   void read_elements_41();
   void read_elements_22(uint64_t total);
+  void read_element_22(int64_t type, uint64_t element_tag, const std::vector<int64_t>& tags,
+                       std::vector<int64_t>& nodes);
   void finish_elements();
+  void keep_wanted_groups_22();
+  void read_physical_names();
+  void read_entities();
+  void skip_entities(uint64_t count, bool points);
+  bool group_wanted(int64_t group);
+  bool volume_wanted(int64_t entity);
+  void check_groups_found() const;
+  void note_entity_group(int64_t entity, int64_t group);
+  std::optional<uint64_t> earlier_copy(size_t first, uint8_t vtk_type) const;
+  uint64_t nodes_hash(size_t first, size_t end, uint8_t vtk_type) const;
   void read_view(bool cells);
   std::string string_tag();
 
@@ -183,7 +207,24 @@ class MshParser {
   bool binary_ = false, big_endian_ = false, v41_ = false;
   bool have_nodes_ = false, have_elements_ = false;
   std::map<int64_t, uint64_t> unread_volumes_;  // Gmsh type -> elements not read
-  uint64_t view_tuples_ = 0;                    // nodes and elements of every view step so far
+  // --region: the groups asked for, which of them named a group, the file's names of volume
+  // groups ($PhysicalNames), its volumes' groups (4.1 $Entities) and the groups seen (2.2).
+  std::vector<std::string> wanted_;
+  std::vector<bool> matched_;
+  std::map<int64_t, std::string> group_names_;
+  std::map<int64_t, std::vector<int64_t>> volume_groups_;
+  std::set<int64_t> groups_seen_;
+  bool have_entities_ = false;
+  // 2.2 writes an element once for each physical group holding it, each copy under a number of
+  // its own (and a view's values may be given for any copy): the copies after the first are read
+  // as aliases of it. They can exist once an elementary volume comes under a second group; from
+  // then on every element is looked up by its nodes.
+  std::map<int64_t, int64_t> entity_group_;
+  std::vector<int64_t> element_group_;                     // 2.2 with --region: each element's first group
+  std::vector<std::pair<uint64_t, int64_t>> copy_groups_;  // and (element, group) of its copies
+  bool copies_possible_ = false;
+  std::unordered_multimap<uint64_t, uint64_t> element_by_nodes_;  // nodes_hash -> element
+  uint64_t view_tuples_ = 0;                                      // nodes and elements of every view step so far
   GmshContents out_;
 };
 
@@ -342,13 +383,14 @@ void MshParser::read_elements() {
 }
 
 // Element `element_tag` of `type`: its node tags read into `nodes`, then kept if it is a volume
-// element read, counted if it is another volume element, else dropped.
-void MshParser::read_element(int64_t type, uint64_t element_tag, std::vector<int64_t>& nodes) {
+// element read (and `wanted`: in a physical group asked for), counted if it is another volume
+// element, else dropped.
+void MshParser::read_element(int64_t type, uint64_t element_tag, std::vector<int64_t>& nodes, bool wanted) {
   const std::optional<GmshType> t = gmsh_type(type);
   if (!t) in_.fail("element " + std::to_string(element_tag) + ": unknown element type " + std::to_string(type));
   nodes.resize(size_t(t->nodes));
   for (int64_t& n : nodes) n = int64_t(tag("element node tag"));
-  if (t->dim < 3) return;
+  if (t->dim < 3 || !wanted) return;
   if (!volume_kind(type)) {
     ++unread_volumes_[type];
     return;
@@ -359,6 +401,7 @@ void MshParser::read_element(int64_t type, uint64_t element_tag, std::vector<int
 void MshParser::keep_element(int64_t type, uint64_t element_tag, const std::vector<int64_t>& nodes) {
   const VolumeKind& kind = *volume_kind(type);
   MeshData& m = out_.cells;
+  const size_t first = m.connectivity.size();
   for (size_t v = 0; v < nodes.size(); ++v) {
     const int64_t node = nodes[kind.vtk_from_gmsh.empty() ? v : size_t(kind.vtk_from_gmsh[v])];
     const std::optional<uint64_t> index = out_.nodes.find(node);
@@ -366,6 +409,14 @@ void MshParser::keep_element(int64_t type, uint64_t element_tag, const std::vect
       in_.fail("element " + std::to_string(element_tag) + " (" + kind.name + "): node tag " + std::to_string(node) +
                " is not in $Nodes");
     m.connectivity.push_back(*index);
+  }
+  if (copies_possible_) {
+    if (const std::optional<uint64_t> e = earlier_copy(first, kind.vtk_type)) {
+      m.connectivity.resize(first);
+      out_.element_copies.push_back({element_tag, *e});
+      return;
+    }
+    element_by_nodes_.emplace(nodes_hash(first, m.connectivity.size(), kind.vtk_type), m.cell_count());
   }
   m.cell_types.push_back(kind.vtk_type);
   m.cell_offsets.push_back(m.connectivity.size());
@@ -386,7 +437,7 @@ void MshParser::read_elements_41() {
   std::vector<int64_t> nodes;
   for (uint64_t b = 0; b < blocks; ++b) {
     const int64_t dim = int_value("entity dimension");
-    int_value("entity tag");
+    const int64_t entity = int_value("entity tag");
     const int64_t type = int_value("element type");
     const uint64_t n = count("elements in block");
     if (n > total - seen)
@@ -402,7 +453,8 @@ void MshParser::read_elements_41() {
       in_.fail("$Elements block " + std::to_string(b + 1) + ": element type " + std::to_string(type) +
                " on an entity of dimension " + std::to_string(dim));
     if (t) in_.require_fits(n, uint64_t(t->nodes + 1) * (binary_ ? 8 : 2), "$Elements block");
-    for (uint64_t e = 0; e < n; ++e) read_element(type, count("element tag"), nodes);
+    const bool wanted = dim < 3 || volume_wanted(entity);
+    for (uint64_t e = 0; e < n; ++e) read_element(type, count("element tag"), nodes, wanted);
   }
   if (seen != total)
     in_.fail("$Elements blocks hold " + std::to_string(seen) + " elements, its header " + std::to_string(total));
@@ -412,44 +464,226 @@ void MshParser::read_elements_41() {
 // count numTags" (ints), then per element its tag, tags and nodes (ints).
 void MshParser::read_elements_22(uint64_t total) {
   in_.require_fits(total, binary_ ? 8 : 4, "$Elements");
-  std::vector<int64_t> nodes;
+  std::vector<int64_t> nodes, tags;
   for (uint64_t seen = 0; seen < total;) {
     if (binary_) {
       const int64_t type = int_value("element type");
       const int64_t n = int_value("element count");
-      const int64_t tags = int_value("tag count");
+      const int64_t tag_count = int_value("tag count");
       const std::optional<GmshType> t = gmsh_type(type);
       if (!t) in_.fail("unknown element type " + std::to_string(type));
-      if (n < 0 || uint64_t(n) > total - seen || tags < 0 || tags > 1024)
-        in_.fail("an element block of " + std::to_string(n) + " elements with " + std::to_string(tags) + " tags");
-      in_.require_fits(uint64_t(n), 4 * uint64_t(1 + tags + t->nodes), "$Elements block");
+      if (n < 0 || uint64_t(n) > total - seen || tag_count < 0 || tag_count > 1024)
+        in_.fail("an element block of " + std::to_string(n) + " elements with " + std::to_string(tag_count) + " tags");
+      in_.require_fits(uint64_t(n), 4 * uint64_t(1 + tag_count + t->nodes), "$Elements block");
+      tags.resize(size_t(tag_count));
       for (int64_t e = 0; e < n; ++e) {
         const uint64_t element_tag = positive_int("element tag");
-        for (int64_t k = 0; k < tags; ++k) int_value("element tag");
-        read_element(type, element_tag, nodes);
+        for (int64_t& k : tags) k = int_value("element tag");
+        read_element_22(type, element_tag, tags, nodes);
       }
       seen += uint64_t(n);
     } else {
       const uint64_t element_tag = positive_int("element tag");
       const int64_t type = int_value("element type");
-      const int64_t tags = int_value("tag count");
-      if (tags < 0 || tags > 1024)
-        in_.fail("element " + std::to_string(element_tag) + ": " + std::to_string(tags) + " tags");
-      for (int64_t k = 0; k < tags; ++k) int_value("element tag");
-      read_element(type, element_tag, nodes);
+      const int64_t tag_count = int_value("tag count");
+      if (tag_count < 0 || tag_count > 1024)
+        in_.fail("element " + std::to_string(element_tag) + ": " + std::to_string(tag_count) + " tags");
+      tags.resize(size_t(tag_count));
+      for (int64_t& k : tags) k = int_value("element tag");
+      read_element_22(type, element_tag, tags, nodes);
       ++seen;
     }
   }
 }
 
+// A 2.2 element: its tags are its physical group and elementary entity, then partitions.
+void MshParser::read_element_22(int64_t type, uint64_t element_tag, const std::vector<int64_t>& tags,
+                                std::vector<int64_t>& nodes) {
+  const std::optional<GmshType> t = gmsh_type(type);
+  const bool volume = t && t->dim == 3;
+  const int64_t group = tags.empty() ? 0 : tags[0];
+  if (volume && tags.size() >= 2) note_entity_group(tags[1], group);
+  // Elements of every group are read, so that a copy in a group not asked for is known as one
+  // (keep_wanted_groups_22 drops the others), but for types not read.
+  const bool wanted = !volume || wanted_.empty() || volume_kind(type) || group_wanted(group);
+  const uint64_t elements = out_.cells.cell_count(), copies = out_.element_copies.size();
+  read_element(type, element_tag, nodes, wanted);
+  if (wanted_.empty()) return;
+  if (out_.cells.cell_count() > elements) element_group_.push_back(group);
+  if (out_.element_copies.size() > copies) copy_groups_.push_back({out_.element_copies.back().second, group});
+}
+
+// 2.2 with --region: the elements of the groups asked for (in one of their copies' groups).
+void MshParser::keep_wanted_groups_22() {
+  std::map<int64_t, bool> wanted;
+  const auto is_wanted = [&](int64_t g) {
+    const auto [it, fresh] = wanted.emplace(g, false);
+    if (fresh) it->second = group_wanted(g);
+    return it->second;
+  };
+  MeshData& m = out_.cells;
+  std::vector<bool> keep(m.cell_count());
+  for (size_t e = 0; e < keep.size(); ++e) keep[e] = is_wanted(element_group_[e]);
+  for (const auto& [e, g] : copy_groups_)
+    if (is_wanted(g)) keep[e] = true;
+  constexpr uint64_t kDropped = ~uint64_t(0);
+  std::vector<uint64_t> new_index(keep.size(), kDropped);
+  MeshData kept;
+  kept.cell_offsets = {0};
+  std::vector<uint64_t> tags;
+  out_.kind_counts.clear();
+  for (size_t e = 0; e < keep.size(); ++e) {
+    if (!keep[e]) continue;
+    new_index[e] = kept.cell_count();
+    kept.connectivity.insert(kept.connectivity.end(), m.connectivity.begin() + ptrdiff_t(m.cell_offsets[e]),
+                             m.connectivity.begin() + ptrdiff_t(m.cell_offsets[e + 1]));
+    kept.cell_types.push_back(m.cell_types[e]);
+    kept.cell_offsets.push_back(kept.connectivity.size());
+    tags.push_back(out_.element_tags[e]);
+    for (const VolumeKind& k : volume_kinds())
+      if (k.vtk_type == m.cell_types[e]) ++out_.kind_counts[k.name];
+  }
+  std::vector<std::pair<uint64_t, uint64_t>> copies;
+  for (const auto& [tag, e] : out_.element_copies)
+    if (keep[e]) copies.push_back({tag, new_index[e]});
+  m = std::move(kept);
+  out_.element_tags = std::move(tags);
+  out_.element_copies = std::move(copies);
+}
+
+// An elementary volume seen in a second physical group: copies of its elements follow, so every
+// element read so far is indexed by its nodes, and every later one looked up.
+void MshParser::note_entity_group(int64_t entity, int64_t group) {
+  const auto [it, first] = entity_group_.emplace(entity, group);
+  if (first || it->second == group || copies_possible_) return;
+  copies_possible_ = true;
+  const MeshData& m = out_.cells;
+  for (uint64_t e = 0; e < m.cell_count(); ++e)
+    element_by_nodes_.emplace(nodes_hash(m.cell_offsets[e], m.cell_offsets[e + 1], m.cell_types[e]), e);
+}
+
+uint64_t MshParser::nodes_hash(size_t first, size_t end, uint8_t vtk_type) const {
+  uint64_t h = vtk_type;
+  for (size_t i = first; i < end; ++i) h = (h ^ out_.cells.connectivity[i]) * 0x100000001b3ull;
+  return h;
+}
+
+// The element read before with the nodes of connectivity[first..] (the one being read), in the
+// same order, and of the same type.
+std::optional<uint64_t> MshParser::earlier_copy(size_t first, uint8_t vtk_type) const {
+  const MeshData& m = out_.cells;
+  const size_t end = m.connectivity.size();
+  const auto [lo, hi] = element_by_nodes_.equal_range(nodes_hash(first, end, vtk_type));
+  for (auto it = lo; it != hi; ++it) {
+    const uint64_t e = it->second, b = m.cell_offsets[e];
+    if (m.cell_types[e] == vtk_type && m.cell_offsets[e + 1] - b == end - first &&
+        std::equal(m.connectivity.begin() + ptrdiff_t(first), m.connectivity.end(),
+                   m.connectivity.begin() + ptrdiff_t(b)))
+      return e;
+  }
+  return std::nullopt;
+}
+
+// --region: a physical group of volumes, asked for by its name or its number?
+bool MshParser::group_wanted(int64_t group) {
+  if (group <= 0) return false;  // 0: in no group
+  groups_seen_.insert(group);
+  const auto name = group_names_.find(group);
+  bool wanted = false;
+  for (size_t i = 0; i < wanted_.size(); ++i)
+    if (wanted_[i] == std::to_string(group) || (name != group_names_.end() && wanted_[i] == name->second)) {
+      matched_[i] = true;
+      wanted = true;
+    }
+  if (wanted) out_.groups_read[group] = name == group_names_.end() ? "" : name->second;
+  return wanted;
+}
+
+// 4.1: whether the elements of volume `entity` are read (with --region: it is in a group asked for).
+bool MshParser::volume_wanted(int64_t entity) {
+  if (wanted_.empty()) return true;
+  if (!have_entities_) in_.fail("physical groups asked for (--region), but no $Entities before $Elements");
+  const auto it = volume_groups_.find(entity);
+  bool wanted = false;
+  if (it != volume_groups_.end())
+    for (int64_t g : it->second) wanted = group_wanted(g) || wanted;  // every group, for groups_read
+  return wanted;
+}
+
+void MshParser::check_groups_found() const {
+  std::set<int64_t> groups = groups_seen_;
+  for (const auto& [group, name] : group_names_) groups.insert(group);
+  for (const auto& [volume, of] : volume_groups_) groups.insert(of.begin(), of.end());
+  std::string all;
+  for (int64_t g : groups) {
+    const auto name = group_names_.find(g);
+    all +=
+        (all.empty() ? "" : ", ") + std::to_string(g) + (name == group_names_.end() ? "" : " (" + name->second + ")");
+  }
+  for (size_t i = 0; i < wanted_.size(); ++i)
+    if (!matched_[i])
+      in_.fail("no physical group '" + wanted_[i] +
+               "' of volume elements in this file (its groups of volumes: " + (all.empty() ? "none" : all) + ")");
+}
+
+// "numPhysicalNames", then "dimension physicalTag \"name\"" per line (ascii in binary files too).
+void MshParser::read_physical_names() {
+  const uint64_t n = ascii_count("physical name count");
+  in_.require_fits(n, 6, "$PhysicalNames");
+  for (uint64_t i = 0; i < n; ++i) {
+    const int64_t dim = in_.integer("physical group dimension");
+    const int64_t group = in_.integer("physical group tag");
+    std::string name = string_tag();
+    if (dim == 3) group_names_[group] = std::move(name);
+  }
+  expect_end("$PhysicalNames");
+}
+
+// 4.1: "numPoints numCurves numSurfaces numVolumes", then per point "tag x y z numPhysicalTags
+// physicalTag...", per curve, surface and volume "tag minX minY minZ maxX maxY maxZ
+// numPhysicalTags physicalTag... numBounding boundingTag..."; the volumes' groups are kept.
+void MshParser::read_entities() {
+  uint64_t counts[4];
+  for (uint64_t& c : counts) c = count("entity count");
+  for (int dim = 0; dim < 3; ++dim) skip_entities(counts[dim], dim == 0);
+  in_.require_fits(counts[3], binary_ ? 68 : 18, "$Entities volumes");
+  for (uint64_t v = 0; v < counts[3]; ++v) {
+    const int64_t volume = int_value("volume tag");
+    for (int k = 0; k < 6; ++k) real_value("bounding box");
+    const uint64_t groups = count("physical tag count");
+    in_.require_fits(groups, binary_ ? 4 : 2, "$Entities physical tags");
+    std::vector<int64_t>& of = volume_groups_[volume];
+    for (uint64_t g = 0; g < groups; ++g) of.push_back(int_value("physical tag"));
+    const uint64_t bounds = count("bounding surface count");
+    in_.require_fits(bounds, binary_ ? 4 : 2, "$Entities bounding surfaces");
+    for (uint64_t b = 0; b < bounds; ++b) int_value("bounding surface");
+  }
+  expect_end("$Entities");
+  have_entities_ = true;
+}
+
+void MshParser::skip_entities(uint64_t count_of, bool points) {
+  in_.require_fits(count_of, points ? (binary_ ? 36 : 10) : (binary_ ? 68 : 16), "$Entities");
+  for (uint64_t e = 0; e < count_of; ++e) {
+    int_value("entity tag");
+    for (int k = 0; k < (points ? 3 : 6); ++k) real_value("entity coordinate");
+    for (int list = 0; list < (points ? 1 : 2); ++list) {  // physical tags, then bounding entities
+      const uint64_t n = count("entity tag count");
+      in_.require_fits(n, binary_ ? 4 : 2, "$Entities tags");
+      for (uint64_t i = 0; i < n; ++i) int_value("entity tag");
+    }
+  }
+}
+
 void MshParser::finish_elements() {
+  if (!v41_ && !wanted_.empty()) keep_wanted_groups_22();
   if (!unread_volumes_.empty()) {
     const auto [type, n] = *unread_volumes_.begin();
     in_.fail("volume element type " + std::to_string(type) + " x " + std::to_string(n) + " is not read" +
              (type == 14 ? " (the 14-node pyramid: VTK has no such cell; the 13-node one, type 19, is read)"
                          : " (types 4, 5, 6, 7, 11, 12, 13, 17, 18, 19 are)"));
   }
-  if (!out_.elements.build(out_.element_tags)) in_.fail("an element tag given twice in $Elements");
+  if (!out_.elements.build(out_.element_tags, out_.element_copies)) in_.fail("an element tag given twice in $Elements");
   have_elements_ = true;
 }
 
@@ -542,6 +776,12 @@ void MshParser::read_section(std::string_view name) {
   if (name == "$Elements") return read_elements();
   if (name == "$NodeData") return read_view(false);
   if (name == "$ElementData") return read_view(true);
+  if (!wanted_.empty()) {  // what --region needs; other files skip these sections as before
+    if (name == "$PhysicalNames") return read_physical_names();
+    if (name == "$Entities" && v41_) return read_entities();
+    if (name == "$PartitionedEntities")
+      in_.fail("physical groups (--region) of a partitioned file are not read yet (write it whole)");
+  }
   if (name == "$ElementNodeData") {
     // Values per element node (discontinuous fields): not point data; left out, and said so.
     const int64_t strings = in_.integer("string tag count");
@@ -563,7 +803,10 @@ GmshContents MshParser::parse() {
     read_section(*word);
   }
   if (!have_nodes_ || !have_elements_) in_.fail("no $Nodes and $Elements sections");
-  if (out_.element_tags.empty()) in_.fail("no volume elements (only points, lines, triangles or quadrangles)");
+  check_groups_found();
+  if (out_.element_tags.empty())
+    in_.fail(wanted_.empty() ? "no volume elements (only points, lines, triangles or quadrangles)"
+                             : "no volume elements in the physical groups asked for");
   return std::move(out_);
 }
 
@@ -612,9 +855,9 @@ struct GmshFile::Impl {
   }
 };
 
-GmshFile::GmshFile(const fs::path& file) : impl_(std::make_unique<Impl>()) {
+GmshFile::GmshFile(const fs::path& file, const std::vector<std::string>& groups) : impl_(std::make_unique<Impl>()) {
   impl_->file = file.string();
-  impl_->contents = MshParser(file).parse();
+  impl_->contents = MshParser(file, groups).parse();
   impl_->check_views();
   impl_->collect_steps();
 }
@@ -635,6 +878,7 @@ MeshData GmshFile::read_step(size_t step) const {
   for (const View& v : c.views)
     if (const ViewStep* s = Impl::at_step(v, impl_->steps.at(step).first))
       (v.cells ? m.cell_data : m.point_data).push_back({v.name, v.components, s->values});
+  if (!c.groups_read.empty()) drop_unused_points(m);  // the nodes of the groups not read
   split_quadratic_cells(m, impl_->file, impl_->steps.size() > 1 ? &impl_->quadratic_split : nullptr);
   check_mesh(m, impl_->file);
   return m;
@@ -648,6 +892,13 @@ std::string GmshFile::summary() const {
     s.append(first ? " " : ", ").append(kind).append(" x " + std::to_string(n));
     first = false;
   }
+  if (!c.groups_read.empty()) {
+    s += "; physical groups read:";
+    for (const auto& [group, name] : c.groups_read)
+      s += " " + std::to_string(group) + (name.empty() ? "" : " (" + name + ")");
+  }
+  if (!c.element_copies.empty())
+    s += "; " + std::to_string(c.element_copies.size()) + " copies of elements in a second physical group read once";
   for (const std::string& note : c.left_out) s += "; " + note;
   return s;
 }

@@ -11,15 +11,18 @@
 // and a view given at one step only holds at every step (a material id written once beside a
 // temperature's steps). $ElementNodeData views are left out (summary() says so); $Entities,
 // $PhysicalNames, $Periodic, $PartitionedEntities, $InterpolationScheme and any other section are
-// skipped. Refused with one line: other versions (1.0, 2.0, 2.1, 3.0, 4.0), other volume element
-// types (the 14-node pyramid, which VTK lacks; third and higher orders), element nodes that are
-// no node's tag, views missing values on a node or element the volume uses, counts larger than
-// the file could hold, and files cut short.
+// skipped, but for a choice of physical groups (below). MSH 2.2 writes an element once for each
+// physical group that holds it, each copy under a number of its own: the copies are read as one
+// element (the same type and nodes, in order, as one read before), their numbers naming it. Refused with one line:
+// other versions (1.0, 2.0, 2.1, 3.0, 4.0), other volume element types (the 14-node pyramid, which VTK lacks; third and
+// higher orders), element nodes that are no node's tag, views missing values on a node or element the volume uses,
+// counts larger than the file could hold, and files cut short.
 #pragma once
 #include <cstddef>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "volstream/umesh/mesh_data.h"
 
@@ -28,8 +31,11 @@ namespace vs {
 class GmshFile {
  public:
   // Reads the whole file (mesh and views); InputError naming the file for anything it does not
-  // read (see above).
-  explicit GmshFile(const std::filesystem::path& file);
+  // read (see above). `groups`: the physical groups of volumes to read, by name ($PhysicalNames)
+  // or number, and not the other elements nor the nodes only they use (4.1: the volumes of
+  // $Entities in those groups; 2.2: the elements whose first tag is one); a group the file lacks
+  // is refused, listing the file's, and so is a partitioned file. Empty: every element.
+  explicit GmshFile(const std::filesystem::path& file, const std::vector<std::string>& groups = {});
   ~GmshFile();
   GmshFile(const GmshFile&) = delete;
   GmshFile& operator=(const GmshFile&) = delete;

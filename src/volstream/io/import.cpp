@@ -79,7 +79,8 @@ std::string import_to_dataset(const ImportRequest& r, const fs::path& out_dir, c
            seconds("read", s.read_seconds, "encode", s.encode_seconds, "values", s.values_seconds);
   }
   if (!r.scalars.empty()) throw UsageError("scalars (NAME=FILE) apply to mesh input (.ugrid)");
-  if (!r.regions.empty()) throw UsageError("--region applies to OpenFOAM cases, Fluent case files and Exodus II files");
+  if (!r.regions.empty())
+    throw UsageError("--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS and Gmsh files");
   if (options.split_into_tets) throw UsageError("--split-into-tets applies to mesh input");
   auto source = open_amr_source(r, format);
   const ConvertStats s = convert_to_dataset(*source, out_dir, options);

@@ -26,8 +26,8 @@ struct ImportRequest {
   std::vector<double> origin{0, 0, 0}, spacing{1, 1, 1};
   // Meshes (UGRID carries no data of its own): raw float32 per-point scalars.
   std::vector<RawScalars> scalars;
-  // OpenFOAM cases' regions, Fluent cases' cell zones, Exodus files' element blocks: those to
-  // read (empty: all).
+  // OpenFOAM cases' regions, Fluent cases' cell zones, Exodus files' element blocks, CGNS files'
+  // zones, Gmsh files' physical groups of volumes: those to read (empty: all).
   std::vector<std::string> regions;
 };
 

@@ -195,8 +195,8 @@ std::string with_step_count(const std::string& summary, size_t steps) {
 template <class File>
 class SolverFileSeries : public MeshSeries {
  public:
-  // `parts`: the parts of the model to read (an Exodus file's element blocks), for a File that
-  // takes them; empty: all.
+  // `parts`: the parts of the model to read (an Exodus file's element blocks, a CGNS file's
+  // zones, a Gmsh file's physical groups), for a File that takes them; empty: all.
   SolverFileSeries(const std::vector<fs::path>& files, std::vector<RawScalars> scalars, std::string format,
                    const std::vector<std::string>& parts = {})
       : files_(files), scalars_(std::move(scalars)), format_(std::move(format)) {
@@ -215,7 +215,7 @@ class SolverFileSeries : public MeshSeries {
     std::vector<MeshData> meshes;
     for (auto& p : pieces_) meshes.push_back(p->read_step(size_t(step)));  // one at a time: NetCDF is not thread-safe
     MeshData m = meshes.size() == 1 ? std::move(meshes.front()) : join_pieces(std::move(meshes), origin(step));
-    input_check(m.cell_count() > 0, origin(step), "no volume elements in the element blocks asked for");
+    input_check(m.cell_count() > 0, origin(step), "no volume elements in the parts asked for (--region)");
     if (pieces_.size() > 1) check_mesh(m, origin(step));
     for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
     return m;
@@ -335,12 +335,12 @@ RawScalars parse_raw_scalars(const std::string& spec) {
 std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, const std::vector<RawScalars>& scalars,
                                             const std::vector<std::string>& regions) {
   if (files.empty()) throw UsageError("no mesh files given");
-  if (!regions.empty() && !is_openfoam_input(files.front()) && !is_fluent_case_file(files.front()) &&
-      !is_exodus_file(files.front()))
-    throw UsageError("--region applies to OpenFOAM cases, Fluent case files and Exodus II files (" +
-                     files.front().string() + " is none of them)");
   std::vector<PvdStep> steps;
   const std::string ext = lower_extension(files.front());
+  if (!regions.empty() && !is_openfoam_input(files.front()) && !is_fluent_case_file(files.front()) &&
+      !is_exodus_file(files.front()) && !is_cgns_file(files.front()) && !(ext == ".msh" && files.size() == 1))
+    throw UsageError("--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS and (one) Gmsh files (" +
+                     files.front().string() + (ext == ".msh" ? " is one of several .msh files)" : " is none of them)"));
   if (ext == ".case") {
     if (files.size() > 1) throw UsageError("an EnSight .case file is converted on its own");
     return std::make_unique<EnsightSeries>(files.front(), scalars);
@@ -361,7 +361,7 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, 
   }
   if (is_cgns_file(files.front())) {
     if (files.size() > 1) throw UsageError("a CGNS file is converted on its own (it holds its time steps)");
-    return std::make_unique<SolverFileSeries<CgnsFile>>(files, scalars, "CGNS");
+    return std::make_unique<SolverFileSeries<CgnsFile>>(files, scalars, "CGNS", regions);
   }
   if (is_fluent_case_file(files.front())) return open_fluent_files(files, scalars, regions);
   if (is_openfoam_input(files.front())) {
@@ -369,7 +369,8 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, 
       throw UsageError("an OpenFOAM case is converted on its own (its time directories are its steps)");
     return open_openfoam_case(files.front(), scalars, regions);
   }
-  if (ext == ".msh" && files.size() == 1) return std::make_unique<SolverFileSeries<GmshFile>>(files, scalars, "Gmsh");
+  if (ext == ".msh" && files.size() == 1)
+    return std::make_unique<SolverFileSeries<GmshFile>>(files, scalars, "Gmsh", regions);
   if (ext == ".pvd" || ext == ".series") {
     if (files.size() > 1) throw UsageError("a .pvd collection or .series file is converted on its own");
     steps = ext == ".pvd" ? read_pvd(files.front()) : read_file_series(files.front());

@@ -15,6 +15,12 @@ gmsh python3-gmsh; run by developers, not by the tests): run it in this director
   prism18), curved likewise.
 - gmsh_pyramid14.msh (4.1 ascii, no views): the mixed mesh of complete second order, whose
   14-node pyramids VTK lacks (refused).
+- gmsh_groups_41.msh (4.1 ascii), _41b (4.1 binary) and gmsh_groups_22.msh (2.2 binary): the mixed mesh with
+  physical groups of volumes that overlap (7 "hex block", 8 "prisms", 9 "top" of two volumes,
+  11 "lower" of the hexes' and prisms' volumes, 12 without a name) and one of surfaces
+  (5 "bottom"); views f and cell_id (each element's number in Gmsh's model: 2.2 numbers its
+  elements anew, and writes an element once per group holding it). gmsh_groups.txt: per group,
+  "number count sum" of its volume elements and of their cell_id, from Gmsh's model.
 
 For each file but the last, FILE_probes.txt: points inside elements and the value of the view g
 there, as Gmsh's own basis functions give it (gmsh.model.mesh.getBasisFunctions), so the node
@@ -212,6 +218,32 @@ def mixed():
     gmsh.model.remove()
 
 
+def groups():
+    gmsh.model.add("groups")
+    mixed_blocks(True)
+    volumes = [tag for _, tag in gmsh.model.getEntities(3)]
+    assert volumes == [1, 2, 3, 4], volumes
+    for dim, entities, number, name in [(3, [1], 7, "hex block"), (3, [2], 8, "prisms"), (3, [3, 4], 9, "top"),
+                                        (3, [1, 2], 11, "lower"), (3, [4], 12, None), (2, [1], 5, "bottom")]:
+        gmsh.model.addPhysicalGroup(dim, entities, number)
+        if name:
+            gmsh.model.setPhysicalName(dim, number, name)
+    views = add_views([(0, 0.0)], elements_view=False)
+    views = [v for v in views if gmsh.option.getString("View[%d].Name" % gmsh.view.getIndex(v)) in ("f", "cell_id")]
+    write("gmsh_groups_41.msh", 4.1, 0, views)
+    write("gmsh_groups_41b.msh", 4.1, 1, views)
+    write("gmsh_groups_22.msh", 2.2, 1, views)
+    with open("gmsh_groups.txt", "w") as out:
+        out.write("# physical group of volumes, its volume elements, the sum of their numbers (cell_id)\n")
+        for _, number in gmsh.model.getPhysicalGroups(3):
+            tags = []
+            for entity in gmsh.model.getEntitiesForPhysicalGroup(3, number):
+                for el in gmsh.model.mesh.getElements(3, entity)[1]:
+                    tags += [int(t) for t in el]
+            out.write("%d %d %d\n" % (number, len(tags), sum(tags)))
+    gmsh.model.remove()
+
+
 def second_order(name, with_top, incomplete, version, binary, curve, with_probes=True):
     gmsh.model.add(name)
     mixed_blocks(with_top)
@@ -230,6 +262,7 @@ gmsh.initialize()
 gmsh.option.setNumber("General.Terminal", 0)
 tets()
 mixed()
+groups()
 # The pyramids are flat (their apexes low in the thin top layer): moved nodes 0.03 away tangle
 # their pieces.
 second_order("gmsh_serendipity", True, 1, 4.1, 0, 0.02)

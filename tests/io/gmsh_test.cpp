@@ -223,8 +223,8 @@ TEST(Gmsh, ConvertsAsOneFileOrASeriesOfFiles) {
 // Physical groups of volumes (--region), as Gmsh's model holds them (gmsh_groups.txt: each
 // group's element count and the sum of its elements' numbers, the view cell_id): by name or
 // number, overlapping groups as their union, the nodes of the other elements dropped, f (linear)
-// exact at every node kept. MSH 2.2 writes an element once per group holding it, under new
-// numbers: read once, its view values found under any copy's number.
+// exact at every node kept; a partitioned file's groups through its partitions' entities. MSH 2.2 writes an element
+// once per group holding it, under new numbers: read once, its view values found under any copy's number.
 TEST(Gmsh, PhysicalGroupsAreThoseOfGmshsModel) {
   std::map<int64_t, std::pair<uint64_t, double>> groups;  // number -> (elements, sum of cell_id)
   std::istringstream table(test::file_bytes(kDir / "gmsh_groups.txt"));
@@ -250,7 +250,7 @@ TEST(Gmsh, PhysicalGroupsAreThoseOfGmshsModel) {
     for (size_t i = 0; i < m.points.size(); ++i)
       EXPECT_NEAR(f.values[i], m.points[i].x + 2 * m.points[i].y + 3 * m.points[i].z, 1e-12);
   };
-  for (const char* name : {"gmsh_groups_41.msh", "gmsh_groups_41b.msh", "gmsh_groups_22.msh"}) {
+  for (const char* name : {"gmsh_groups_41.msh", "gmsh_groups_41b.msh", "gmsh_groups_41p.msh", "gmsh_groups_22.msh"}) {
     SCOPED_TRACE(name);
     const MeshData whole = GmshFile(kDir / name).read_step(0);
     EXPECT_EQ(whole.cell_count(), 177u);

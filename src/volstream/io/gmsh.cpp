@@ -192,8 +192,8 @@ class MshParser {
   void finish_elements();
   void keep_wanted_groups_22();
   void read_physical_names();
-  void read_entities();
-  void skip_entities(uint64_t count, bool points);
+  void read_entities(bool partitioned);
+  int64_t read_entity(int dim, bool partitioned, std::vector<int64_t>& groups);
   bool group_wanted(int64_t group);
   bool volume_wanted(int64_t entity);
   void check_groups_found() const;
@@ -639,40 +639,60 @@ void MshParser::read_physical_names() {
   expect_end("$PhysicalNames");
 }
 
-// 4.1: "numPoints numCurves numSurfaces numVolumes", then per point "tag x y z numPhysicalTags
-// physicalTag...", per curve, surface and volume "tag minX minY minZ maxX maxY maxZ
-// numPhysicalTags physicalTag... numBounding boundingTag..."; the volumes' groups are kept.
-void MshParser::read_entities() {
+// 4.1 $Entities: "numPoints numCurves numSurfaces numVolumes", then per point "tag x y z
+// numPhysicalTags physicalTag...", per curve, surface and volume "tag minX minY minZ maxX maxY
+// maxZ numPhysicalTags physicalTag... numBounding boundingTag...". $PartitionedEntities (a
+// partitioned mesh, whose elements lie on these entities): first "numPartitions", then
+// "numGhostEntities" and "ghostTag partition" per ghost entity, then the entities as above with
+// "parentDim parentTag numPartitions partitionTag..." after each tag. The volumes' groups are kept.
+void MshParser::read_entities(bool partitioned) {
+  const char* section = partitioned ? "$PartitionedEntities" : "$Entities";
+  if (partitioned) {
+    count("partition count");
+    const uint64_t ghosts = count("ghost entity count");
+    in_.require_fits(ghosts, binary_ ? 8 : 4, section);
+    for (uint64_t g = 0; g < ghosts; ++g) {
+      int_value("ghost entity tag");
+      int_value("ghost entity partition");
+    }
+    volume_groups_.clear();  // the elements lie on the partitions' entities, not the model's
+  }
   uint64_t counts[4];
   for (uint64_t& c : counts) c = count("entity count");
-  for (int dim = 0; dim < 3; ++dim) skip_entities(counts[dim], dim == 0);
-  in_.require_fits(counts[3], binary_ ? 68 : 18, "$Entities volumes");
-  for (uint64_t v = 0; v < counts[3]; ++v) {
-    const int64_t volume = int_value("volume tag");
-    for (int k = 0; k < 6; ++k) real_value("bounding box");
-    const uint64_t groups = count("physical tag count");
-    in_.require_fits(groups, binary_ ? 4 : 2, "$Entities physical tags");
-    std::vector<int64_t>& of = volume_groups_[volume];
-    for (uint64_t g = 0; g < groups; ++g) of.push_back(int_value("physical tag"));
-    const uint64_t bounds = count("bounding surface count");
-    in_.require_fits(bounds, binary_ ? 4 : 2, "$Entities bounding surfaces");
-    for (uint64_t b = 0; b < bounds; ++b) int_value("bounding surface");
+  std::vector<int64_t> groups;
+  for (int dim = 0; dim < 4; ++dim) {
+    const uint64_t numbers = (dim == 0 ? 5 : 9) + (partitioned ? 3 : 0);  // the fewest an entity has
+    in_.require_fits(counts[dim], binary_ ? 4 * numbers + 12 : 2 * numbers, section);
+    for (uint64_t e = 0; e < counts[dim]; ++e) {
+      const int64_t tag = read_entity(dim, partitioned, groups);
+      if (dim == 3) volume_groups_[tag] = groups;
+    }
   }
-  expect_end("$Entities");
+  expect_end(section);
   have_entities_ = true;
 }
 
-void MshParser::skip_entities(uint64_t count_of, bool points) {
-  in_.require_fits(count_of, points ? (binary_ ? 36 : 10) : (binary_ ? 68 : 16), "$Entities");
-  for (uint64_t e = 0; e < count_of; ++e) {
-    int_value("entity tag");
-    for (int k = 0; k < (points ? 3 : 6); ++k) real_value("entity coordinate");
-    for (int list = 0; list < (points ? 1 : 2); ++list) {  // physical tags, then bounding entities
-      const uint64_t n = count("entity tag count");
-      in_.require_fits(n, binary_ ? 4 : 2, "$Entities tags");
-      for (uint64_t i = 0; i < n; ++i) int_value("entity tag");
+// One entity of read_entities' list: its tag, its physical groups put in `groups`.
+int64_t MshParser::read_entity(int dim, bool partitioned, std::vector<int64_t>& groups) {
+  const auto tag_list = [&](std::vector<int64_t>* into) {
+    const uint64_t n = count("entity tag count");
+    in_.require_fits(n, binary_ ? 4 : 2, "$Entities tags");
+    if (into) into->clear();
+    for (uint64_t i = 0; i < n; ++i) {
+      const int64_t t = int_value("entity tag");
+      if (into) into->push_back(t);
     }
+  };
+  const int64_t tag = int_value("entity tag");
+  if (partitioned) {
+    int_value("parent dimension");
+    int_value("parent tag");
+    tag_list(nullptr);  // its partitions
   }
+  for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) real_value("entity coordinate");
+  tag_list(&groups);
+  if (dim > 0) tag_list(nullptr);  // the entities bounding it
+  return tag;
 }
 
 void MshParser::finish_elements() {
@@ -778,9 +798,8 @@ void MshParser::read_section(std::string_view name) {
   if (name == "$ElementData") return read_view(true);
   if (!wanted_.empty()) {  // what --region needs; other files skip these sections as before
     if (name == "$PhysicalNames") return read_physical_names();
-    if (name == "$Entities" && v41_) return read_entities();
-    if (name == "$PartitionedEntities")
-      in_.fail("physical groups (--region) of a partitioned file are not read yet (write it whole)");
+    if ((name == "$Entities" || name == "$PartitionedEntities") && v41_)
+      return read_entities(name == "$PartitionedEntities");
   }
   if (name == "$ElementNodeData") {
     // Values per element node (discontinuous fields): not point data; left out, and said so.

@@ -33,8 +33,9 @@ class GmshFile {
   // Reads the whole file (mesh and views); InputError naming the file for anything it does not
   // read (see above). `groups`: the physical groups of volumes to read, by name ($PhysicalNames)
   // or number, and not the other elements nor the nodes only they use (4.1: the volumes of
-  // $Entities in those groups; 2.2: the elements whose first tag is one); a group the file lacks
-  // is refused, listing the file's, and so is a partitioned file. Empty: every element.
+  // $Entities, or of a partitioned mesh's $PartitionedEntities, in those groups; 2.2: the
+  // elements whose first tag, or one of whose copies' first tag, is one); a group the file lacks
+  // is refused, listing the file's. Empty: every element.
   explicit GmshFile(const std::filesystem::path& file, const std::vector<std::string>& groups = {});
   ~GmshFile();
   GmshFile(const GmshFile&) = delete;

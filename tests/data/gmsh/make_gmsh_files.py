@@ -15,7 +15,8 @@ gmsh python3-gmsh; run by developers, not by the tests): run it in this director
   prism18), curved likewise.
 - gmsh_pyramid14.msh (4.1 ascii, no views): the mixed mesh of complete second order, whose
   14-node pyramids VTK lacks (refused).
-- gmsh_groups_41.msh (4.1 ascii), _41b (4.1 binary) and gmsh_groups_22.msh (2.2 binary): the mixed mesh with
+- gmsh_groups_41.msh (4.1 ascii), _41b (4.1 binary), _41p (4.1 binary, partitioned in three:
+  its elements on $PartitionedEntities) and gmsh_groups_22.msh (2.2 binary): the mixed mesh with
   physical groups of volumes that overlap (7 "hex block", 8 "prisms", 9 "top" of two volumes,
   11 "lower" of the hexes' and prisms' volumes, 12 without a name) and one of surfaces
   (5 "bottom"); views f and cell_id (each element's number in Gmsh's model: 2.2 numbers its
@@ -233,6 +234,9 @@ def groups():
     write("gmsh_groups_41.msh", 4.1, 0, views)
     write("gmsh_groups_41b.msh", 4.1, 1, views)
     write("gmsh_groups_22.msh", 2.2, 1, views)
+    gmsh.model.mesh.partition(3)  # after the counts below: they are the model's, not the partitions'
+    write("gmsh_groups_41p.msh", 4.1, 1, views)
+    gmsh.model.mesh.unpartition()
     with open("gmsh_groups.txt", "w") as out:
         out.write("# physical group of volumes, its volume elements, the sum of their numbers (cell_id)\n")
         for _, number in gmsh.model.getPhysicalGroups(3):

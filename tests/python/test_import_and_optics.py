@@ -136,6 +136,16 @@ def test_load_openfoam_regions():
         vs.load(case, regions=["gas"])
 
 
+def test_load_gmsh_physical_groups():
+    """Gmsh's physical groups of volumes (tests/data/gmsh/gmsh_groups_22.msh, MSH 2.2, which
+    writes an element once per group holding it) by name or number, as regions=."""
+    msh = os.path.join(os.path.dirname(__file__), "..", "data", "gmsh", "gmsh_groups_22.msh")
+    assert vs.load(msh).element_count == 177
+    assert vs.load(msh, regions=["top", "8"]).element_count == 169
+    with pytest.raises(OSError, match="no physical group 'bottom' of volume elements"):
+        vs.load(msh, regions=["bottom"])
+
+
 def test_mesh_probe_equals_cli_and_brute_force(mesh_files, tmp_path):
     vtu, converted = mesh_files
     ds = vs.load(str(vtu))

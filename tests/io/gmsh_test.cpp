@@ -334,6 +334,13 @@ fs::path patched(const std::string& after, const std::string& from, const std::s
   return write_scratch(s.replace(at, from.size(), to), name);
 }
 
+// A view's values for nodes the file does not hold (Gmsh's 2.2 writer gives a node no saved
+// element uses as -1) are dropped, as values of elements not read are; the others' stay.
+TEST(Gmsh, ViewValuesOfNodesNotInTheFileAreDropped) {
+  GmshFile msh(patched("$NodeData", "\n102\n1 3\n", "\n104\n-1 7\n99999 8\n1 3\n", "node_minus_one.msh"));
+  expect_views_of_step(msh.read_step(0), 0);
+}
+
 TEST(Gmsh, DamagedFilesAreRefusedWithOneLine) {
   EXPECT_EQ(refusal(patched("$MeshFormat", "2.2 0 8", "3.0 0 8", "v3.msh")),
             "MSH version 3.0 is not read (4.1 and 2.2 are; gmsh -format msh41 converts)");

@@ -780,11 +780,11 @@ void MshParser::read_view(bool cells) {
   for (int64_t e = 0; e < entries; ++e) {
     const int64_t t = int_value(cells ? "element tag" : "node tag");
     const std::optional<uint64_t> index = cells ? out_.elements.find(t) : out_.nodes.find(t);
-    if (!index && !cells)
-      in_.fail(std::string(section) + " '" + name + "': node tag " + std::to_string(t) + " is not in $Nodes");
     for (uint64_t k = 0; k < c; ++k) {
       const double v = real_value("value");
-      if (index) s.values[*index * c + k] = v;  // values of elements not read (surfaces) are dropped
+      // Values of elements not read (surfaces) are dropped, and so are those of nodes the file
+      // does not hold: Gmsh's 2.2 writer gives such a node (one no element saved uses) as -1.
+      if (index) s.values[*index * c + k] = v;
     }
     if (index) s.given[*index] = 1;
   }

@@ -2,7 +2,8 @@
 // volume elements with polyhedra, a boundary part, node and element ids, two steps, scalar and
 // vector variables per node and per element; VTK's little-endian C Binary, of linear and of
 // quadratic elements) with one of their
-// files patched or truncated, read step by step as `convert` reads them.
+// files patched or truncated, read step by step as `convert` reads them, every part or part 2
+// alone (the first byte's high bit).
 #include <algorithm>
 #include <iterator>
 
@@ -13,10 +14,10 @@ namespace {
 const std::filesystem::path kCases[] = {"ascii/mesh.case", "big_endian/mesh.case", "vtk/mixed.0.case",
                                         "vtk_quadratic/quadratic.0.case"};
 
-void read_all_steps(const std::filesystem::path& file) {
+void read_all_steps(const std::filesystem::path& file, const std::vector<std::string>& parts) {
   const vs::EnsightCase c = vs::read_ensight_case(file);
   for (size_t step = 0; step < c.times.size(); ++step)
-    vs::read_ensight_step(c, vs::read_ensight_geometry(vs::ensight_step_file(c, c.geometry, step)), step);
+    vs::read_ensight_step(c, vs::read_ensight_geometry(vs::ensight_step_file(c, c.geometry, step), parts), step);
 }
 }  // namespace
 
@@ -34,6 +35,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (e.path().extension() != ".vtu") files.push_back(e.path());
   std::sort(files.begin(), files.end());
   if (!fuzz::apply_patch(files, data + 1, size - 1)) return 0;
-  fuzz::expect_clean([&] { read_all_steps(work / which.filename()); });
+  const std::vector<std::string> parts = (data[0] & 0x80) ? std::vector<std::string>{"2"} : std::vector<std::string>{};
+  fuzz::expect_clean([&] { read_all_steps(work / which.filename(), parts); });
   return 0;
 }

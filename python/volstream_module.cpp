@@ -542,8 +542,8 @@ PYBIND11_MODULE(volstream, m) {
         "| mesh; fields: keep only these; encoding: how a converted mesh is stored, 'compact' (paper 002's\n"
         "encoding, as `volstream convert`) or 'reference'; split_into_tets: store a mesh's pyramids, wedges\n"
         "and hexahedra as tets (convert --split-into-tets); regions: an OpenFOAM case's regions, a Fluent\n"
-        "case's cell zones, an Exodus file's element blocks, a CGNS file's zones or a Gmsh file's physical\n"
-        "groups of volumes to read (convert --region; default: all).\n"
+        "case's cell zones, an Exodus file's element blocks, a CGNS file's zones, a Gmsh file's physical\n"
+        "groups of volumes or an EnSight case's parts to read (convert --region; default: all).\n"
         "OSError('<file>: <what>') for a missing or damaged input.");
   m.def("demo", &demo, py::arg("name"), py::arg("cells") = 1e5, py::arg("steps") = 2, py::arg("elements") = 1e5,
         py::arg("encoding") = "compact", py::arg("split_into_tets") = false,

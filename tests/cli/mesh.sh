@@ -144,6 +144,9 @@ echo -n "EnSight ASCII: "
 compare_probes ens_ascii.txt ens_want.txt || fail "the EnSight case does not reproduce the linear field"
 echo -n "EnSight big-endian binary against ASCII: "
 compare_probes ens_big_endian.txt ens_ascii.txt || fail "the binary EnSight case probes otherwise"
+"$VS" convert "$DATA/../ensight/ascii/mesh.case" --region 2 -o ens_part2 -q  # one part alone, by number
+"$VS" info ens_part2 | grep -q "mesh      18 vertices, 4 elements" || fail "EnSight --region 2: not part 2's hexes alone"
+expect_bad_input "an EnSight part the geometry lacks" convert "$DATA/../ensight/ascii/mesh.case" --region fluid -o ens_fluid
 
 # VTK's quadratic cells (make_vtk_files.py: one of each type, curved), from .vtu and legacy .vtk,
 # and the EnSight ones as VTK's writer writes them: g = xy + z^2 + x^2 where VTK's shape functions

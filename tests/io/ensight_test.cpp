@@ -22,9 +22,9 @@ namespace fs = std::filesystem;
 
 const fs::path kDir = fs::path(VOLSTREAM_SOURCE_DIR) / "tests" / "data" / "ensight";
 
-MeshData read_case(const fs::path& file, size_t step) {
+MeshData read_case(const fs::path& file, size_t step, const std::vector<std::string>& parts = {}) {
   const EnsightCase c = read_ensight_case(file);
-  return read_ensight_step(c, read_ensight_geometry(ensight_step_file(c, c.geometry, step)), step);
+  return read_ensight_step(c, read_ensight_geometry(ensight_step_file(c, c.geometry, step), parts), step);
 }
 
 using test::expect_probes_alike;
@@ -101,6 +101,30 @@ TEST(Ensight, LinearFieldIsExactThroughPartsAndPolyhedra) {
   for (size_t i = 0; i < points.size(); ++i) {
     ASSERT_FALSE(std::isnan(probed[i])) << "point " << i;
     EXPECT_NEAR(probed[i], linear(world[i]), 1e-3) << "point " << i;
+  }
+}
+
+// The parts asked for (--region), by number or description, alone: part 2's four hexes on its own
+// 18 nodes with its values (f exact at every node, the cells' numbers 1..4); parts 1 and 2 the
+// whole volume, in both encodings; the boundary part alone, or a part the geometry lacks, one line.
+TEST(Ensight, PartsAskedForAlone) {
+  for (const char* dir : {"ascii", "big_endian"}) {
+    SCOPED_TRACE(dir);
+    const fs::path file = kDir / dir / "mesh.case";
+    const MeshData two = read_case(file, 1, {"2"});
+    ASSERT_EQ(two.cell_count(), 4u);
+    EXPECT_EQ(two.points.size(), 18u);
+    const MeshArray& f = test::array_named(two.point_data, "f");
+    for (size_t i = 0; i < two.points.size(); ++i) EXPECT_NEAR(f.values[i], linear(two.points[i]) + 10, 1e-3);
+    EXPECT_EQ(test::array_named(two.cell_data, "cell").values, (std::vector<double>{1, 2, 3, 4}));
+    const MeshData whole = read_case(file, 1);
+    expect_probes_alike(whole, "f", read_case(file, 1, {"part 1", "2"}), "f");
+    EXPECT_NE(test::input_error_line([&] { read_case(file, 0, {"3"}); }).find("among the parts asked for"),
+              std::string::npos);
+    EXPECT_NE(test::input_error_line([&] {
+                read_case(file, 0, {"2", "9"});
+              }).find("no part '9' in this geometry (its parts: 1 (part 1), 2 (part 2), 3 (part 3))"),
+              std::string::npos);
   }
 }
 

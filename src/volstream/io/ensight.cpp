@@ -20,12 +20,14 @@ namespace {
 
 std::string str(uint64_t v) { return std::to_string(v); }
 
-std::string lower_trimmed(std::string_view s) {
+std::string trimmed(std::string_view s) {
   if (const size_t nul = s.find('\0'); nul != std::string_view::npos) s = s.substr(0, nul);
   while (!s.empty() && (std::isspace(static_cast<unsigned char>(s.back())) || s.back() == '\0')) s.remove_suffix(1);
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  return lower_case(s);
+  return std::string(s);
 }
+
+std::string lower_trimmed(std::string_view s) { return lower_case(trimmed(s)); }
 
 // ---------------------------------------------------------------------------------------------
 // The case file.
@@ -203,16 +205,13 @@ class EnsightFile {
     mid_line_ = false;
     return lower_trimmed(in_.line());
   }
-  // A description line, which may be blank.
-  void description() {
-    if (binary_) {
-      in_.take(80, "an 80-character line");
-      return;
-    }
+  // A description line, which may be blank; trimmed.
+  std::string description() {
+    if (binary_) return trimmed(std::string_view(in_.take(80, "an 80-character line"), 80));
     if (mid_line_) in_.skip_line();  // the end of the line of the last number
     mid_line_ = false;
     if (!in_.remaining()) in_.fail("unexpected end of file, expected a description line");
-    in_.skip_line();
+    return trimmed(in_.line());
   }
   std::string peek_keyword() {
     const uint64_t at = in_.position();
@@ -463,7 +462,29 @@ fs::path ensight_step_file(const EnsightCase& c, const std::string& name, size_t
   return c.dir / out;
 }
 
-EnsightGeometry read_ensight_geometry(const fs::path& path) {
+namespace {
+
+// --region: the parts named (by description or number) are read, the others only read past.
+void choose_parts(EnsightGeometry& g, const std::vector<std::string>& wanted, const std::string& file) {
+  const auto answers_to = [](const EnsightGeometry::Part& p, const std::string& w) {
+    return w == p.description || w == std::to_string(p.number);
+  };
+  for (EnsightGeometry::Part& p : g.parts)
+    p.wanted = std::any_of(wanted.begin(), wanted.end(), [&](const std::string& w) { return answers_to(p, w); });
+  for (const std::string& w : wanted)
+    if (std::none_of(g.parts.begin(), g.parts.end(),
+                     [&](const EnsightGeometry::Part& p) { return answers_to(p, w); })) {
+      std::string all;
+      for (const EnsightGeometry::Part& p : g.parts)
+        all += (all.empty() ? "" : ", ") + std::to_string(p.number) +
+               (p.description.empty() ? "" : " (" + p.description + ")");
+      input_error(file, "no part '" + w + "' in this geometry (its parts: " + all + ")");
+    }
+}
+
+}  // namespace
+
+EnsightGeometry read_ensight_geometry(const fs::path& path, const std::vector<std::string>& parts) {
   EnsightGeometry g;
   {
     const uint64_t size = file_size_checked(path);
@@ -493,7 +514,7 @@ EnsightGeometry read_ensight_geometry(const fs::path& path) {
     if (k != "part") f.fail("expected 'part', found '" + k.substr(0, 40) + "'");
     EnsightGeometry::Part part;
     part.number = f.integer("part number");
-    f.description();
+    part.description = f.description();
     const std::string what = f.keyword();
     if (what.starts_with("block")) f.fail("structured (block) parts are not read");
     if (what != "coordinates") f.fail("expected 'coordinates' in part " + std::to_string(part.number));
@@ -503,6 +524,7 @@ EnsightGeometry read_ensight_geometry(const fs::path& path) {
     g.parts.push_back(std::move(part));
   }
   input_check(!g.parts.empty(), path.string(), "no parts");
+  if (!parts.empty()) choose_parts(g, parts, path.string());
   return g;
 }
 
@@ -572,12 +594,16 @@ MeshData read_ensight_step(const EnsightCase& c, const EnsightGeometry& g, size_
   const std::string origin = ensight_step_file(c, c.geometry, step).string();
   std::vector<MeshData> volume;
   for (size_t i = 0; i < parts.size(); ++i) {
-    if (parts[i].cell_count() == 0) continue;  // a boundary part
+    if (parts[i].cell_count() == 0 || !g.parts[i].wanted) continue;  // a boundary part, or one not asked for
     split_polyhedra(parts[i], g.parts[i].faces, origin, c.times.size() > 1 ? &g.parts[i].polyhedra_split : nullptr);
     volume.push_back(std::move(parts[i]));
   }
   input_check(!volume.empty(), origin,
-              "no part has volume elements (tetra4, pyramid5, penta6, hexa8, nfaced, or the quadratic ones)");
+              "no part has volume elements (tetra4, pyramid5, penta6, hexa8, nfaced, or the quadratic ones)" +
+                  std::string(std::all_of(g.parts.begin(), g.parts.end(),
+                                          [](const EnsightGeometry::Part& p) { return p.wanted; })
+                                  ? ""
+                                  : " among the parts asked for"));
   MeshData m = join_pieces(std::move(volume), origin);
   split_quadratic_cells(m, origin, c.times.size() > 1 ? &g.quadratic_split : nullptr);
   check_mesh(m, origin);

@@ -6,9 +6,9 @@
 // element ids off, assign, given or ignore; scalar and vector variables per node and per
 // element; one time set (numbered files, '*' wildcards). Surface and line elements (the
 // boundary parts beside the volume) and ghost elements (g_*) are skipped, with their values;
-// parts without volume elements are left out. Refused with one line: Fortran binary files,
-// structured (block) parts, partial or undefined variable values, several time sets,
-// single-file (FILE section) cases.
+// parts without volume elements are left out; `--region` reads only the parts named. Refused with one line: Fortran
+// binary files, structured (block) parts, partial or undefined variable values, several time sets, single-file (FILE
+// section) cases.
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -52,6 +52,8 @@ struct EnsightGeometry {
   };
   struct Part {
     int64_t number = 0;
+    std::string description;  // the line after the part's number, trimmed
+    bool wanted = true;       // read into the mesh (--region: one of the parts asked for)
     MeshData mesh;
     PolyhedronFaces faces;
     std::vector<Block> blocks;
@@ -61,7 +63,9 @@ struct EnsightGeometry {
   bool binary = false, big_endian = false;
   mutable SplitMemo quadratic_split;
 };
-EnsightGeometry read_ensight_geometry(const std::filesystem::path& file);
+// `parts`: those to read into the mesh, by description or number (the others' elements and values
+// are read past); a part the geometry lacks is refused, listing its parts. Empty: all.
+EnsightGeometry read_ensight_geometry(const std::filesystem::path& file, const std::vector<std::string>& parts = {});
 
 // A step: the geometry's parts with the step's variables (point and cell data), polyhedra split,
 // parts joined into one mesh (umesh/mesh_pieces.h: the nodes they share welded), checked. The

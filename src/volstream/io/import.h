@@ -27,7 +27,7 @@ struct ImportRequest {
   // Meshes (UGRID carries no data of its own): raw float32 per-point scalars.
   std::vector<RawScalars> scalars;
   // OpenFOAM cases' regions, Fluent cases' cell zones, Exodus files' element blocks, CGNS files'
-  // zones, Gmsh files' physical groups of volumes: those to read (empty: all).
+  // zones, Gmsh files' physical groups of volumes, EnSight cases' parts: those to read (empty: all).
   std::vector<std::string> regions;
 };
 

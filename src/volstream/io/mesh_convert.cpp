@@ -117,12 +117,12 @@ class FileSeries : public MeshSeries {
 // An EnSight Gold case: its geometry is read once unless it changes from step to step.
 class EnsightSeries : public MeshSeries {
  public:
-  EnsightSeries(const fs::path& file, std::vector<RawScalars> scalars)
-      : file_(file), case_(read_ensight_case(file)), scalars_(std::move(scalars)) {}
+  EnsightSeries(const fs::path& file, std::vector<RawScalars> scalars, std::vector<std::string> parts)
+      : file_(file), case_(read_ensight_case(file)), scalars_(std::move(scalars)), parts_(std::move(parts)) {}
   int step_count() const override { return int(case_.times.size()); }
   double step_time(int step) const override { return case_.times.at(size_t(step)); }
   MeshData read_step(int step) override {
-    if (case_.geometry_changes() || !geometry_) geometry_ = read_ensight_geometry(origin(step));
+    if (case_.geometry_changes() || !geometry_) geometry_ = read_ensight_geometry(origin(step), parts_);
     MeshData m = read_ensight_step(case_, *geometry_, size_t(step));
     for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
     return m;
@@ -132,14 +132,18 @@ class EnsightSeries : public MeshSeries {
   }
   std::string description() const override {
     const size_t steps = case_.times.size();
-    return "EnSight Gold case " + file_.filename().string() +
-           (steps > 1 ? " (" + std::to_string(steps) + " steps)" : "");
+    std::string parts;
+    for (const std::string& p : parts_) parts += (parts.empty() ? "parts " : ", ") + p;
+    std::string notes = steps > 1 ? std::to_string(steps) + " steps" : "";
+    if (!parts.empty()) notes += (notes.empty() ? "" : "; ") + parts;
+    return "EnSight Gold case " + file_.filename().string() + (notes.empty() ? "" : " (" + notes + ")");
   }
 
  private:
   fs::path file_;
   EnsightCase case_;
   std::vector<RawScalars> scalars_;
+  std::vector<std::string> parts_;  // to read (empty: all)
   std::optional<EnsightGeometry> geometry_;
 };
 
@@ -338,12 +342,14 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, 
   std::vector<PvdStep> steps;
   const std::string ext = lower_extension(files.front());
   if (!regions.empty() && !is_openfoam_input(files.front()) && !is_fluent_case_file(files.front()) &&
-      !is_exodus_file(files.front()) && !is_cgns_file(files.front()) && !(ext == ".msh" && files.size() == 1))
-    throw UsageError("--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS and (one) Gmsh files (" +
-                     files.front().string() + (ext == ".msh" ? " is one of several .msh files)" : " is none of them)"));
+      !is_exodus_file(files.front()) && !is_cgns_file(files.front()) && !(ext == ".msh" && files.size() == 1) &&
+      ext != ".case")
+    throw UsageError(
+        "--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS, EnSight and (one) Gmsh files (" +
+        files.front().string() + (ext == ".msh" ? " is one of several .msh files)" : " is none of them)"));
   if (ext == ".case") {
     if (files.size() > 1) throw UsageError("an EnSight .case file is converted on its own");
-    return std::make_unique<EnsightSeries>(files.front(), scalars);
+    return std::make_unique<EnsightSeries>(files.front(), scalars, regions);
   }
   if (exodus_rank_file(files.front())) {
     // One rank file names its set; several must be the whole set.

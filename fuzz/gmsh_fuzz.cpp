@@ -1,8 +1,8 @@
 // Gmsh MSH: the test files Gmsh wrote (tests/data/gmsh: the tets in MSH 4.1 and 2.2, ascii and
 // binary, with three steps of node and element views; the mixed mesh; the second-order ones; the
 // mixed mesh with overlapping physical groups in 4.1 ascii, binary and partitioned, and 2.2
-// binary) with one of them patched or truncated, read step by step as `convert` reads them, every element or the
-// physical groups "top" and 11 alone (the first byte's high bit).
+// binary) with one of them patched or truncated, read step by step as `convert` reads them,
+// every element or the physical groups "top" and 11 alone (the first byte's high bit).
 #include "fuzz_util.h"
 #include "volstream/io/gmsh.h"
 

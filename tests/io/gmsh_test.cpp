@@ -223,8 +223,9 @@ TEST(Gmsh, ConvertsAsOneFileOrASeriesOfFiles) {
 // Physical groups of volumes (--region), as Gmsh's model holds them (gmsh_groups.txt: each
 // group's element count and the sum of its elements' numbers, the view cell_id): by name or
 // number, overlapping groups as their union, the nodes of the other elements dropped, f (linear)
-// exact at every node kept; a partitioned file's groups through its partitions' entities. MSH 2.2 writes an element
-// once per group holding it, under new numbers: read once, its view values found under any copy's number.
+// exact at every node kept; a partitioned file's groups through its partitions' entities. MSH
+// 2.2 writes an element once per group holding it, under new numbers: read once, its view values
+// found under any copy's number.
 TEST(Gmsh, PhysicalGroupsAreThoseOfGmshsModel) {
   std::map<int64_t, std::pair<uint64_t, double>> groups;  // number -> (elements, sum of cell_id)
   std::istringstream table(test::file_bytes(kDir / "gmsh_groups.txt"));

@@ -6,9 +6,9 @@
 // element ids off, assign, given or ignore; scalar and vector variables per node and per
 // element; one time set (numbered files, '*' wildcards). Surface and line elements (the
 // boundary parts beside the volume) and ghost elements (g_*) are skipped, with their values;
-// parts without volume elements are left out; `--region` reads only the parts named. Refused with one line: Fortran
-// binary files, structured (block) parts, partial or undefined variable values, several time sets, single-file (FILE
-// section) cases.
+// parts without volume elements are left out; `--region` reads only the parts named. Refused
+// with one line: Fortran binary files, structured (block) parts, partial or undefined variable
+// values, several time sets, single-file (FILE section) cases.
 #pragma once
 #include <cstdint>
 #include <filesystem>

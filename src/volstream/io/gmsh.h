@@ -13,10 +13,11 @@
 // $PhysicalNames, $Periodic, $PartitionedEntities, $InterpolationScheme and any other section are
 // skipped, but for a choice of physical groups (below). MSH 2.2 writes an element once for each
 // physical group that holds it, each copy under a number of its own: the copies are read as one
-// element (the same type and nodes, in order, as one read before), their numbers naming it. Refused with one line:
-// other versions (1.0, 2.0, 2.1, 3.0, 4.0), other volume element types (the 14-node pyramid, which VTK lacks; third and
-// higher orders), element nodes that are no node's tag, views missing values on a node or element the volume uses,
-// counts larger than the file could hold, and files cut short.
+// element (the same type and nodes, in order, as one read before), their numbers naming it.
+// Refused with one line: other versions (1.0, 2.0, 2.1, 3.0, 4.0), other volume element types
+// (the 14-node pyramid, which VTK lacks; third and higher orders), element nodes that are no
+// node's tag, views missing values on a node or element the volume uses, counts larger than the
+// file could hold, and files cut short.
 #pragma once
 #include <cstddef>
 #include <filesystem>

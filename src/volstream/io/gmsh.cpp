@@ -200,6 +200,8 @@ class MshParser {
   void note_entity_group(int64_t entity, int64_t group);
   std::optional<uint64_t> earlier_copy(size_t first, uint8_t vtk_type) const;
   uint64_t nodes_hash(size_t first, size_t end, uint8_t vtk_type) const;
+  void index_element(uint64_t e);
+  void place_in_index(uint64_t e);
   void read_view(bool cells);
   std::string string_tag();
 
@@ -223,8 +225,11 @@ class MshParser {
   std::vector<int64_t> element_group_;                     // 2.2 with --region: each element's first group
   std::vector<std::pair<uint64_t, int64_t>> copy_groups_;  // and (element, group) of its copies
   bool copies_possible_ = false;
-  std::unordered_multimap<uint64_t, uint64_t> element_by_nodes_;  // nodes_hash -> element
-  uint64_t view_tuples_ = 0;                                      // nodes and elements of every view step so far
+  // The elements by nodes_hash: open addressing, linear probing, element + 1 in a slot (0:
+  // empty), at most half full (16 bytes an element, a quarter of a hash map's nodes).
+  std::vector<uint64_t> element_index_;
+  uint64_t indexed_ = 0;
+  uint64_t view_tuples_ = 0;  // nodes and elements of every view step so far
   GmshContents out_;
 };
 
@@ -416,12 +421,12 @@ void MshParser::keep_element(int64_t type, uint64_t element_tag, const std::vect
       out_.element_copies.push_back({element_tag, *e});
       return;
     }
-    element_by_nodes_.emplace(nodes_hash(first, m.connectivity.size(), kind.vtk_type), m.cell_count());
   }
   m.cell_types.push_back(kind.vtk_type);
   m.cell_offsets.push_back(m.connectivity.size());
   out_.element_tags.push_back(element_tag);
   ++out_.kind_counts[kind.name];
+  if (copies_possible_) index_element(m.cell_count() - 1);
 }
 
 // 4.1: "numEntityBlocks numElements minElementTag maxElementTag", then per block "entityDim
@@ -557,25 +562,46 @@ void MshParser::note_entity_group(int64_t entity, int64_t group) {
   const auto [it, first] = entity_group_.emplace(entity, group);
   if (first || it->second == group || copies_possible_) return;
   copies_possible_ = true;
-  const MeshData& m = out_.cells;
-  for (uint64_t e = 0; e < m.cell_count(); ++e)
-    element_by_nodes_.emplace(nodes_hash(m.cell_offsets[e], m.cell_offsets[e + 1], m.cell_types[e]), e);
+  for (uint64_t e = 0; e < out_.cells.cell_count(); ++e) index_element(e);
 }
 
+// FNV-1a over the nodes, then a final mix (the index uses the low bits, which a multiply alone
+// takes from the nodes' low bits only).
 uint64_t MshParser::nodes_hash(size_t first, size_t end, uint8_t vtk_type) const {
   uint64_t h = vtk_type;
   for (size_t i = first; i < end; ++i) h = (h ^ out_.cells.connectivity[i]) * 0x100000001b3ull;
-  return h;
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdull;
+  return h ^ (h >> 33);
+}
+
+void MshParser::index_element(uint64_t e) {
+  if (2 * (indexed_ + 1) > element_index_.size()) {
+    std::vector<uint64_t> old = std::move(element_index_);
+    element_index_.assign(std::max<size_t>(1024, 2 * old.size()), 0);
+    for (uint64_t slot : old)
+      if (slot) place_in_index(slot - 1);
+  }
+  place_in_index(e);
+  ++indexed_;
+}
+
+void MshParser::place_in_index(uint64_t e) {
+  const MeshData& m = out_.cells;
+  const size_t mask = element_index_.size() - 1;
+  size_t i = nodes_hash(m.cell_offsets[e], m.cell_offsets[e + 1], m.cell_types[e]) & mask;
+  while (element_index_[i]) i = (i + 1) & mask;
+  element_index_[i] = e + 1;
 }
 
 // The element read before with the nodes of connectivity[first..] (the one being read), in the
 // same order, and of the same type.
 std::optional<uint64_t> MshParser::earlier_copy(size_t first, uint8_t vtk_type) const {
+  if (element_index_.empty()) return std::nullopt;
   const MeshData& m = out_.cells;
-  const size_t end = m.connectivity.size();
-  const auto [lo, hi] = element_by_nodes_.equal_range(nodes_hash(first, end, vtk_type));
-  for (auto it = lo; it != hi; ++it) {
-    const uint64_t e = it->second, b = m.cell_offsets[e];
+  const size_t end = m.connectivity.size(), mask = element_index_.size() - 1;
+  for (size_t i = nodes_hash(first, end, vtk_type) & mask; element_index_[i]; i = (i + 1) & mask) {
+    const uint64_t e = element_index_[i] - 1, b = m.cell_offsets[e];
     if (m.cell_types[e] == vtk_type && m.cell_offsets[e + 1] - b == end - first &&
         std::equal(m.connectivity.begin() + ptrdiff_t(first), m.connectivity.end(),
                    m.connectivity.begin() + ptrdiff_t(b)))

@@ -226,7 +226,7 @@ class MshParser {
   std::vector<std::pair<uint64_t, int64_t>> copy_groups_;  // and (element, group) of its copies
   bool copies_possible_ = false;
   // The elements by nodes_hash: open addressing, linear probing, element + 1 in a slot (0:
-  // empty), at most half full (16 bytes an element, a quarter of a hash map's nodes).
+  // empty), a quarter to half full (16 to 32 bytes an element; a hash map's nodes take more).
   std::vector<uint64_t> element_index_;
   uint64_t indexed_ = 0;
   uint64_t view_tuples_ = 0;  // nodes and elements of every view step so far

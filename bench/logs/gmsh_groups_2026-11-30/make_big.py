@@ -1,29 +1,43 @@
-# A box of about 1M tets in four volumes (2x2 columns), overlapping groups: one per volume and
-# "all"; a node view f; written as MSH 4.1 binary and 2.2 binary (each element twice in 2.2).
+# The Gmsh bench meshes of this directory: a box of about 1M tets (mesh size H, 0.018 gave
+# 793,497) in four volumes (2x2 columns), a node view f = x + 2y + 3z. Run with Debian's
+# python3-gmsh: /usr/bin/python3 make_big.py H VARIANT, VARIANT one of
+#   overlapping: a physical group per volume (part0..part3) and "all" of the four, written as
+#                big41.msh (MSH 4.1 binary) and big22.msh (MSH 2.2 binary: each element twice);
+#   single:      the groups per volume only, big22single.msh (2.2: each element once);
+#   saveall:     no groups, Mesh.SaveAll, big22all.msh (2.2).
 import sys
 import gmsh
+
+h, variant = float(sys.argv[1]), sys.argv[2]
 gmsh.initialize()
 gmsh.option.setNumber("General.Terminal", 0)
+if variant == "saveall":
+    gmsh.option.setNumber("Mesh.SaveAll", 1)
 gmsh.model.add("big")
 occ = gmsh.model.occ
 vols = [occ.addBox(i * 0.5, j * 0.5, 0, 0.5, 0.5, 1) for i in range(2) for j in range(2)]
 occ.fragment([(3, vols[0])], [(3, v) for v in vols[1:]])
 occ.synchronize()
-h = float(sys.argv[1]) if len(sys.argv) > 1 else 0.02
 gmsh.option.setNumber("Mesh.MeshSizeMin", h)
 gmsh.option.setNumber("Mesh.MeshSizeMax", h)
 gmsh.model.mesh.generate(3)
 vs = [t for _, t in gmsh.model.getEntities(3)]
-for k, v in enumerate(vs):
-    gmsh.model.addPhysicalGroup(3, [v], k + 1)
-    gmsh.model.setPhysicalName(3, k + 1, "part%d" % k)
-gmsh.model.addPhysicalGroup(3, vs, 100)
-gmsh.model.setPhysicalName(3, 100, "all")
+if variant != "saveall":
+    for k, v in enumerate(vs):
+        gmsh.model.addPhysicalGroup(3, [v], k + 1)
+        gmsh.model.setPhysicalName(3, k + 1, "part%d" % k)
+if variant == "overlapping":
+    gmsh.model.addPhysicalGroup(3, vs, 100)
+    gmsh.model.setPhysicalName(3, 100, "all")
 tags, coords, _ = gmsh.model.mesh.getNodes()
 v = gmsh.view.add("f")
-gmsh.view.addModelData(v, 0, "big", "NodeData", tags, [[coords[3*i] + 2*coords[3*i+1] + 3*coords[3*i+2]] for i in range(len(tags))], numComponents=1)
-for name, ver in [("big41.msh", 4.1), ("big22.msh", 2.2)]:
-    gmsh.option.setNumber("Mesh.MshFileVersion", ver)
+gmsh.view.addModelData(v, 0, "big", "NodeData", tags,
+                       [[coords[3 * i] + 2 * coords[3 * i + 1] + 3 * coords[3 * i + 2]] for i in range(len(tags))],
+                       numComponents=1)
+files = {"overlapping": [("big41.msh", 4.1), ("big22.msh", 2.2)], "single": [("big22single.msh", 2.2)],
+         "saveall": [("big22all.msh", 2.2)]}[variant]
+for name, version in files:
+    gmsh.option.setNumber("Mesh.MshFileVersion", version)
     gmsh.option.setNumber("Mesh.Binary", 1)
     gmsh.option.setNumber("PostProcessing.SaveMesh", 1)
     gmsh.write(name)

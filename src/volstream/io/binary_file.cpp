@@ -139,6 +139,12 @@ bool name_ends_with(const std::filesystem::path& file, std::string_view suffix) 
   return lower_case(file.filename().string()).ends_with(suffix);
 }
 
+std::string joined(const std::vector<std::string>& names, const char* separator) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : separator) + n;
+  return s;
+}
+
 std::string lower_case(std::string_view s) {
   std::string out(s);
   for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));

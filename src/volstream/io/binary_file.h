@@ -36,6 +36,8 @@ std::string read_file_inflating(const std::filesystem::path& path, uint64_t max_
 bool name_ends_with(const std::filesystem::path& file, std::string_view suffix);
 // ASCII letters in lower case, as the text readers compare keywords.
 std::string lower_case(std::string_view s);
+// The names one after another with `separator` between them ("fluid, solid"), for messages.
+std::string joined(const std::vector<std::string>& names, const char* separator = ", ");
 // Whether a file format's "MAJOR.MINOR" version (the leading part of `version`; "5.1", "2.2") is
 // below major.minor; an unreadable one is (the oldest files have none), and a missing minor is 0.
 bool version_below(std::string_view version, int major, int minor);

@@ -162,12 +162,6 @@ struct CgnsFile::Impl {
     return wanted.empty() || std::find(wanted.begin(), wanted.end(), zone) != wanted.end();
   }
 
-  static std::string joined(const std::vector<std::string>& names) {
-    std::string all;
-    for (const std::string& n : names) all += (all.empty() ? "" : ", ") + n;
-    return all;
-  }
-
   std::string zone_name(int z) const {
     char name[33] = {};
     cgsize_t size[9] = {};

@@ -866,12 +866,6 @@ std::vector<std::string> regions_in(const fs::path& root) {
   return names;
 }
 
-std::string joined(const std::vector<std::string>& names, const char* separator = ", ") {
-  std::string s;
-  for (const std::string& n : names) s += (s.empty() ? "" : separator) + n;
-  return s;
-}
-
 }  // namespace
 
 struct OpenFoamCase::Impl {

@@ -12,6 +12,7 @@
 #include "volstream/core/error.h"
 #include "volstream/core/release.h"
 #include "volstream/io/binary_file.h"
+#include "volstream/io/shared_library.h"
 #include "volstream/io/solver_files.h"
 #include "volstream/umesh/mesh_pieces.h"
 #include "volstream/umesh/polyhedra.h"
@@ -45,6 +46,25 @@ std::string CgnsFile::summary() const { return {}; }
 bool cgns_supported() { return true; }
 
 namespace {
+
+// The CGNS functions the reader calls, from the library opened at the first CGNS file
+// (io/shared_library.h: loading it with volstream cost every command ~22 ms).
+// clang-format off
+#define VOLSTREAM_CGNS_FUNCTIONS(X)                                                                                                     \
+  X(cg_open) X(cg_close) X(cg_get_error) X(cg_nbases) X(cg_base_read) X(cg_nzones)                                                      \
+  X(cg_zone_read) X(cg_zone_type) X(cg_coord_read) X(cg_nsections) X(cg_section_read) X(cg_ElementDataSize)                             \
+  X(cg_elements_read) X(cg_poly_elements_read) X(cg_npe) X(cg_nsols) X(cg_sol_info) X(cg_nfields)                                       \
+  X(cg_field_info) X(cg_field_read) X(cg_goto) X(cg_rind_read) X(cg_narrays) X(cg_array_info)                                           \
+  X(cg_array_read) X(cg_array_read_as) X(cg_ziter_read) X(cg_biter_read) X(cg_get_cgio) X(cg_root_id)                                   \
+  X(cgio_get_node_id) X(cgio_release_id) X(cgio_get_dimensions) X(cgio_read_all_data_type) X(cg_ElementTypeName) X(cg_GridLocationName)
+// clang-format on
+VOLSTREAM_LIBRARY_CALLS(CgnsCalls, VOLSTREAM_CGNS_FUNCTIONS);
+
+const CgnsCalls& cgns() {
+  static const SharedLibrary library(VOLSTREAM_CGNS_SONAME, "CGNS files need it (Debian: apt-get install libcgns-dev)");
+  static const CgnsCalls calls(library);
+  return calls;
+}
 
 // A volume element type of CGNS and what it is in VTK: the cell type and, for each VTK node, the
 // CGNS node (0-based) that is it. CGNS's orders (the SIDS) are VTK's but for: the wedge, whose
@@ -83,7 +103,8 @@ bool is_lower_dimensional(int type) {
 }
 
 std::string type_name(int type) {
-  return type >= 0 && type < NofValidElementTypes ? ElementTypeName[type] : "element type " + std::to_string(type);
+  return type >= 0 && type < NofValidElementTypes ? cgns().cg_ElementTypeName(CGNS_ENUMT(ElementType_t)(type))
+                                                  : "element type " + std::to_string(type);
 }
 
 // An index range of a zone's vertices or cells: (1, ...) to the counts.
@@ -132,19 +153,19 @@ struct CgnsFile::Impl {
   mutable SplitMemo quadratic_split;  // the last step's, for the next
 
   ~Impl() {
-    if (fn >= 0) cg_close(fn);
+    if (fn >= 0) cgns().cg_close(fn);
   }
 
   void check(int status, const std::string& what) const {
-    if (status != CG_OK) input_error(file, what + ": " + cg_get_error());
+    if (status != CG_OK) input_error(file, what + ": " + cgns().cg_get_error());
   }
 
   void open(const fs::path& path) {
     file = path.string();
-    check(cg_open(file.c_str(), CG_MODE_READ, &fn), "not a CGNS file");
+    check(cgns().cg_open(file.c_str(), CG_MODE_READ, &fn), "not a CGNS file");
     find_3d_base();
     int count = 0;
-    check(cg_nzones(fn, base, &count), "zones");
+    check(cgns().cg_nzones(fn, base, &count), "zones");
     input_check(count > 0, file, "a base without zones");
     std::vector<std::string> names;
     for (int z = 1; z <= count; ++z) {
@@ -165,17 +186,17 @@ struct CgnsFile::Impl {
   std::string zone_name(int z) const {
     char name[33] = {};
     cgsize_t size[9] = {};
-    check(cg_zone_read(fn, base, z, name, size), "zone");
+    check(cgns().cg_zone_read(fn, base, z, name, size), "zone");
     return name;
   }
 
   void find_3d_base() {
     int bases = 0;
-    check(cg_nbases(fn, &bases), "bases");
+    check(cgns().cg_nbases(fn, &bases), "bases");
     for (int b = 1; b <= bases && !base; ++b) {
       char name[33] = {};
       int cell_dim = 0, phys_dim = 0;
-      check(cg_base_read(fn, b, name, &cell_dim, &phys_dim), "base");
+      check(cgns().cg_base_read(fn, b, name, &cell_dim, &phys_dim), "base");
       if (cell_dim == 3 && phys_dim == 3) {
         base = b;
         base_name = name;
@@ -190,8 +211,8 @@ struct CgnsFile::Impl {
     char name[33] = {};
     cgsize_t size[9] = {};
     CGNS_ENUMT(ZoneType_t) type;
-    check(cg_zone_type(fn, base, z, &type), "zone type");
-    check(cg_zone_read(fn, base, z, name, size), "zone");
+    check(cgns().cg_zone_type(fn, base, z, &type), "zone type");
+    check(cgns().cg_zone_read(fn, base, z, name, size), "zone");
     zone.name = name;
     zone.structured = type == CGNS_ENUMV(Structured);
     input_check(zone.structured || type == CGNS_ENUMV(Unstructured), file, "zone " + zone.name + " of unknown type");
@@ -219,10 +240,11 @@ struct CgnsFile::Impl {
     std::copy(range.min.begin(), range.min.end(), min);
     std::copy(range.max.begin(), range.max.end(), max);
     if (solution == 0)
-      check(cg_coord_read(fn, base, zone.index, name.c_str(), CGNS_ENUMV(RealDouble), min, max, v.data()),
+      check(cgns().cg_coord_read(fn, base, zone.index, name.c_str(), CGNS_ENUMV(RealDouble), min, max, v.data()),
             "zone " + zone.name + ": " + name);
     else
-      check(cg_field_read(fn, base, zone.index, solution, name.c_str(), CGNS_ENUMV(RealDouble), min, max, v.data()),
+      check(cgns().cg_field_read(fn, base, zone.index, solution, name.c_str(), CGNS_ENUMV(RealDouble), min, max,
+                                 v.data()),
             "zone " + zone.name + ": field " + name);
     return v;
   }
@@ -263,7 +285,7 @@ struct CgnsFile::Impl {
   // section after it.
   void read_sections(Zone& zone) {
     int sections = 0;
-    check(cg_nsections(fn, base, zone.index, &sections), "zone " + zone.name + ": sections");
+    check(cgns().cg_nsections(fn, base, zone.index, &sections), "zone " + zone.name + ": sections");
     zone.topology.cell_offsets = {0};
     for (bool faces : {true, false})
       for (int s = 1; s <= sections; ++s) read_section(zone, s, faces);
@@ -280,23 +302,24 @@ struct CgnsFile::Impl {
     int cgio = 0;
     double root = 0, node = 0;
     const std::string path = "/" + base_name + "/" + zone.name + "/" + section + "/ParentElements";
-    if (cg_get_cgio(fn, &cgio) != CG_OK || cg_root_id(fn, &root) != CG_OK ||
-        cgio_get_node_id(cgio, root, path.c_str(), &node) != CGIO_ERR_NONE)
+    if (cgns().cg_get_cgio(fn, &cgio) != CG_OK || cgns().cg_root_id(fn, &root) != CG_OK ||
+        cgns().cgio_get_node_id(cgio, root, path.c_str(), &node) != CGIO_ERR_NONE)
       return;
     // The node id is an open HDF5 object: released on every way out, or HDF5 finds it open at
     // exit (and complains on stderr).
     const struct Release {
       int cgio;
       double node;
-      ~Release() { cgio_release_id(cgio, node); }
+      ~Release() { cgns().cgio_release_id(cgio, node); }
     } release{cgio, node};
     int dimensions = 0;
     cgsize_t size[CGIO_MAX_DIMENSIONS] = {};
-    if (cgio_get_dimensions(cgio, node, &dimensions, size) != CGIO_ERR_NONE ||
+    if (cgns().cgio_get_dimensions(cgio, node, &dimensions, size) != CGIO_ERR_NONE ||
         !(dimensions == 2 && size[0] == cgsize_t(faces) && size[1] == 2))
       input_error(file, where + ": ParentElements not of " + std::to_string(faces) + " x 2 cells");
     std::vector<cgsize_t> columns(2 * faces);  // the left cells, then the right
-    if (cgio_read_all_data_type(cgio, node, sizeof(cgsize_t) == 8 ? "I8" : "I4", columns.data()) != CGIO_ERR_NONE)
+    if (cgns().cgio_read_all_data_type(cgio, node, sizeof(cgsize_t) == 8 ? "I8" : "I4", columns.data()) !=
+        CGIO_ERR_NONE)
       input_error(file, where + ": ParentElements unreadable");
     for (size_t f = 0; f < faces; ++f) zone.face_parents.push_back({columns[f], columns[faces + f]});
   }
@@ -354,19 +377,19 @@ struct CgnsFile::Impl {
     CGNS_ENUMT(ElementType_t) type;
     cgsize_t start = 0, end = 0;
     int boundary = 0, parents = 0;
-    check(cg_section_read(fn, base, zone.index, s, name, &type, &start, &end, &boundary, &parents),
+    check(cgns().cg_section_read(fn, base, zone.index, s, name, &type, &start, &end, &boundary, &parents),
           "zone " + zone.name + ": section");
     const std::string where = "zone " + zone.name + ", section " + name;
     if (is_lower_dimensional(type) || faces != (type == CGNS_ENUMV(NGON_n))) return;
     input_check(start >= 1 && end >= start, file, where + ": bad element range");
     cgsize_t data_size = 0;
-    check(cg_ElementDataSize(fn, base, zone.index, s, &data_size), where);
+    check(cgns().cg_ElementDataSize(fn, base, zone.index, s, &data_size), where);
     input_check(data_size >= 0, file, where + ": bad element data size");
     input_check(end - start < cgsize_t(1) << 30, file, where + ": too many elements");
     std::vector<cgsize_t> data(static_cast<size_t>(data_size));
     if (type == CGNS_ENUMV(MIXED) || type == CGNS_ENUMV(NGON_n) || type == CGNS_ENUMV(NFACE_n)) {
       std::vector<cgsize_t> offsets(size_t(end - start) + 2);
-      check(cg_poly_elements_read(fn, base, zone.index, s, data.data(), offsets.data(), nullptr), where);
+      check(cgns().cg_poly_elements_read(fn, base, zone.index, s, data.data(), offsets.data(), nullptr), where);
       if (type == CGNS_ENUMV(MIXED))
         add_fixed_elements(zone, type, data, start, end, where);
       else
@@ -374,7 +397,7 @@ struct CgnsFile::Impl {
       if (type == CGNS_ENUMV(NGON_n)) read_parent_elements(zone, name, size_t(end - start) + 1, where);
       return;
     }
-    check(cg_elements_read(fn, base, zone.index, s, data.data(), nullptr), where);
+    check(cgns().cg_elements_read(fn, base, zone.index, s, data.data(), nullptr), where);
     add_fixed_elements(zone, type, data, start, end, where);
   }
 
@@ -386,7 +409,7 @@ struct CgnsFile::Impl {
       const int element_type = type == CGNS_ENUMV(MIXED) ? int(next(data, at, where)) : type;
       int nodes = 0;
       const bool known = element_type >= 0 && element_type < NofValidElementTypes &&
-                         cg_npe(CGNS_ENUMT(ElementType_t)(element_type), &nodes) == CG_OK && nodes > 0;
+                         cgns().cg_npe(CGNS_ENUMT(ElementType_t)(element_type), &nodes) == CG_OK && nodes > 0;
       if (!known)
         input_error(file,
                     where + ": element " + std::to_string(e) + " of unknown type " + std::to_string(element_type));
@@ -460,7 +483,7 @@ struct CgnsFile::Impl {
       input_error(file, where + ": unsupported element type " + type_name(type) +
                             " (TETRA_4/10, PYRA_5/13, PENTA_6/15, HEXA_8/20/27 are read)");
     int count = 0;
-    cg_npe(kind->type, &count);
+    cgns().cg_npe(kind->type, &count);
     MeshData& t = zone.topology;
     const cgsize_t vertices = cgsize_t(zone.vertices.size());
     for (int k = 0; k < count; ++k) {
@@ -486,12 +509,12 @@ struct CgnsFile::Impl {
   };
   std::optional<ArrayInfo> array_named(const std::string& name) const {
     int arrays = 0;
-    if (cg_narrays(&arrays) != CG_OK) return std::nullopt;
+    if (cgns().cg_narrays(&arrays) != CG_OK) return std::nullopt;
     for (int a = 1; a <= arrays; ++a) {
       char array_name[33] = {};
       ArrayInfo info;
       info.index = a;
-      check(cg_array_info(a, array_name, &info.type, &info.dims, info.extent), "array");
+      check(cgns().cg_array_info(a, array_name, &info.type, &info.dims, info.extent), "array");
       if (array_name == name) return info;
     }
     return std::nullopt;
@@ -504,7 +527,7 @@ struct CgnsFile::Impl {
     input_check(a->type == CGNS_ENUMV(Character) && a->dims == 2 && a->extent[0] > 0 && a->extent[1] >= 0, file,
                 name + " is not an array of names");
     std::string all(size_t(a->extent[0]) * size_t(a->extent[1]), '\0');
-    check(cg_array_read(a->index, all.data()), name);
+    check(cgns().cg_array_read(a->index, all.data()), name);
     std::vector<std::string> rows;
     for (cgsize_t r = 0; r < a->extent[1]; ++r)
       rows.push_back(trimmed_name(all.substr(size_t(r * a->extent[0]), size_t(a->extent[0]))));
@@ -513,20 +536,20 @@ struct CgnsFile::Impl {
 
   void read_solution_pointers(Zone& zone) {
     char name[33] = {};
-    if (cg_ziter_read(fn, base, zone.index, name) != CG_OK) return;
-    if (cg_goto(fn, base, "Zone_t", zone.index, "ZoneIterativeData_t", 1, "end") != CG_OK) return;
+    if (cgns().cg_ziter_read(fn, base, zone.index, name) != CG_OK) return;
+    if (cgns().cg_goto(fn, base, "Zone_t", zone.index, "ZoneIterativeData_t", 1, "end") != CG_OK) return;
     zone.solution_at_step = string_rows("FlowSolutionPointers");
   }
 
   void read_times() {
     char name[33] = {};
     int steps = 0;
-    if (cg_biter_read(fn, base, name, &steps) != CG_OK || steps < 1) return;
-    check(cg_goto(fn, base, "BaseIterativeData_t", 1, "end"), "BaseIterativeData");
+    if (cgns().cg_biter_read(fn, base, name, &steps) != CG_OK || steps < 1) return;
+    check(cgns().cg_goto(fn, base, "BaseIterativeData_t", 1, "end"), "BaseIterativeData");
     if (const std::optional<ArrayInfo> a = array_named("TimeValues")) {
       input_check(a->dims == 1 && a->extent[0] == steps, file, "TimeValues is not one time per step");
       times.assign(size_t(steps), 0.0);
-      check(cg_array_read_as(a->index, CGNS_ENUMV(RealDouble), times.data()), "TimeValues");
+      check(cgns().cg_array_read_as(a->index, CGNS_ENUMV(RealDouble), times.data()), "TimeValues");
     }
     if (times.size() != size_t(steps)) {  // steps without times: at 0, 1, ...
       times.resize(size_t(steps));
@@ -542,12 +565,12 @@ struct CgnsFile::Impl {
   // every one.
   std::vector<int> solutions_at(const Zone& zone, size_t s) const {
     int count = 0;
-    check(cg_nsols(fn, base, zone.index, &count), "zone " + zone.name + ": solutions");
+    check(cgns().cg_nsols(fn, base, zone.index, &count), "zone " + zone.name + ": solutions");
     std::vector<int> out;
     for (int i = 1; i <= count; ++i) {
       char name[33] = {};
       CGNS_ENUMT(GridLocation_t) location;
-      check(cg_sol_info(fn, base, zone.index, i, name, &location), "zone " + zone.name + ": solution");
+      check(cgns().cg_sol_info(fn, base, zone.index, i, name, &location), "zone " + zone.name + ": solution");
       if (zone.solution_at_step.empty() || zone.solution_at_step[s] == name) out.push_back(i);
     }
     input_check(
@@ -560,23 +583,23 @@ struct CgnsFile::Impl {
   void read_solution(const Zone& zone, int solution, MeshData& m) const {
     char name[33] = {};
     CGNS_ENUMT(GridLocation_t) location;
-    check(cg_sol_info(fn, base, zone.index, solution, name, &location), "zone " + zone.name + ": solution");
+    check(cgns().cg_sol_info(fn, base, zone.index, solution, name, &location), "zone " + zone.name + ": solution");
     const std::string where = "zone " + zone.name + ", solution " + name;
     const bool at_cells = location == CGNS_ENUMV(CellCenter);
     input_check(at_cells || location == CGNS_ENUMV(Vertex), file,
-                where + ": values at " + GridLocationName[location] + " (Vertex and CellCenter are read)");
+                where + ": values at " + cgns().cg_GridLocationName(location) + " (Vertex and CellCenter are read)");
     int rind[6] = {};
-    if (cg_goto(fn, base, "Zone_t", zone.index, "FlowSolution_t", solution, "end") == CG_OK &&
-        cg_rind_read(rind) == CG_OK)
+    if (cgns().cg_goto(fn, base, "Zone_t", zone.index, "FlowSolution_t", solution, "end") == CG_OK &&
+        cgns().cg_rind_read(rind) == CG_OK)
       input_check(std::all_of(rind, rind + 6, [](int r) { return r == 0; }), file,
                   where + ": rind planes are not read");
     int fields = 0;
-    check(cg_nfields(fn, base, zone.index, solution, &fields), where);
+    check(cgns().cg_nfields(fn, base, zone.index, solution, &fields), where);
     std::vector<std::string> names;
     for (int f = 1; f <= fields; ++f) {
       char field[33] = {};
       CGNS_ENUMT(DataType_t) type;
-      check(cg_field_info(fn, base, zone.index, solution, f, &type, field), where);
+      check(cgns().cg_field_info(fn, base, zone.index, solution, f, &type, field), where);
       names.push_back(field);
     }
     const Range& range = at_cells ? zone.cells : zone.vertices;

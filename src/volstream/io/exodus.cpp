@@ -10,6 +10,7 @@
 #include "volstream/core/error.h"
 #include "volstream/io/binary_file.h"
 #include "volstream/io/parse_cursor.h"
+#include "volstream/io/shared_library.h"
 #include "volstream/io/solver_files.h"
 #include "volstream/umesh/mesh_pieces.h"
 #include "volstream/umesh/quadratic.h"
@@ -41,6 +42,23 @@ std::string ExodusFile::summary() const { return {}; }
 bool exodus_supported() { return true; }
 
 namespace {
+
+// The NetCDF functions the reader calls, from the library opened at the first Exodus file
+// (io/shared_library.h: loading it with volstream cost every command ~22 ms).
+// clang-format off
+#define VOLSTREAM_NETCDF_FUNCTIONS(X)                                                                     \
+  X(nc_open) X(nc_close) X(nc_strerror) X(nc_inq_format) X(nc_inq_varid)                                  \
+  X(nc_inq_dimid) X(nc_inq_dimlen) X(nc_inq_varndims) X(nc_inq_vardimid) X(nc_inq_attlen)                 \
+  X(nc_get_att_text) X(nc_get_var_text) X(nc_get_var_double) X(nc_get_var_longlong) X(nc_get_vara_double)
+// clang-format on
+VOLSTREAM_LIBRARY_CALLS(NetcdfCalls, VOLSTREAM_NETCDF_FUNCTIONS);
+
+const NetcdfCalls& netcdf() {
+  static const SharedLibrary library(VOLSTREAM_NETCDF_SONAME,
+                                     "Exodus II files need it (Debian: apt-get install libnetcdf-dev)");
+  static const NetcdfCalls calls(library);
+  return calls;
+}
 
 // An element type as Exodus names it, the node count its block gives, and what it is in VTK:
 // the cell type and, for each VTK node, the Exodus node (0-based) that is it.
@@ -228,41 +246,41 @@ struct ExodusFile::Impl {
   std::vector<std::string> left_out;   // element variables left out, or without values on some block
 
   ~Impl() {
-    if (ncid >= 0) nc_close(ncid);
+    if (ncid >= 0) netcdf().nc_close(ncid);
   }
 
   void check(int status, const std::string& what) const {
-    if (status != NC_NOERR) input_error(file, what + ": " + nc_strerror(status));
+    if (status != NC_NOERR) input_error(file, what + ": " + netcdf().nc_strerror(status));
   }
   bool has_variable(const std::string& name) const {
     int id = 0;
-    return nc_inq_varid(ncid, name.c_str(), &id) == NC_NOERR;
+    return netcdf().nc_inq_varid(ncid, name.c_str(), &id) == NC_NOERR;
   }
   int variable(const std::string& name) const {
     int id = 0;
-    check(nc_inq_varid(ncid, name.c_str(), &id), "no variable " + name);
+    check(netcdf().nc_inq_varid(ncid, name.c_str(), &id), "no variable " + name);
     return id;
   }
   // A dimension's length; `fallback` when the file has no such dimension (-1: refuse).
   size_t dimension(const std::string& name, int64_t fallback = -1) const {
     int id = 0;
-    if (nc_inq_dimid(ncid, name.c_str(), &id) != NC_NOERR) {
+    if (netcdf().nc_inq_dimid(ncid, name.c_str(), &id) != NC_NOERR) {
       input_check(fallback >= 0, file, "not an Exodus II file: no dimension " + name);
       return size_t(fallback);
     }
     size_t length = 0;
-    check(nc_inq_dimlen(ncid, id, &length), "dimension " + name);
+    check(netcdf().nc_inq_dimlen(ncid, id, &length), "dimension " + name);
     return length;
   }
   size_t variable_size(int var) const {
     int rank = 0;
-    check(nc_inq_varndims(ncid, var, &rank), "variable shape");
+    check(netcdf().nc_inq_varndims(ncid, var, &rank), "variable shape");
     std::vector<int> dims(size_t(std::max(rank, 0)));
-    check(nc_inq_vardimid(ncid, var, dims.data()), "variable shape");
+    check(netcdf().nc_inq_vardimid(ncid, var, dims.data()), "variable shape");
     size_t size = 1;
     for (int d : dims) {
       size_t length = 0;
-      check(nc_inq_dimlen(ncid, d, &length), "variable shape");
+      check(netcdf().nc_inq_dimlen(ncid, d, &length), "variable shape");
       size = product(size, length);
     }
     return size;
@@ -278,14 +296,14 @@ struct ExodusFile::Impl {
     input_check(variable_size(var) == expected, file,
                 name + " holds " + std::to_string(variable_size(var)) + " values, not " + std::to_string(expected));
     std::vector<double> values(expected);
-    if (expected) check(nc_get_var_double(ncid, var, values.data()), "reading " + name);
+    if (expected) check(netcdf().nc_get_var_double(ncid, var, values.data()), "reading " + name);
     return values;
   }
   std::string text_attribute(int var, const char* name) const {
     size_t length = 0;
-    if (nc_inq_attlen(ncid, var, name, &length) != NC_NOERR) return {};
+    if (netcdf().nc_inq_attlen(ncid, var, name, &length) != NC_NOERR) return {};
     std::string s(length, '\0');
-    check(nc_get_att_text(ncid, var, name, s.data()), std::string("attribute ") + name);
+    check(netcdf().nc_get_att_text(ncid, var, name, s.data()), std::string("attribute ") + name);
     return s;
   }
   // The rows of a char variable [count][len_name] (variable names), "" for a missing variable.
@@ -296,7 +314,7 @@ struct ExodusFile::Impl {
     const size_t size = variable_size(var);
     input_check(size % count == 0, file, var_name + " is not " + std::to_string(count) + " names");
     std::string all(size, '\0');
-    check(nc_get_var_text(ncid, var, all.data()), "reading " + var_name);
+    check(netcdf().nc_get_var_text(ncid, var, all.data()), "reading " + var_name);
     const size_t width = size / count;
     for (size_t i = 0; i < count; ++i) out[i] = trimmed_name(all.substr(i * width, width));
     return out;
@@ -306,9 +324,9 @@ struct ExodusFile::Impl {
     file = path.string();
     // A classic file's header is checked before the library reads it (see above).
     if (is_classic_netcdf(file)) check_classic_netcdf_size(file);
-    check(nc_open(file.c_str(), NC_NOWRITE, &ncid), "not a NetCDF file (Exodus II files are)");
+    check(netcdf().nc_open(file.c_str(), NC_NOWRITE, &ncid), "not a NetCDF file (Exodus II files are)");
     int f = 0;
-    check(nc_inq_format(ncid, &f), "format");
+    check(netcdf().nc_inq_format(ncid, &f), "format");
     format = f == NC_FORMAT_CLASSIC        ? "classic"
              : f == NC_FORMAT_64BIT_OFFSET ? "64-bit offset"
              : f == NC_FORMAT_64BIT_DATA   ? "64-bit data"
@@ -378,7 +396,7 @@ struct ExodusFile::Impl {
     if (count && has_variable("eb_prop1")) {
       const int var = variable("eb_prop1");
       input_check(variable_size(var) == count, file, "eb_prop1 is not one id per element block");
-      check(nc_get_var_longlong(ncid, var, ids.data()), "reading eb_prop1");
+      check(netcdf().nc_get_var_longlong(ncid, var, ids.data()), "reading eb_prop1");
     }
     const std::vector<std::string> block_names = names("eb_names", count);
     topology.cell_offsets = {0};
@@ -431,7 +449,7 @@ struct ExodusFile::Impl {
                 block_name(block) + ": connect" + suffix + " is not " + std::to_string(block.count) + " x " +
                     std::to_string(nodes) + " node indices");
     std::vector<long long> connect(product(block.count, nodes));
-    check(nc_get_var_longlong(ncid, var, connect.data()), "reading connect" + suffix);
+    check(netcdf().nc_get_var_longlong(ncid, var, connect.data()), "reading connect" + suffix);
     const long long points = (long long)topology.points.size();
     for (uint64_t e = 0; e < block.count; ++e) {
       const long long* nodes_of_e = connect.data() + e * nodes;
@@ -467,11 +485,11 @@ struct ExodusFile::Impl {
       input_check(variable_size(var) == product(times.size(), count), file,
                   name + " is not one value per step and entry");
       const size_t start[2] = {step, 0}, extent[2] = {1, count};
-      check(nc_get_vara_double(ncid, var, start, extent, v.data()), "reading " + name);
+      check(netcdf().nc_get_vara_double(ncid, var, start, extent, v.data()), "reading " + name);
     } else {
       const size_t start[3] = {step, size_t(row), 0}, extent[3] = {1, 1, count};
       input_check(variable_size(var) % product(times.size(), count) == 0, file, name + " is not one value per node");
-      check(nc_get_vara_double(ncid, var, start, extent, v.data()), "reading " + name);
+      check(netcdf().nc_get_vara_double(ncid, var, start, extent, v.data()), "reading " + name);
     }
     return v;
   }

@@ -60,11 +60,13 @@ void add_convert_command(CLI::App& app) {
   cmd->add_flag("-q,--quiet", a->quiet, "no progress bar");
   cmd->add_option("--scalars", a->scalars,
                   "meshes (UGRID): NAME=FILE, a raw little-endian float32 file of one value per point; repeatable");
-  cmd->add_option("--region", a->in.regions,
-                  "a part of the model to read (repeatable): an OpenFOAM case's region (region0 is "
-                  "constant/polyMesh), a Fluent case's cell zone, an Exodus file's element block (name or id), a "
-                  "CGNS file's zone, a Gmsh file's physical group of volumes (name or number), an EnSight case's "
-                  "part (description or number); default: all, joined");
+  cmd->add_option(
+      "--region", a->in.regions,
+      "a part of the model to read (repeatable): an OpenFOAM case's region (region0 is "
+      "constant/polyMesh), a Fluent case's cell zone, an Exodus file's element block (name or id), a "
+      "CGNS file's zone, a Gmsh file's physical group of volumes (name or number), an EnSight case's "
+      "part (description or number), a .vtm's block (name, or path of names: fluid/internal); default: all, "
+      "joined");
   cmd->callback([a] {
     a->in.inputs.assign(a->inputs.begin(), a->inputs.end());
     for (const std::string& s : a->scalars) a->in.scalars.push_back(parse_raw_scalars(s));

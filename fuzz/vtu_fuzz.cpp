@@ -2,8 +2,9 @@
 // inline base64 + zlib, appended raw, appended raw + LZ4, appended raw + LZMA, appended base64 +
 // zlib with UInt32 headers and two pieces' worth of arrays), a .pvd, a .pvtu of two ascii pieces
 // with ghost cells (pieces_0.vtu and pieces_1.vtu, also read alone), a .vtm of a .vtu, the .pvtu
-// and a surface, a JSON .series, polyhedra in both of VTK's layouts and VTK's quadratic cells
-// (tests/data/vtu/vtk_quadratic.vtu), one of them patched or truncated.
+// and a surface (read whole, or two of its blocks by name), a JSON .series, polyhedra in both of
+// VTK's layouts and VTK's quadratic cells (tests/data/vtu/vtk_quadratic.vtu), one of them
+// patched or truncated.
 #include <algorithm>
 #include <fstream>
 #include <string>
@@ -69,9 +70,10 @@ void make_base(const std::filesystem::path& dir) {
              .indices_int64 = false});
   write_pvd(dir / "series.pvd", {{0, {dir / "ascii.vtu"}}, {1, {dir / "raw.vtu"}}});
   write_pvtu(dir / "pieces.pvtu", cut_into_pieces(mesh, 2, 1), {.format = Format::ascii});
-  std::ofstream(dir / "blocks.vtm") << "<VTKFile type=\"vtkMultiBlockDataSet\"><vtkMultiBlockDataSet><Block>"
-                                       "<DataSet file=\"ascii.vtu\"/><DataSet file=\"pieces.pvtu\"/></Block>"
-                                       "<DataSet file=\"walls.vtp\"/></vtkMultiBlockDataSet></VTKFile>\n";
+  std::ofstream(dir / "blocks.vtm")
+      << "<VTKFile type=\"vtkMultiBlockDataSet\"><vtkMultiBlockDataSet><Block name=\"zone\">"
+         "<DataSet name=\"a\" file=\"ascii.vtu\"/><DataSet file=\"pieces.pvtu\"/></Block>"
+         "<DataSet name=\"walls\" file=\"walls.vtp\"/></vtkMultiBlockDataSet></VTKFile>\n";
   std::ofstream(dir / "polyhedra_streams.vtu") << polyhedra_vtu(false);
   std::ofstream(dir / "polyhedra_tables.vtu") << polyhedra_vtu(true);
   std::filesystem::copy_file(
@@ -93,13 +95,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (const auto& e : std::filesystem::directory_iterator(work)) files.push_back(e.path());
   std::sort(files.begin(), files.end());
   if (!fuzz::apply_patch(files, data, size)) return 0;
+  // The first byte's high bit: the .vtm's blocks by --region (a name, a path), or all of them.
+  const std::vector<std::string> blocks =
+      size > 0 && (data[0] & 0x80) ? std::vector<std::string>{"zone/a", "walls"} : std::vector<std::string>{};
   for (const auto& file : files) {
     if (file.extension() == ".pvd")
       fuzz::expect_clean([&] { read_pvd(file); });
     else if (file.extension() == ".pvtu")
       fuzz::expect_clean([&] { read_pvtu(file); });
     else if (file.extension() == ".vtm")
-      fuzz::expect_clean([&] { read_vtm(file); });
+      fuzz::expect_clean([&] { read_vtm(file, nullptr, blocks); });
     else if (file.extension() == ".series")
       fuzz::expect_clean([&] { read_file_series(file); });
     else

@@ -543,7 +543,8 @@ PYBIND11_MODULE(volstream, m) {
         "encoding, as `volstream convert`) or 'reference'; split_into_tets: store a mesh's pyramids, wedges\n"
         "and hexahedra as tets (convert --split-into-tets); regions: an OpenFOAM case's regions, a Fluent\n"
         "case's cell zones, an Exodus file's element blocks, a CGNS file's zones, a Gmsh file's physical\n"
-        "groups of volumes or an EnSight case's parts to read (convert --region; default: all).\n"
+        "groups of volumes, an EnSight case's parts or a .vtm's blocks to read (convert --region; default:\n"
+        "all).\n"
         "OSError('<file>: <what>') for a missing or damaged input.");
   m.def("demo", &demo, py::arg("name"), py::arg("cells") = 1e5, py::arg("steps") = 2, py::arg("elements") = 1e5,
         py::arg("encoding") = "compact", py::arg("split_into_tets") = false,

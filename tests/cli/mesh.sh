@@ -106,6 +106,12 @@ grep -q nan got.txt && fail "a grid point of the wavelet probed outside"
 "$VS" probe blocks --field RTData --points grid_points.txt >got.txt
 echo -n "vtk_blocks.vtm: "
 compare_probes got.txt want.txt || fail "the .vtm's zones differ from VTK's whole mesh at its points"
+# --region picks blocks of a .vtm: one zone alone, a name the file lacks, a .vtu refused.
+"$VS" convert "$DATA/vtk_blocks.vtm" --region zone_1 -o zone_1 -q
+"$VS" info zone_1 --json | grep -q '"tetra": 67,' || fail "the .vtm's block zone_1 is not its 67 tets"
+"$VS" info zone_1 | grep -q "VTK XML multiblock vtk_blocks.vtm (blocks zone_1)" || fail "info does not name the block read"
+expect_bad_input "a block the .vtm lacks" convert "$DATA/vtk_blocks.vtm" --region zone_7 -o zone_7
+expect_bad_input "--region on a .vtu" convert "$DATA/vtk_zlib.vtu" --region zone_1 -o zone_vtu
 # The same wavelet as VTK's voxels (read as hexahedra; a wrong corner order would be refused as
 # tangled): the same values at the points. (All hexes: the compact encoding's bytes, 344 for 27
 # hexes, were refused at load by a bound made for tets before 2026-11-29.)

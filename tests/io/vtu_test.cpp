@@ -10,11 +10,14 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <numeric>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "test_util.h"
 #include "volstream/core/error.h"
+#include "volstream/io/mesh_convert.h"
 #include "volstream/io/vtk_legacy.h"
 #include "volstream/umesh/mesh_pieces.h"
 
@@ -700,6 +703,87 @@ TEST(Vtm, ReadsVtksMultiblock) {
   expect_wavelet(m);  // 64 points: the zones' seam welded
   EXPECT_EQ(cells_by_corners(m), cells_by_corners(whole));
   EXPECT_EQ(values_by_position(m), values_by_position(whole));
+}
+
+// The cell ids (vtkOriginalCellIds) of the blocks of vtk_blocks.vtm that `blocks` names.
+std::vector<double> original_cells(const std::vector<std::string>& blocks) {
+  const MeshData m = read_vtm(kDataDir / "vtk_blocks.vtm", nullptr, blocks);
+  std::vector<double> ids = m.cell_data.at(0).values;
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+std::vector<double> counting_from(double first, size_t n) {
+  std::vector<double> v(n);
+  std::iota(v.begin(), v.end(), first);
+  return v;
+}
+
+std::string vtm_error(const fs::path& file, const std::vector<std::string>& blocks) {
+  try {
+    read_vtm(file, nullptr, blocks);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no InputError";
+}
+
+// --region on a .vtm: each zone alone is its cells of the whole (VTK wrote their ids), both
+// are the whole; a block of surfaces only, or a name the file lacks, is refused.
+TEST(Vtm, BlocksAskedForAlone) {
+  EXPECT_EQ(original_cells({"zone_0"}), counting_from(0, 68));
+  EXPECT_EQ(original_cells({"zone_1"}), counting_from(68, 67));
+  EXPECT_EQ(original_cells({"zone_1", "zone_0"}), counting_from(0, 135));
+  const fs::path file = kDataDir / "vtk_blocks.vtm";
+  EXPECT_EQ(vtm_error(file, {"boundary"}),
+            "no unstructured grid (.vtu or .pvtu) among its blocks asked for (--region)");
+  EXPECT_EQ(vtm_error(file, {"boundary/walls"}), vtm_error(file, {"boundary"}));
+  EXPECT_EQ(vtm_error(file, {"zone_0", "zone_2"}),
+            "no block or data set 'zone_2' in this multiblock (its blocks: zone_0, zone_1, boundary, boundary/walls)");
+}
+
+// A multi-region case as foamToVTK writes it: each region a block holding its "internal" volume
+// and a block of boundary patches. A region by name, a data set by its path, and a name that
+// several data sets share (every one of them).
+TEST(Vtm, BlocksByNameAndPath) {
+  const fs::path dir = test::scratch_dir("vtm_regions");
+  MeshData fluid = mixed_mesh(), solid = mixed_mesh();
+  for (auto& p : solid.points) p.x += 10;  // apart from the fluid: no point welded
+  write_vtu(dir / "fluid.vtu", fluid);
+  write_pvtu(dir / "solid.pvtu", cut_into_pieces(solid, 2));
+  write_file(dir / "case.vtm",
+             "<VTKFile type=\"vtkMultiBlockDataSet\"><vtkMultiBlockDataSet>"
+             "<Block index=\"0\" name=\"fluid\"><DataSet index=\"0\" name=\"internal\" file=\"fluid.vtu\"/>"
+             "<Block index=\"1\" name=\"boundary\"><DataSet index=\"0\" name=\"inlet\" file=\"inlet.vtp\"/>"
+             "</Block></Block>"
+             "<Block index=\"1\" name=\"solid\"><DataSet index=\"0\" name=\"internal\" file=\"solid.pvtu\"/>"
+             "</Block></vtkMultiBlockDataSet></VTKFile>");
+  const auto x_range = [&](const std::vector<std::string>& blocks) {
+    const MeshData m = read_vtm(dir / "case.vtm", nullptr, blocks);
+    double lo = m.points.front().x, hi = lo;
+    for (const auto& p : m.points) lo = std::min(lo, p.x), hi = std::max(hi, p.x);
+    return std::make_tuple(m.cell_count(), m.points.size(), lo, hi);
+  };
+  const auto [cells, points, lo, hi] = x_range({"fluid"});
+  EXPECT_EQ(cells, fluid.cell_count());
+  EXPECT_EQ(points, fluid.points.size());
+  EXPECT_LT(hi, 5.0);
+  EXPECT_EQ(x_range({"fluid/internal"}), x_range({"fluid"}));
+  const auto [solid_cells, solid_points, solid_lo, solid_hi] = x_range({"solid/internal"});
+  EXPECT_EQ(solid_cells, solid.cell_count());
+  EXPECT_GT(solid_lo, 5.0);
+  EXPECT_EQ(std::get<0>(x_range({"internal"})), fluid.cell_count() + solid.cell_count());
+  EXPECT_EQ(x_range({"internal"}), x_range({}));
+  // A .pvd of .vtm steps reads the same blocks at every step; one with a .vtu step is refused.
+  write_pvd(dir / "case.pvd", {{0.0, {dir / "case.vtm"}}, {1.0, {dir / "case.vtm"}}});
+  const auto series = open_mesh_files({dir / "case.pvd"}, {}, {"solid"});
+  EXPECT_EQ(series->read_step(1).cell_count(), solid.cell_count());
+  EXPECT_NE(series->description().find("(2 steps; blocks solid)"), std::string::npos) << series->description();
+  write_pvd(dir / "mixed.pvd", {{0.0, {dir / "case.vtm"}}, {1.0, {dir / "fluid.vtu"}}});
+  EXPECT_THROW(open_mesh_files({dir / "mixed.pvd"}, {}, {"solid"}), UsageError);
+  EXPECT_EQ(vtm_error(dir / "case.vtm", {"fluid/inlet"}),
+            "no block or data set 'fluid/inlet' in this multiblock (its blocks: fluid, fluid/internal, "
+            "fluid/boundary, fluid/boundary/inlet, solid, solid/internal)");
 }
 
 TEST(Vtm, BadFiles) {

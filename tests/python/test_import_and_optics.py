@@ -72,6 +72,8 @@ def test_load_joins_a_parallel_writers_pieces(mesh_files, tmp_path):
     for name in ("vtk_ghosts.pvtu", "vtk_blocks.vtm"):
         ds = vs.load(os.path.join(data, name))
         assert (ds.element_count, ds.vertex_count) == (135, 64) and "RTData" in ds.fields
+    zone = vs.load(os.path.join(data, "vtk_blocks.vtm"), regions=["zone_0"])  # one block of the .vtm
+    assert zone.element_count == 68
 
 
 def test_load_ensight_case():

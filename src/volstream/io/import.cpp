@@ -80,7 +80,9 @@ std::string import_to_dataset(const ImportRequest& r, const fs::path& out_dir, c
   }
   if (!r.scalars.empty()) throw UsageError("scalars (NAME=FILE) apply to mesh input (.ugrid)");
   if (!r.regions.empty())
-    throw UsageError("--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS, Gmsh and EnSight files");
+    throw UsageError(
+        "--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS, Gmsh, EnSight and VTK multiblock "
+        "(.vtm) files");
   if (options.split_into_tets) throw UsageError("--split-into-tets applies to mesh input");
   auto source = open_amr_source(r, format);
   const ConvertStats s = convert_to_dataset(*source, out_dir, options);

@@ -67,12 +67,14 @@ MeshData read_gmsh_step(const fs::path& file) {
   return msh.read_step(0);
 }
 
-// A step's file; a .vtu or .vtm split with `splits` (a series', for its next step).
-MeshData read_mesh_file(const fs::path& file, SeriesSplits* splits = nullptr) {
+// A step's file; a .vtu or .vtm split with `splits` (a series', for its next step); of a .vtm,
+// the blocks named in `blocks` (all when it is empty).
+MeshData read_mesh_file(const fs::path& file, SeriesSplits* splits = nullptr,
+                        const std::vector<std::string>& blocks = {}) {
   const std::string ext = lower_extension(file);
   if (ext == ".vtu") return read_vtu(file, splits);
   if (ext == ".pvtu") return read_pvtu(file);
-  if (ext == ".vtm") return read_vtm(file, splits);
+  if (ext == ".vtm") return read_vtm(file, splits, blocks);
   if (ext == ".vtk") return read_vtk_legacy(file);
   if (ext == ".ugrid") return read_ugrid(file);
   if (ext == ".msh") return read_gmsh_step(file);
@@ -83,11 +85,12 @@ MeshData read_mesh_file(const fs::path& file, SeriesSplits* splits = nullptr) {
 
 // A step's parts (a .pvd's entries of one time: a parallel run's pieces) as one mesh, read in
 // parallel; the error is the first bad part's.
-MeshData read_parts(const std::vector<fs::path>& parts, const std::string& origin, SeriesSplits* splits) {
-  if (parts.size() == 1) return read_mesh_file(parts.front(), splits);
+MeshData read_parts(const std::vector<fs::path>& parts, const std::string& origin, SeriesSplits* splits,
+                    const std::vector<std::string>& blocks) {
+  if (parts.size() == 1) return read_mesh_file(parts.front(), splits, blocks);
   std::vector<MeshData> meshes(parts.size());
   parallel_each_in_order(int64_t(parts.size()),
-                         [&](int64_t i) { meshes[size_t(i)] = read_mesh_file(parts[size_t(i)]); });
+                         [&](int64_t i) { meshes[size_t(i)] = read_mesh_file(parts[size_t(i)], nullptr, blocks); });
   MeshData m = join_pieces(std::move(meshes), origin);
   check_mesh(m, origin);
   return m;
@@ -95,12 +98,18 @@ MeshData read_parts(const std::vector<fs::path>& parts, const std::string& origi
 
 class FileSeries : public MeshSeries {
  public:
-  FileSeries(std::vector<PvdStep> steps, std::vector<RawScalars> scalars, std::string description)
-      : steps_(std::move(steps)), scalars_(std::move(scalars)), description_(std::move(description)) {}
+  // blocks: the .vtm blocks to read (--region; empty: all).
+  FileSeries(std::vector<PvdStep> steps, std::vector<RawScalars> scalars, std::string description,
+             std::vector<std::string> blocks)
+      : steps_(std::move(steps)),
+        scalars_(std::move(scalars)),
+        description_(std::move(description)),
+        blocks_(std::move(blocks)) {}
   int step_count() const override { return int(steps_.size()); }
   double step_time(int step) const override { return steps_.at(size_t(step)).time; }
   MeshData read_step(int step) override {
-    MeshData m = read_parts(steps_.at(size_t(step)).parts, origin(step), steps_.size() > 1 ? &splits_ : nullptr);
+    MeshData m =
+        read_parts(steps_.at(size_t(step)).parts, origin(step), steps_.size() > 1 ? &splits_ : nullptr, blocks_);
     for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
     return m;
   }
@@ -111,6 +120,7 @@ class FileSeries : public MeshSeries {
   std::vector<PvdStep> steps_;
   std::vector<RawScalars> scalars_;
   std::string description_;
+  std::vector<std::string> blocks_;
   SeriesSplits splits_;  // the last step's, for the next
 };
 
@@ -303,6 +313,12 @@ std::unique_ptr<MeshSeries> open_openfoam_case(const fs::path& input, std::vecto
   return std::make_unique<CaseSeries<OpenFoamCase>>(std::move(c), "OpenFOAM case " + name, std::move(scalars));
 }
 
+// The usage error's start when --region meets a file it does not apply to.
+std::string region_formats() {
+  return "--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS, EnSight, (one) Gmsh and VTK "
+         "multiblock (.vtm) files";
+}
+
 bool is_cgns_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   return ext == ".cgns" || ext == ".cgn";
@@ -343,10 +359,9 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, 
   const std::string ext = lower_extension(files.front());
   if (!regions.empty() && !is_openfoam_input(files.front()) && !is_fluent_case_file(files.front()) &&
       !is_exodus_file(files.front()) && !is_cgns_file(files.front()) && !(ext == ".msh" && files.size() == 1) &&
-      ext != ".case")
-    throw UsageError(
-        "--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS, EnSight and (one) Gmsh files (" +
-        files.front().string() + (ext == ".msh" ? " is one of several .msh files)" : " is none of them)"));
+      ext != ".case" && ext != ".vtm" && ext != ".pvd" && ext != ".series")
+    throw UsageError(region_formats() + " (" + files.front().string() +
+                     (ext == ".msh" ? " is one of several .msh files)" : " is none of them)"));
   if (ext == ".case") {
     if (files.size() > 1) throw UsageError("an EnSight .case file is converted on its own");
     return std::make_unique<EnsightSeries>(files.front(), scalars, regions);
@@ -383,9 +398,18 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, 
   } else {
     for (size_t i = 0; i < files.size(); ++i) steps.push_back({double(i), {files[i]}});
   }
+  // --region on a .pvd or .series: every step a .vtm.
+  for (const PvdStep& step : steps)
+    for (const fs::path& part : step.parts)
+      if (!regions.empty() && lower_extension(part) != ".vtm")
+        throw UsageError(region_formats() + " (" + part.string() + ", a step of " + files.front().string() +
+                         ", is none of them)");
   std::string description = format_name(files.front()) + " " + files.front().filename().string();
-  if (steps.size() > 1) description += " (" + std::to_string(steps.size()) + " steps)";
-  return std::make_unique<FileSeries>(std::move(steps), scalars, description);
+  std::vector<std::string> notes;
+  if (steps.size() > 1) notes.push_back(std::to_string(steps.size()) + " steps");
+  if (!regions.empty()) notes.push_back("blocks " + joined(regions));
+  if (!notes.empty()) description += " (" + joined(notes, "; ") + ")";
+  return std::make_unique<FileSeries>(std::move(steps), scalars, description, regions);
 }
 
 StepData MeshSeries::read_step_data(int step, const MeshData& first) {

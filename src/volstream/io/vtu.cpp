@@ -657,30 +657,85 @@ std::vector<fs::path> pvtu_sources(const fs::path& file) {
   return sources;
 }
 
-// The <DataSet file=...> entries at any depth under `e` (in <Block>s and <Piece>s), in order.
-void collect_datasets(const fs::path& vtm, const XmlElement& e, std::vector<fs::path>& files) {
+// A <DataSet file=...> of a .vtm, and the names on the way down to it: its <Block>s' (and
+// <Piece>s') and its own ("" for an element without a name).
+struct VtmDataSet {
+  fs::path file;
+  std::vector<std::string> names;
+};
+
+// The data sets at any depth under `e`, in order.
+void collect_datasets(const fs::path& vtm, const XmlElement& e, std::vector<std::string>& names,
+                      std::vector<VtmDataSet>& datasets) {
   for (const XmlElement& child : e.children) {
+    const std::string* name = child.attribute("name");
+    names.push_back(name ? *name : "");
     const std::string* file = child.attribute("file");
-    if (child.name == "DataSet" && file && !file->empty()) files.push_back(listed_path(vtm, *file));
-    collect_datasets(vtm, child, files);
+    if (child.name == "DataSet" && file && !file->empty()) datasets.push_back({listed_path(vtm, *file), names});
+    collect_datasets(vtm, child, names, datasets);
+    names.pop_back();
   }
 }
 
-// The volume blocks of a .vtm: its .vtu and .pvtu files. Surfaces (.vtp, .pvtp: a CFD writer's
-// boundary patches beside its volume mesh) are skipped; other data sets are refused.
-std::vector<fs::path> vtm_volume_files(const fs::path& file) {
+// The paths of a data set's names from the top ("fluid", "fluid/internal"), one per level.
+std::vector<std::string> name_paths(const VtmDataSet& d) {
+  std::vector<std::string> paths;
+  std::string path;
+  for (const std::string& name : d.names) {
+    path += (path.empty() ? "" : "/") + name;
+    paths.push_back(path);
+  }
+  return paths;
+}
+
+// Whether `wanted` names the data set or a block holding it: one of its names, or a path of
+// them from the top, as ParaView shows the tree ("fluid/internal").
+bool is_under(const VtmDataSet& d, const std::string& wanted) {
+  const std::vector<std::string> paths = name_paths(d);
+  return std::find(d.names.begin(), d.names.end(), wanted) != d.names.end() ||
+         std::find(paths.begin(), paths.end(), wanted) != paths.end();
+}
+
+// The data sets under the blocks `wanted` names (all of them when it is empty); InputError for a
+// name that matches none, listing the file's blocks.
+std::vector<VtmDataSet> chosen_datasets(const fs::path& file, std::vector<VtmDataSet> all,
+                                        const std::vector<std::string>& wanted) {
+  if (wanted.empty()) return all;
+  for (const std::string& w : wanted)
+    if (std::none_of(all.begin(), all.end(), [&](const VtmDataSet& d) { return is_under(d, w); })) {
+      std::vector<std::string> blocks;
+      for (const VtmDataSet& d : all)
+        for (const std::string& path : name_paths(d))
+          if (std::find(blocks.begin(), blocks.end(), path) == blocks.end()) blocks.push_back(path);
+      input_error(file.string(), "no block or data set '" + w + "' in this multiblock (its blocks: " +
+                                     (blocks.empty() ? "none named" : joined(blocks)) + ")");
+    }
+  std::erase_if(all, [&](const VtmDataSet& d) {
+    return std::none_of(wanted.begin(), wanted.end(), [&](const std::string& w) { return is_under(d, w); });
+  });
+  return all;
+}
+
+// The volume blocks of a .vtm, or of the blocks named in `wanted`: their .vtu and .pvtu files.
+// Surfaces (.vtp, .pvtp: a CFD writer's boundary patches beside its volume mesh) are skipped;
+// other data sets are refused.
+std::vector<fs::path> vtm_volume_files(const fs::path& file, const std::vector<std::string>& wanted) {
   const std::string name = file.string();
-  std::vector<fs::path> files, volumes;
-  collect_datasets(file, listing(file, "vtkMultiBlockDataSet", "not a VTK multiblock (.vtm) file"), files);
-  for (const fs::path& f : files) {
-    const std::string ext = lower_extension(f);
+  std::vector<VtmDataSet> all;
+  std::vector<std::string> names;
+  collect_datasets(file, listing(file, "vtkMultiBlockDataSet", "not a VTK multiblock (.vtm) file"), names, all);
+  std::vector<fs::path> volumes;
+  for (const VtmDataSet& d : chosen_datasets(file, std::move(all), wanted)) {
+    const std::string ext = lower_extension(d.file);
     if (ext == ".vtu" || ext == ".pvtu")
-      volumes.push_back(f);
+      volumes.push_back(d.file);
     else if (ext != ".vtp" && ext != ".pvtp")
-      input_error(name, "block " + f.filename().string().substr(0, 64) +
+      input_error(name, "block " + d.file.filename().string().substr(0, 64) +
                             ": only unstructured grids (.vtu, .pvtu) and surfaces (.vtp, skipped) are read");
   }
-  if (volumes.empty()) input_error(name, "no unstructured grid (.vtu or .pvtu) among its blocks");
+  if (volumes.empty())
+    input_error(name, std::string("no unstructured grid (.vtu or .pvtu) among its blocks") +
+                          (wanted.empty() ? "" : " asked for (--region)"));
   return volumes;
 }
 
@@ -718,8 +773,8 @@ MeshData read_vtu(const std::filesystem::path& file, SeriesSplits* splits) {
 
 MeshData read_pvtu(const std::filesystem::path& file) { return checked(read_pvtu_unchecked(file), file); }
 
-MeshData read_vtm(const std::filesystem::path& file, SeriesSplits* splits) {
-  const std::vector<fs::path> volumes = vtm_volume_files(file);
+MeshData read_vtm(const std::filesystem::path& file, SeriesSplits* splits, const std::vector<std::string>& blocks) {
+  const std::vector<fs::path> volumes = vtm_volume_files(file, blocks);
   if (volumes.size() == 1 && lower_extension(volumes.front()) == ".vtu")
     return checked(read_vtu_unchecked(volumes.front(), splits ? &splits->polyhedra : nullptr), file,
                    splits ? &splits->quadratic : nullptr);

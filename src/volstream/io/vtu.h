@@ -23,6 +23,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "volstream/umesh/cell_rebuild.h"
@@ -43,7 +44,11 @@ MeshData read_pvtu(const std::filesystem::path& file);
 // A .vtm (VTK multiblock, as OpenFOAM's foamToVTK and SU2's multizone output write it): its .vtu
 // and .pvtu blocks, at any depth, joined into one mesh; surface blocks (.vtp, .pvtp: boundary
 // patches) are skipped; a block of another type, or none that is a volume, is an InputError.
-MeshData read_vtm(const std::filesystem::path& file, SeriesSplits* splits = nullptr);
+// `blocks` (--region) reads only the data sets under the blocks it names: by a <Block>'s or
+// <DataSet>'s name ("fluid", "internal": every one of that name) or by a path of names from the
+// top ("fluid/internal"); a name that matches none is an InputError listing the file's blocks.
+MeshData read_vtm(const std::filesystem::path& file, SeriesSplits* splits = nullptr,
+                  const std::vector<std::string>& blocks = {});
 
 // VTK's block compressors (the VTKFile's compressor attribute).
 enum class VtuCompressor { none, zlib, lz4, lzma };

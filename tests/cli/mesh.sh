@@ -362,6 +362,18 @@ printf '0.3 0.5 0.4\n1.0 0.5 0.4\n' >of_region_points.txt
 [ "$(head -1 of_u_fluid.txt)" = nan ] && [ "$(tail -1 of_u_fluid.txt)" = "$(tail -1 of_u.txt)" ] ||
   fail "OpenFOAM --region fluid: not the fluid's values alone"
 expect_bad_input "an OpenFOAM region the case lacks" convert "$OF/box_regions" --region gas -o of_gas
+# The same case as foamToVTK exports it (tests/data/vtu/make_foam_to_vtk.sh: a .vtm whose blocks
+# are the regions, each its volume and its patches), its last step: each region by --region is
+# the case's region, cell for cell (T of the cells, at points all over both).
+random_points of_regions 2000 13 >of_region_random.txt
+for region in fluid solid; do
+  "$VS" convert "$DATA/foam_regions/case-regions.vtm.series" --region "$region" -o "ftv_$region" -q
+  "$VS" convert "$OF/box_regions" --region "$region" -o "of_only_$region" -q
+  "$VS" probe "ftv_$region" --field T_cell --points of_region_random.txt >ftv_t.txt
+  "$VS" probe "of_only_$region" --field T --step 2 --points of_region_random.txt >of_t.txt
+  echo -n "foamToVTK's .vtm, block $region, against the case's region: "
+  compare_probes ftv_t.txt of_t.txt || fail "the .vtm's block $region is not the OpenFOAM case's region $region"
+done
 
 # Bad input: a truncated file, a .pvd whose steps have different meshes, an unknown scalars spec.
 head -c 3000 m.vtu >trunc.vtu

@@ -247,7 +247,7 @@ if "$VS" convert "$CG/cgns_mixed.cgns" -o cg_mixed -q 2>cg_err.txt; then
   head -c 40000 "$CG/cgns_mixed.cgns" >cut.cgns
   expect_bad_input "a CGNS file cut short" convert cut.cgns -o cut_cgns
   "$VS" convert "$CG/cgns_mixed.cgns" --region block -o cg_block -q  # one zone alone
-  "$VS" info cg_block | grep -q "1 zone, 1 structured read (block): HEXA_8 (structured) x 24" || fail "CGNS --region: info"
+  "$VS" info cg_block | grep -q "1 zone read (block, structured): HEXA_8 (structured) x 24" || fail "CGNS --region: info"
   expect_bad_input "a CGNS zone the file lacks" convert "$CG/cgns_mixed.cgns" --region fluid -o cg_fluid
 else
   grep -q "built without the CGNS library" cg_err.txt || fail "CGNS: $(cat cg_err.txt)"

@@ -69,7 +69,10 @@ TEST(Cgns, ZonesAskedForAreTheWholeFilesZones) {
   const fs::path file = kDir / "cgns_mixed.cgns";
   CgnsFile whole(file), block(file, {"block"}), mixed(file, {"mixed"}), both(file, {"mixed", "block"});
   EXPECT_EQ(mixed.summary(), "1 zone read (mixed): HEXA_8 x 8, PENTA_6 x 16, PYRA_5 x 48, TETRA_4 x 48");
-  EXPECT_EQ(block.summary(), "1 zone, 1 structured read (block): HEXA_8 (structured) x 24");
+  EXPECT_EQ(block.summary(), "1 zone read (block, structured): HEXA_8 (structured) x 24");
+  EXPECT_EQ(both.summary(),
+            "2 zones read (block, structured; mixed): HEXA_8 x 8, HEXA_8 (structured) x 24, PENTA_6 x 16, PYRA_5 x 48, "
+            "TETRA_4 x 48");
   ASSERT_EQ(mixed.step_count(), 3u);
   const MeshData block_step = block.read_step(2), mixed_step = mixed.read_step(2), whole_step = whole.read_step(2);
   EXPECT_EQ(block_step.cell_count(), 24u);

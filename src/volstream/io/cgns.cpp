@@ -50,13 +50,14 @@ namespace {
 // The CGNS functions the reader calls, from the library opened at the first CGNS file
 // (io/shared_library.h: loading it with volstream cost every command ~22 ms).
 // clang-format off
-#define VOLSTREAM_CGNS_FUNCTIONS(X)                                                                                                     \
-  X(cg_open) X(cg_close) X(cg_get_error) X(cg_nbases) X(cg_base_read) X(cg_nzones)                                                      \
-  X(cg_zone_read) X(cg_zone_type) X(cg_coord_read) X(cg_nsections) X(cg_section_read) X(cg_ElementDataSize)                             \
-  X(cg_elements_read) X(cg_poly_elements_read) X(cg_npe) X(cg_nsols) X(cg_sol_info) X(cg_nfields)                                       \
-  X(cg_field_info) X(cg_field_read) X(cg_goto) X(cg_rind_read) X(cg_narrays) X(cg_array_info)                                           \
-  X(cg_array_read) X(cg_array_read_as) X(cg_ziter_read) X(cg_biter_read) X(cg_get_cgio) X(cg_root_id)                                   \
-  X(cgio_get_node_id) X(cgio_release_id) X(cgio_get_dimensions) X(cgio_read_all_data_type) X(cg_ElementTypeName) X(cg_GridLocationName)
+#define VOLSTREAM_CGNS_FUNCTIONS(X)                                                                \
+  X(cg_open) X(cg_close) X(cg_get_error) X(cg_nbases) X(cg_base_read) X(cg_nzones) X(cg_zone_read) \
+  X(cg_zone_type) X(cg_coord_read) X(cg_nsections) X(cg_section_read) X(cg_ElementDataSize)        \
+  X(cg_elements_read) X(cg_poly_elements_read) X(cg_npe) X(cg_nsols) X(cg_sol_info) X(cg_nfields)  \
+  X(cg_field_info) X(cg_field_read) X(cg_goto) X(cg_rind_read) X(cg_narrays) X(cg_array_info)      \
+  X(cg_array_read) X(cg_array_read_as) X(cg_ziter_read) X(cg_biter_read) X(cg_get_cgio)            \
+  X(cg_root_id) X(cgio_get_node_id) X(cgio_release_id) X(cgio_get_dimensions)                      \
+  X(cgio_read_all_data_type) X(cg_ElementTypeName) X(cg_GridLocationName)
 // clang-format on
 VOLSTREAM_LIBRARY_CALLS(CgnsCalls, VOLSTREAM_CGNS_FUNCTIONS);
 
@@ -659,11 +660,12 @@ struct CgnsFile::Impl {
   std::string summary() const {
     const auto structured = std::count_if(zones.begin(), zones.end(), [](const Zone& z) { return z.structured; });
     std::string s = std::to_string(zones.size()) + (zones.size() == 1 ? " zone" : " zones");
-    if (structured) s += ", " + std::to_string(structured) + " structured";
-    if (!wanted.empty()) {
+    if (wanted.empty()) {
+      if (structured) s += ", " + std::to_string(structured) + " structured";
+    } else {  // the zones asked for: "2 zones read (block, structured; mixed)"
       std::vector<std::string> read;
-      for (const Zone& z : zones) read.push_back(z.name);
-      s += " read (" + joined(read) + ")";
+      for (const Zone& z : zones) read.push_back(z.structured ? z.name + ", structured" : z.name);
+      s += " read (" + joined(read, "; ") + ")";
     }
     const char* sep = ": ";
     std::map<std::string, uint64_t> counts = element_counts;

@@ -46,10 +46,10 @@ namespace {
 // The NetCDF functions the reader calls, from the library opened at the first Exodus file
 // (io/shared_library.h: loading it with volstream cost every command ~22 ms).
 // clang-format off
-#define VOLSTREAM_NETCDF_FUNCTIONS(X)                                                                     \
-  X(nc_open) X(nc_close) X(nc_strerror) X(nc_inq_format) X(nc_inq_varid)                                  \
-  X(nc_inq_dimid) X(nc_inq_dimlen) X(nc_inq_varndims) X(nc_inq_vardimid) X(nc_inq_attlen)                 \
-  X(nc_get_att_text) X(nc_get_var_text) X(nc_get_var_double) X(nc_get_var_longlong) X(nc_get_vara_double)
+#define VOLSTREAM_NETCDF_FUNCTIONS(X)                                                        \
+  X(nc_open) X(nc_close) X(nc_strerror) X(nc_inq_format) X(nc_inq_varid) X(nc_inq_dimid)     \
+  X(nc_inq_dimlen) X(nc_inq_varndims) X(nc_inq_vardimid) X(nc_inq_attlen) X(nc_get_att_text) \
+  X(nc_get_var_text) X(nc_get_var_double) X(nc_get_var_longlong) X(nc_get_vara_double)
 // clang-format on
 VOLSTREAM_LIBRARY_CALLS(NetcdfCalls, VOLSTREAM_NETCDF_FUNCTIONS);
 

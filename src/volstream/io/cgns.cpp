@@ -48,7 +48,7 @@ bool cgns_supported() { return true; }
 namespace {
 
 // The CGNS functions the reader calls, from the library opened at the first CGNS file
-// (io/shared_library.h: loading it with volstream cost every command ~22 ms).
+// (io/shared_library.h: linked, it cost every command ~20 ms of start).
 // clang-format off
 #define VOLSTREAM_CGNS_FUNCTIONS(X)                                                                \
   X(cg_open) X(cg_close) X(cg_get_error) X(cg_nbases) X(cg_base_read) X(cg_nzones) X(cg_zone_read) \

@@ -44,7 +44,7 @@ bool exodus_supported() { return true; }
 namespace {
 
 // The NetCDF functions the reader calls, from the library opened at the first Exodus file
-// (io/shared_library.h: loading it with volstream cost every command ~22 ms).
+// (io/shared_library.h: linked, it cost every command ~20 ms of start).
 // clang-format off
 #define VOLSTREAM_NETCDF_FUNCTIONS(X)                                                        \
   X(nc_open) X(nc_close) X(nc_strerror) X(nc_inq_format) X(nc_inq_varid) X(nc_inq_dimid)     \

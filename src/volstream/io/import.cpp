@@ -80,9 +80,8 @@ std::string import_to_dataset(const ImportRequest& r, const fs::path& out_dir, c
   }
   if (!r.scalars.empty()) throw UsageError("scalars (NAME=FILE) apply to mesh input (.ugrid)");
   if (!r.regions.empty())
-    throw UsageError(
-        "--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS, Gmsh, EnSight and VTK multiblock "
-        "(.vtm) files");
+    throw UsageError(region_formats() +
+                     (r.inputs.empty() ? "" : " (" + r.inputs.front().string() + " is none of them)"));
   if (options.split_into_tets) throw UsageError("--split-into-tets applies to mesh input");
   auto source = open_amr_source(r, format);
   const ConvertStats s = convert_to_dataset(*source, out_dir, options);

@@ -313,12 +313,6 @@ std::unique_ptr<MeshSeries> open_openfoam_case(const fs::path& input, std::vecto
   return std::make_unique<CaseSeries<OpenFoamCase>>(std::move(c), "OpenFOAM case " + name, std::move(scalars));
 }
 
-// The usage error's start when --region meets a file it does not apply to.
-std::string region_formats() {
-  return "--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS, EnSight, (one) Gmsh and VTK "
-         "multiblock (.vtm) files";
-}
-
 bool is_cgns_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
   return ext == ".cgns" || ext == ".cgn";
@@ -337,6 +331,11 @@ std::string format_name(const fs::path& file) {
 }
 
 }  // namespace
+
+std::string region_formats() {
+  return "--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS, EnSight, (one) Gmsh and VTK "
+         "multiblock (.vtm) files";
+}
 
 bool is_mesh_file(const fs::path& file) {
   const std::string ext = lower_extension(file);
@@ -402,8 +401,7 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, 
   for (const PvdStep& step : steps)
     for (const fs::path& part : step.parts)
       if (!regions.empty() && lower_extension(part) != ".vtm")
-        throw UsageError(region_formats() + " (" + part.string() + ", a step of " + files.front().string() +
-                         ", is none of them)");
+        throw UsageError(region_formats() + " (" + part.string() + " is none of them)");
   std::string description = format_name(files.front()) + " " + files.front().filename().string();
   std::vector<std::string> notes;
   if (steps.size() > 1) notes.push_back(std::to_string(steps.size()) + " steps");

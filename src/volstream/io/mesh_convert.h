@@ -55,6 +55,8 @@ struct RawScalars {
 };
 // RawScalars from "NAME=FILE" (UsageError otherwise).
 RawScalars parse_raw_scalars(const std::string& spec);
+// The start of the usage error for --region on input it does not apply to: the formats it does.
+std::string region_formats();
 
 // The steps of mesh files: one .vtu/.pvtu/.vtm/.vtk/.ugrid file (one step), several (one step each, in
 // the order given), or one .pvd collection or .series file (its steps, by time; a .pvd

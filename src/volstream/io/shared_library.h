@@ -1,9 +1,9 @@
 // A C library that a reader opens when it first needs it (dlopen), not when volstream starts.
 //
 // libnetcdf (Exodus II) and libcgns (CGNS) bring in HDF5, curl, gnutls, Kerberos and ICU: linked
-// into the executable they took about 22 ms of every command's start (34 ms against 12 ms for a
-// bare `volstream`, bench/RESULTS.md), a tenth of a 1M-tet render's whole command, although only
-// those two formats use them. The readers call them through a table of function pointers that
+// into the executable they took about 20 ms of every command's start (a bare `volstream` 33.5 ms
+// against 13.5 ms without them, bench/RESULTS.md), a tenth of a 1M-tet render's whole command,
+// although only those two formats use them. The readers call them through a table of function pointers that
 // VOLSTREAM_LIBRARY_CALLS declares, filled from the library the first time a file needs it.
 #pragma once
 #include <string>
@@ -38,10 +38,13 @@ class SharedLibrary {
 
 // Declares `struct Name` with one member per C function that LIST names (LIST(X) expands X(f)
 // for each f), of the type of its declaration in the library's header, and a constructor that
-// takes each from a SharedLibrary. Call sites read `calls.nc_open(...)`.
+// takes each from a SharedLibrary. Call sites read `netcdf().nc_open(...)` (io/exodus.cpp).
 #define VOLSTREAM_LIBRARY_MEMBER(f) decltype(&::f) f = nullptr;
 #define VOLSTREAM_LIBRARY_RESOLVE(f) f = library.function<decltype(&::f)>(#f);
-#define VOLSTREAM_LIBRARY_CALLS(Name, LIST)                                                                           \
-  struct Name {                                                                                                       \
-    explicit Name(const ::vs::SharedLibrary& library){LIST(VOLSTREAM_LIBRARY_RESOLVE)} LIST(VOLSTREAM_LIBRARY_MEMBER) \
+// clang-format off
+#define VOLSTREAM_LIBRARY_CALLS(Name, LIST)                                                \
+  struct Name {                                                                            \
+    explicit Name(const ::vs::SharedLibrary& library) { LIST(VOLSTREAM_LIBRARY_RESOLVE) }  \
+    LIST(VOLSTREAM_LIBRARY_MEMBER)                                                         \
   }
+// clang-format on

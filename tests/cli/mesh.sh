@@ -294,6 +294,11 @@ random_points gm_groups_41 2000 17 >gm_group_points.txt
 echo -n "Gmsh physical groups, MSH 4.1 against 2.2: "
 compare_probes gm_groups_41.txt gm_groups_22.txt || fail "the Gmsh files' groups differ"
 expect_bad_input "a Gmsh physical group of surfaces" convert "$GM/gmsh_groups_41.msh" --region bottom -o gm_bottom
+# A series of .msh files: the same groups at every step (here the same mesh twice, 4.1 and 2.2).
+"$VS" convert "$GM/gmsh_groups_41b.msh" "$GM/gmsh_groups_22.msh" --region prisms -o gm_series_prisms -q
+"$VS" info gm_series_prisms | grep -q "Gmsh gmsh_groups_41b.msh (2 steps; physical groups prisms)" ||
+  fail "Gmsh series --region: info"
+"$VS" info gm_series_prisms | grep -q " 28 elements" || fail "Gmsh series --region prisms: not 28 elements"
 # Fluent (tests/data/fluent/make_fluent_files.py): a binary case and two data files are two steps
 # at their flow times; step 1's cell values probe as the .vtu VTK wrote; the ASCII case alone
 # finds its .dat by name; a data file cut short and a 2D case are one line and exit 2.

@@ -282,10 +282,19 @@ TEST(Gmsh, PhysicalGroupsAreThoseOfGmshsModel) {
             "physical group read once");
   test::expect_probes_alike(GmshFile(kDir / "gmsh_groups_41.msh").read_step(0), "f",
                             GmshFile(kDir / "gmsh_groups_22.msh").read_step(0), "f");
-  // A file without groups, and --region on one .msh of several (a series), are refused.
+  // A file without groups is refused. A series of .msh files reads the groups asked for at every
+  // step; one with a .vtu step is refused.
   EXPECT_EQ(refusal_with(kDir / "gmsh_tets_22a.msh", {"1"}),
             "no physical group '1' of volume elements in this file (its groups of volumes: none)");
-  EXPECT_THROW(open_mesh_files({kDir / "gmsh_mixed.msh", kDir / "gmsh_mixed.msh"}, {}, {"7"}), UsageError);
+  const auto series = open_mesh_files({kDir / "gmsh_groups_41.msh", kDir / "gmsh_groups_22.msh"}, {}, {"prisms"});
+  EXPECT_EQ(series->step_count(), 2);
+  EXPECT_EQ(series->read_step(1).cell_count(), 28u);
+  EXPECT_NE(series->description().find("(2 steps; physical groups prisms)"), std::string::npos)
+      << series->description();
+  EXPECT_THROW(
+      open_mesh_files({kDir / "gmsh_groups_41.msh", kDir / "gmsh_groups_22.msh"}, {}, {"7", "absent"})->read_step(0),
+      InputError);
+  EXPECT_THROW(open_mesh_files({kDir / "gmsh_groups_41.msh", kDir / "../vtu/vtk_zlib.vtu"}, {}, {"7"}), UsageError);
   EXPECT_EQ(open_mesh_files({kDir / "gmsh_groups_41.msh"}, {}, {"prisms"})->read_step(0).cell_count(), 28u);
 }
 

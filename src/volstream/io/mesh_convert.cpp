@@ -57,27 +57,27 @@ std::vector<MeshFieldRef> selected(const std::vector<MeshFieldRef>& all, const s
   return out;
 }
 
-// A Gmsh file as one step of several files (a .pvd's, or files given as a series): one holding
-// time steps of its own is converted on its own.
-MeshData read_gmsh_step(const fs::path& file) {
-  const GmshFile msh(file);
+// A Gmsh file as one step of several files (a .pvd's, or files given as a series), its physical
+// groups `groups` (all when it is empty): one holding time steps of its own is converted on its own.
+MeshData read_gmsh_step(const fs::path& file, const std::vector<std::string>& groups) {
+  const GmshFile msh(file, groups);
   if (msh.step_count() > 1)
     input_error(file.string(), "holds " + std::to_string(msh.step_count()) +
                                    " time steps: give it on its own, not as one step of several files");
   return msh.read_step(0);
 }
 
-// A step's file; a .vtu or .vtm split with `splits` (a series', for its next step); of a .vtm,
-// the blocks named in `blocks` (all when it is empty).
+// A step's file; a .vtu or .vtm split with `splits` (a series', for its next step); of a .vtm
+// the blocks, of a .msh the physical groups named in `regions` (all when it is empty).
 MeshData read_mesh_file(const fs::path& file, SeriesSplits* splits = nullptr,
-                        const std::vector<std::string>& blocks = {}) {
+                        const std::vector<std::string>& regions = {}) {
   const std::string ext = lower_extension(file);
   if (ext == ".vtu") return read_vtu(file, splits);
   if (ext == ".pvtu") return read_pvtu(file);
-  if (ext == ".vtm") return read_vtm(file, splits, blocks);
+  if (ext == ".vtm") return read_vtm(file, splits, regions);
   if (ext == ".vtk") return read_vtk_legacy(file);
   if (ext == ".ugrid") return read_ugrid(file);
-  if (ext == ".msh") return read_gmsh_step(file);
+  if (ext == ".msh") return read_gmsh_step(file, regions);
   input_error(file.string(),
               "not a mesh file (.vtu, .pvtu, .vtm, .vtk, .ugrid, .msh, or a .pvd or .series of them; or an EnSight "
               ".case or an Exodus II .exo, or a .cgns, or a Fluent .cas and its .dat files, or an OpenFOAM case)");
@@ -86,11 +86,11 @@ MeshData read_mesh_file(const fs::path& file, SeriesSplits* splits = nullptr,
 // A step's parts (a .pvd's entries of one time: a parallel run's pieces) as one mesh, read in
 // parallel; the error is the first bad part's.
 MeshData read_parts(const std::vector<fs::path>& parts, const std::string& origin, SeriesSplits* splits,
-                    const std::vector<std::string>& blocks) {
-  if (parts.size() == 1) return read_mesh_file(parts.front(), splits, blocks);
+                    const std::vector<std::string>& regions) {
+  if (parts.size() == 1) return read_mesh_file(parts.front(), splits, regions);
   std::vector<MeshData> meshes(parts.size());
   parallel_each_in_order(int64_t(parts.size()),
-                         [&](int64_t i) { meshes[size_t(i)] = read_mesh_file(parts[size_t(i)], nullptr, blocks); });
+                         [&](int64_t i) { meshes[size_t(i)] = read_mesh_file(parts[size_t(i)], nullptr, regions); });
   MeshData m = join_pieces(std::move(meshes), origin);
   check_mesh(m, origin);
   return m;
@@ -98,18 +98,18 @@ MeshData read_parts(const std::vector<fs::path>& parts, const std::string& origi
 
 class FileSeries : public MeshSeries {
  public:
-  // blocks: the .vtm blocks to read (--region; empty: all).
+  // regions: the .vtm blocks or Gmsh physical groups to read (--region; empty: all).
   FileSeries(std::vector<PvdStep> steps, std::vector<RawScalars> scalars, std::string description,
-             std::vector<std::string> blocks)
+             std::vector<std::string> regions)
       : steps_(std::move(steps)),
         scalars_(std::move(scalars)),
         description_(std::move(description)),
-        blocks_(std::move(blocks)) {}
+        regions_(std::move(regions)) {}
   int step_count() const override { return int(steps_.size()); }
   double step_time(int step) const override { return steps_.at(size_t(step)).time; }
   MeshData read_step(int step) override {
     MeshData m =
-        read_parts(steps_.at(size_t(step)).parts, origin(step), steps_.size() > 1 ? &splits_ : nullptr, blocks_);
+        read_parts(steps_.at(size_t(step)).parts, origin(step), steps_.size() > 1 ? &splits_ : nullptr, regions_);
     for (const RawScalars& s : scalars_) attach_raw_scalars(m, s.name, s.file);
     return m;
   }
@@ -120,7 +120,7 @@ class FileSeries : public MeshSeries {
   std::vector<PvdStep> steps_;
   std::vector<RawScalars> scalars_;
   std::string description_;
-  std::vector<std::string> blocks_;
+  std::vector<std::string> regions_;
   SeriesSplits splits_;  // the last step's, for the next
 };
 
@@ -333,8 +333,8 @@ std::string format_name(const fs::path& file) {
 }  // namespace
 
 std::string region_formats() {
-  return "--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS, EnSight, (one) Gmsh and VTK "
-         "multiblock (.vtm) files";
+  return "--region applies to OpenFOAM cases, Fluent case files, Exodus II, CGNS, EnSight, Gmsh and VTK multiblock "
+         "(.vtm) files";
 }
 
 bool is_mesh_file(const fs::path& file) {
@@ -357,10 +357,9 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, 
   std::vector<PvdStep> steps;
   const std::string ext = lower_extension(files.front());
   if (!regions.empty() && !is_openfoam_input(files.front()) && !is_fluent_case_file(files.front()) &&
-      !is_exodus_file(files.front()) && !is_cgns_file(files.front()) && !(ext == ".msh" && files.size() == 1) &&
-      ext != ".case" && ext != ".vtm" && ext != ".pvd" && ext != ".series")
-    throw UsageError(region_formats() + " (" + files.front().string() +
-                     (ext == ".msh" ? " is one of several .msh files)" : " is none of them)"));
+      !is_exodus_file(files.front()) && !is_cgns_file(files.front()) && ext != ".msh" && ext != ".case" &&
+      ext != ".vtm" && ext != ".pvd" && ext != ".series")
+    throw UsageError(region_formats() + " (" + files.front().string() + " is none of them)");
   if (ext == ".case") {
     if (files.size() > 1) throw UsageError("an EnSight .case file is converted on its own");
     return std::make_unique<EnsightSeries>(files.front(), scalars, regions);
@@ -397,15 +396,17 @@ std::unique_ptr<MeshSeries> open_mesh_files(const std::vector<fs::path>& files, 
   } else {
     for (size_t i = 0; i < files.size(); ++i) steps.push_back({double(i), {files[i]}});
   }
-  // --region on a .pvd or .series: every step a .vtm.
+  // --region on a series (files, a .pvd or a .series): every step a .vtm, or every step a .msh.
+  const std::string step_ext = steps.empty() || steps[0].parts.empty() ? "" : lower_extension(steps[0].parts[0]);
   for (const PvdStep& step : steps)
     for (const fs::path& part : step.parts)
-      if (!regions.empty() && lower_extension(part) != ".vtm")
-        throw UsageError(region_formats() + " (" + part.string() + " is none of them)");
+      if (!regions.empty() && (lower_extension(part) != step_ext || (step_ext != ".vtm" && step_ext != ".msh")))
+        throw UsageError("--region applies to a series of .vtm files or of .msh files (" + part.string() +
+                         " is not one of them)");
   std::string description = format_name(files.front()) + " " + files.front().filename().string();
   std::vector<std::string> notes;
   if (steps.size() > 1) notes.push_back(std::to_string(steps.size()) + " steps");
-  if (!regions.empty()) notes.push_back("blocks " + joined(regions));
+  if (!regions.empty()) notes.push_back((step_ext == ".vtm" ? "blocks " : "physical groups ") + joined(regions));
   if (!notes.empty()) description += " (" + joined(notes, "; ") + ")";
   return std::make_unique<FileSeries>(std::move(steps), scalars, description, regions);
 }

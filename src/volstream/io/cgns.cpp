@@ -62,9 +62,8 @@ namespace {
 VOLSTREAM_LIBRARY_CALLS(CgnsCalls, VOLSTREAM_CGNS_FUNCTIONS);
 
 const CgnsCalls& cgns() {
-  static const SharedLibrary library(VOLSTREAM_CGNS_SONAME, "CGNS files need it (Debian: apt-get install libcgns-dev)");
-  static const CgnsCalls calls(library);
-  return calls;
+  return hdf5_reader_calls<CgnsCalls>(VOLSTREAM_CGNS_SONAME,
+                                      "CGNS files need it (Debian: apt-get install libcgns-dev)");
 }
 
 // A volume element type of CGNS and what it is in VTK: the cell type and, for each VTK node, the
@@ -682,6 +681,7 @@ struct CgnsFile::Impl {
 CgnsFile::CgnsFile(const fs::path& file, const std::vector<std::string>& zones) : impl_(std::make_unique<Impl>()) {
   file_size_checked(file);  // a regular file (a FIFO would block every read below)
   impl_->wanted = zones;
+  cgns();  // loaded here, not in the child below (read_in_child_first)
   read_in_child_first(file.string(), "CGNS", [&] {
     Impl first;
     first.wanted = zones;

@@ -54,10 +54,8 @@ namespace {
 VOLSTREAM_LIBRARY_CALLS(NetcdfCalls, VOLSTREAM_NETCDF_FUNCTIONS);
 
 const NetcdfCalls& netcdf() {
-  static const SharedLibrary library(VOLSTREAM_NETCDF_SONAME,
-                                     "Exodus II files need it (Debian: apt-get install libnetcdf-dev)");
-  static const NetcdfCalls calls(library);
-  return calls;
+  return hdf5_reader_calls<NetcdfCalls>(VOLSTREAM_NETCDF_SONAME,
+                                        "Exodus II files need it (Debian: apt-get install libnetcdf-dev)");
 }
 
 // An element type as Exodus names it, the node count its block gives, and what it is in VTK:
@@ -583,6 +581,7 @@ struct ExodusFile::Impl {
 ExodusFile::ExodusFile(const fs::path& file, const std::vector<std::string>& blocks) : impl_(std::make_unique<Impl>()) {
   file_size_checked(file);  // a regular file (a FIFO would block every read below)
   impl_->wanted = blocks;
+  netcdf();                               // loaded here, not in the child below (read_in_child_first)
   if (!is_classic_netcdf(file.string()))  // classic files are read by NetCDF's own code
     read_in_child_first(file.string(), "NetCDF-4", [&] {
       Impl first;

@@ -23,9 +23,13 @@ SharedLibrary::SharedLibrary(std::string soname, std::string needed_for)
   if (!handle_) input_error(soname_, "cannot load it (" + last_dl_error() + "); " + needed_for_);
 }
 
+// Through the handle, the lookup searches the library and the libraries it brought in (HDF5
+// under libcgns), which RTLD_LOCAL keeps out of RTLD_DEFAULT's reach.
+void* SharedLibrary::dlsym_of(const char* name) const { return dlsym(handle_, name); }
+
 void* SharedLibrary::symbol(const char* name) const {
   dlerror();  // clears an earlier error, so that the check below sees this lookup's
-  void* address = dlsym(handle_, name);
+  void* address = dlsym_of(name);
   if (!address)
     input_error(soname_, std::string("has no function ") + name + " (" + last_dl_error() + "); " + needed_for_);
   return address;

@@ -27,9 +27,15 @@ class SharedLibrary {
   F function(const char* name) const {
     return reinterpret_cast<F>(symbol(name));
   }
+  // The same, null where neither the library nor one it brought in has it.
+  template <class F>
+  F function_if_any(const char* name) const {
+    return reinterpret_cast<F>(dlsym_of(name));
+  }
 
  private:
   void* symbol(const char* name) const;
+  void* dlsym_of(const char* name) const;
   void* handle_ = nullptr;
   std::string soname_, needed_for_;
 };

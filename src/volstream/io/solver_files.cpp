@@ -1,6 +1,5 @@
 #include "volstream/io/solver_files.h"
 
-#include <dlfcn.h>
 #include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -9,7 +8,6 @@
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
-#include <mutex>
 #include <new>
 #include <stdexcept>
 #include <utility>
@@ -65,24 +63,14 @@ std::string trimmed_name(std::string s) {
 
 bool reading_in_child() { return g_in_reading_child; }
 
-// HDF5 closes itself at exit and, when a damaged file left one of its objects open (in the
-// library, after the child's read passed and a later check refused the file), prints "HDF5:
-// infinite loop closing library" and a line of object codes after volstream's one-line error.
-// volstream only reads HDF5 files, so there is nothing to flush: that exit pass is turned off
-// before HDF5's first use. Looked up at run time: libhdf5 is there only through libcgns and
-// libnetcdf, and is not linked (nor its header included) by volstream itself.
-namespace {
-void skip_hdf5_exit_pass() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    if (auto* dont_atexit = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "H5dont_atexit"))) dont_atexit();
-  });
+// Looked up through the library that brought HDF5 in: volstream neither links libhdf5 nor
+// includes its header.
+void skip_hdf5_exit_pass(const SharedLibrary& hdf5_user) {
+  if (auto* dont_atexit = hdf5_user.function_if_any<int (*)()>("H5dont_atexit")) dont_atexit();
 }
-}  // namespace
 
 void read_in_child_first(const std::string& file, const std::string& format, const std::function<void()>& read) {
   if (g_in_reading_child) return;
-  skip_hdf5_exit_pass();
   int channel[2];
   if (pipe(channel) != 0) return;  // no child to be had: read in place
   std::fflush(nullptr);

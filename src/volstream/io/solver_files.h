@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "volstream/io/shared_library.h"
+
 namespace vs {
 
 // For each VTK node, the file's node (0-based) that is it, for orders both formats use:
@@ -41,7 +43,26 @@ std::vector<VariableGroup> group_vector_variables(const std::vector<std::string>
 // parent's InputError naming `file`, with the child's message, before the parent opens the file
 // at all; a child that dies, InputError "a damaged FORMAT file: the HDF5 library failed reading it
 // (signal 11)". Inside the child (reading_in_child() true) it runs nothing.
+// The library must be loaded before (hdf5_reader_calls), so that the child inherits it and it is
+// loaded once.
 void read_in_child_first(const std::string& file, const std::string& format, const std::function<void()>& read);
 bool reading_in_child();
+
+// HDF5 closes itself at exit and, when a damaged file left one of its objects open, prints
+// "HDF5: infinite loop closing library" and a line of object codes after volstream's one-line
+// error. volstream only reads HDF5 files, so there is nothing to flush: the reader of a library
+// that reads through HDF5 turns that exit pass off as it loads the library (HDF5 came in with it).
+void skip_hdf5_exit_pass(const SharedLibrary& hdf5_user);
+
+// The call table (VOLSTREAM_LIBRARY_CALLS) of a library that reads through HDF5, libnetcdf or
+// libcgns: loaded at the first call, once, with HDF5's exit pass off.
+template <class Calls>
+const Calls& hdf5_reader_calls(const char* soname, const char* needed_for) {
+  static const SharedLibrary library(soname, needed_for);
+  static const Calls calls(library);
+  static const bool exit_pass_off = (skip_hdf5_exit_pass(library), true);
+  (void)exit_pass_off;
+  return calls;
+}
 
 }  // namespace vs

@@ -212,6 +212,20 @@ TEST_F(EditedEnsight, NodeOutOfRange) {
   replace("mesh.geo", "tetra4\n         1\n      1001\n", "tetra4\n         1\n      1001\n      9999");
   EXPECT_NE(error().find("out of range"), std::string::npos);
 }
+// A part left out (--region) is read past, not into a mesh: a node out of range in part 1's tet
+// stops a read of part 1, not one of part 2 alone, whose geometry keeps part 1's node count and
+// no points.
+TEST_F(EditedEnsight, PartsLeftOutAreReadPast) {
+  replace("mesh.geo", "      1001\n        42        43", "      1001\n      9999        43");
+  EXPECT_NE(error().find("element node 9999 is out of range"), std::string::npos) << error();
+  EXPECT_EQ(read_case(dir_ / "mesh.case", 0, {"2"}).cell_count(), 4u);
+  const EnsightGeometry g = read_ensight_geometry(dir_ / "mesh.geo", {"2"});
+  EXPECT_FALSE(g.parts[0].wanted);
+  EXPECT_EQ(g.parts[0].node_count, 45u);
+  EXPECT_TRUE(g.parts[0].mesh.points.empty());
+  EXPECT_EQ(g.parts[0].mesh.cell_count(), 0u);
+  EXPECT_EQ(g.parts[0].blocks.size(), 4u);  // hexa8, nfaced, penta6, tetra4
+}
 TEST_F(EditedEnsight, TruncatedGeometry) {
   const std::string t = text("mesh.geo");
   std::ofstream(dir_ / "mesh.geo") << t.substr(0, t.size() / 2);

@@ -256,6 +256,15 @@ class EnsightFile {
   void skip_integers(uint64_t n, const char* what) {
     for (uint64_t i = 0; i < n; ++i) integer(what);
   }
+  // Reads past n numbers of a part left out (--region): a binary file's as one block, a text
+  // file's one by one (each must still be a number).
+  void skip_numbers(uint64_t n, const char* what) {
+    if (binary_) {
+      in_.take(4 * n, what);
+      return;
+    }
+    for (uint64_t i = 0; i < n; ++i) real(what);
+  }
   // Text files: numbers one per line in the fixed-width formats, read as words; lines of
   // numbers run together (the extents) are skipped whole.
   void skip_lines(int n) {
@@ -315,7 +324,12 @@ const ElementType* element_type(const std::string& keyword) {
 
 void read_coordinates(EnsightFile& f, IdMode nodes, EnsightGeometry::Part& part) {
   const uint64_t n = f.count("node count", 3);
+  part.node_count = n;
   if (ids_listed(nodes)) f.skip_integers(n, "node ids");
+  if (!part.wanted) {
+    f.skip_numbers(3 * n, "coordinates");
+    return;
+  }
   part.mesh.points.resize(n);
   static_assert(sizeof(vec3d) == 3 * sizeof(double));
   for (int axis = 0; axis < 3 && n > 0; ++axis) f.reals(n, "coordinates", &part.mesh.points.data()->x + axis, 3);
@@ -335,10 +349,13 @@ std::vector<uint64_t> read_nodes(EnsightFile& f, uint64_t count, uint64_t part_n
   return nodes;
 }
 
+// `keep`: into the part's mesh; else the nodes are only read past.
 void add_fixed_block(EnsightFile& f, const ElementType& t, uint64_t count, bool keep, EnsightGeometry::Part& part) {
-  const uint64_t n = part.mesh.points.size();
-  const std::vector<uint64_t> nodes = read_nodes(f, count * uint64_t(t.nodes), n);
-  if (!keep) return;
+  if (!keep) {
+    f.skip_numbers(count * uint64_t(t.nodes), "element nodes");
+    return;
+  }
+  const std::vector<uint64_t> nodes = read_nodes(f, count * uint64_t(t.nodes), part.node_count);
   MeshData& m = part.mesh;
   for (uint64_t e = 0; e < count; ++e) {
     const uint64_t* v = nodes.data() + e * uint64_t(t.nodes);
@@ -374,8 +391,11 @@ void add_variable_block(EnsightFile& f, const ElementType& t, uint64_t count, bo
     faces = total;
     f.require_values(faces, "nodes of nfaced faces");
   }
-  const std::vector<uint64_t> nodes = read_nodes(f, faces, part.mesh.points.size());
-  if (!keep) return;
+  if (!keep) {
+    f.skip_numbers(faces, "element nodes");
+    return;
+  }
+  const std::vector<uint64_t> nodes = read_nodes(f, faces, part.node_count);
   MeshData& m = part.mesh;
   uint64_t node = 0, face = 0;
   for (uint64_t e = 0; e < count; ++e) {
@@ -394,7 +414,8 @@ void add_variable_block(EnsightFile& f, const ElementType& t, uint64_t count, bo
 void read_element_block(EnsightFile& f, const std::string& keyword, IdMode elements, EnsightGeometry::Part& part) {
   const ElementType* t = element_type(keyword);
   if (!t) f.fail("unknown element type '" + keyword.substr(0, 40) + "'");
-  const bool keep = t->vtk != 0 && !keyword.starts_with("g_");
+  const bool volume = t->vtk != 0 && !keyword.starts_with("g_");
+  const bool keep = volume && part.wanted;
   const uint64_t count = f.count("element count", uint64_t(std::max(t->nodes, 1) + (ids_listed(elements) ? 1 : 0)));
   if (ids_listed(elements)) f.skip_integers(count, "element ids");
   if (t->nodes > 0)
@@ -464,22 +485,26 @@ fs::path ensight_step_file(const EnsightCase& c, const std::string& name, size_t
 
 namespace {
 
-// --region: the parts named (by description or number) are read, the others only read past.
-void choose_parts(EnsightGeometry& g, const std::vector<std::string>& wanted, const std::string& file) {
-  const auto answers_to = [](const EnsightGeometry::Part& p, const std::string& w) {
-    return w == p.description || w == std::to_string(p.number);
-  };
-  for (EnsightGeometry::Part& p : g.parts)
-    p.wanted = std::any_of(wanted.begin(), wanted.end(), [&](const std::string& w) { return answers_to(p, w); });
-  for (const std::string& w : wanted)
-    if (std::none_of(g.parts.begin(), g.parts.end(),
-                     [&](const EnsightGeometry::Part& p) { return answers_to(p, w); })) {
-      std::string all;
-      for (const EnsightGeometry::Part& p : g.parts)
-        all += (all.empty() ? "" : ", ") + std::to_string(p.number) +
-               (p.description.empty() ? "" : " (" + p.description + ")");
-      input_error(file, "no part '" + w + "' in this geometry (its parts: " + all + ")");
-    }
+// --region: a part is read when one of the names asked for is its description or number (none
+// asked for: every part); the others are read past.
+bool answers_to(const EnsightGeometry::Part& p, const std::string& name) {
+  return name == p.description || name == std::to_string(p.number);
+}
+bool asked_for(const EnsightGeometry::Part& p, const std::vector<std::string>& wanted) {
+  return wanted.empty() ||
+         std::any_of(wanted.begin(), wanted.end(), [&](const std::string& w) { return answers_to(p, w); });
+}
+
+// InputError for a name asked for that no part answers to, listing the parts.
+void check_parts_found(const EnsightGeometry& g, const std::vector<std::string>& wanted, const std::string& file) {
+  for (const std::string& w : wanted) {
+    if (std::any_of(g.parts.begin(), g.parts.end(), [&](const EnsightGeometry::Part& p) { return answers_to(p, w); }))
+      continue;
+    std::vector<std::string> names;
+    for (const EnsightGeometry::Part& p : g.parts)
+      names.push_back(std::to_string(p.number) + (p.description.empty() ? "" : " (" + p.description + ")"));
+    input_error(file, "no part '" + w + "' in this geometry (its parts: " + joined(names) + ")");
+  }
 }
 
 }  // namespace
@@ -515,6 +540,7 @@ EnsightGeometry read_ensight_geometry(const fs::path& path, const std::vector<st
     EnsightGeometry::Part part;
     part.number = f.integer("part number");
     part.description = f.description();
+    part.wanted = asked_for(part, parts);
     const std::string what = f.keyword();
     if (what.starts_with("block")) f.fail("structured (block) parts are not read");
     if (what != "coordinates") f.fail("expected 'coordinates' in part " + std::to_string(part.number));
@@ -524,7 +550,7 @@ EnsightGeometry read_ensight_geometry(const fs::path& path, const std::vector<st
     g.parts.push_back(std::move(part));
   }
   input_check(!g.parts.empty(), path.string(), "no parts");
-  if (!parts.empty()) choose_parts(g, parts, path.string());
+  check_parts_found(g, parts, path.string());
   return g;
 }
 
@@ -559,17 +585,25 @@ void read_variable(const EnsightCase::Variable& v, const fs::path& path, const E
     seen[index] = true;
     std::vector<double>& out = arrays[index].values;
     out.clear();
+    const uint64_t components = uint64_t(v.components);
     if (!v.per_element) {
       const std::string c = f.keyword();
       if (c != "coordinates") f.fail("'" + c.substr(0, 40) + "': partial or undefined values are not read");
-      out = read_tuples(f, part.mesh.points.size(), v.components, "node value");
+      if (part.wanted)
+        out = read_tuples(f, part.node_count, v.components, "node value");
+      else
+        f.skip_numbers(part.node_count * components, "node value");
       continue;
     }
     for (const EnsightGeometry::Block& b : part.blocks) {
       const std::string type = f.keyword();
       if (type != b.type) f.fail("'" + type.substr(0, 40) + "' where the geometry has a block of " + b.type);
+      if (!b.kept) {
+        f.skip_numbers(b.count * components, "element value");
+        continue;
+      }
       const std::vector<double> values = read_tuples(f, b.count, v.components, "element value");
-      if (b.kept) out.insert(out.end(), values.begin(), values.end());
+      out.insert(out.end(), values.begin(), values.end());
     }
   }
   for (size_t i = 0; i < g.parts.size(); ++i)

@@ -54,7 +54,8 @@ struct EnsightGeometry {
     int64_t number = 0;
     std::string description;  // the line after the part's number, trimmed
     bool wanted = true;       // read into the mesh (--region: one of the parts asked for)
-    MeshData mesh;
+    uint64_t node_count = 0;  // the part's nodes in the file (in `mesh` only where wanted)
+    MeshData mesh;            // empty where not wanted: its numbers were read past
     PolyhedronFaces faces;
     std::vector<Block> blocks;
     mutable SplitMemo polyhedra_split;  // for the next step on this geometry
@@ -63,8 +64,8 @@ struct EnsightGeometry {
   bool binary = false, big_endian = false;
   mutable SplitMemo quadratic_split;
 };
-// `parts`: those to read into the mesh, by description or number (the others' elements and values
-// are read past); a part the geometry lacks is refused, listing its parts. Empty: all.
+// `parts`: those to read into the mesh, by description or number (the others' nodes, elements and
+// values are read past, not kept); a part the geometry lacks is refused, listing its parts. Empty: all.
 EnsightGeometry read_ensight_geometry(const std::filesystem::path& file, const std::vector<std::string>& parts = {});
 
 // A step: the geometry's parts with the step's variables (point and cell data), polyhedra split,

@@ -410,9 +410,9 @@ struct ExodusFile::Impl {
     }
     for (const std::string& w : wanted)
       if (std::none_of(blocks.begin(), blocks.end(), [&](const Block& b) { return answers_to(b, w); })) {
-        std::string all;
-        for (const Block& b : blocks) all += (all.empty() ? "" : ", ") + block_label(b);
-        input_error(file, "no element block '" + w + "' in this file (its blocks: " + all + ")");
+        std::vector<std::string> labels;
+        for (const Block& b : blocks) labels.push_back(block_label(b));
+        input_error(file, "no element block '" + w + "' in this file (its blocks: " + joined(labels) + ")");
       }
     // A rank file of a parallel run may hold none of the blocks asked for (the series checks the
     // joined mesh).

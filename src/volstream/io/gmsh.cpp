@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "volstream/core/error.h"
+#include "volstream/io/binary_file.h"
 #include "volstream/io/parse_cursor.h"
 #include "volstream/umesh/mesh_pieces.h"
 #include "volstream/umesh/quadratic.h"
@@ -640,16 +641,15 @@ void MshParser::check_groups_found() const {
   std::set<int64_t> groups = groups_seen_;
   for (const auto& [group, name] : group_names_) groups.insert(group);
   for (const auto& [volume, of] : volume_groups_) groups.insert(of.begin(), of.end());
-  std::string all;
+  std::vector<std::string> labels;
   for (int64_t g : groups) {
     const auto name = group_names_.find(g);
-    all +=
-        (all.empty() ? "" : ", ") + std::to_string(g) + (name == group_names_.end() ? "" : " (" + name->second + ")");
+    labels.push_back(std::to_string(g) + (name == group_names_.end() ? "" : " (" + name->second + ")"));
   }
   for (size_t i = 0; i < wanted_.size(); ++i)
     if (!matched_[i])
-      in_.fail("no physical group '" + wanted_[i] +
-               "' of volume elements in this file (its groups of volumes: " + (all.empty() ? "none" : all) + ")");
+      in_.fail("no physical group '" + wanted_[i] + "' of volume elements in this file (its groups of volumes: " +
+               (labels.empty() ? "none" : joined(labels)) + ")");
 }
 
 // "numPhysicalNames", then "dimension physicalTag \"name\"" per line (ascii in binary files too).

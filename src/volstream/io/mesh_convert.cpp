@@ -142,11 +142,10 @@ class EnsightSeries : public MeshSeries {
   }
   std::string description() const override {
     const size_t steps = case_.times.size();
-    std::string parts;
-    for (const std::string& p : parts_) parts += (parts.empty() ? "parts " : ", ") + p;
-    std::string notes = steps > 1 ? std::to_string(steps) + " steps" : "";
-    if (!parts.empty()) notes += (notes.empty() ? "" : "; ") + parts;
-    return "EnSight Gold case " + file_.filename().string() + (notes.empty() ? "" : " (" + notes + ")");
+    std::vector<std::string> notes;
+    if (steps > 1) notes.push_back(std::to_string(steps) + " steps");
+    if (!parts_.empty()) notes.push_back("parts " + joined(parts_));
+    return "EnSight Gold case " + file_.filename().string() + (notes.empty() ? "" : " (" + joined(notes, "; ") + ")");
   }
 
  private:

@@ -243,7 +243,8 @@ std::string raw(std::initializer_list<T> values, bool big_endian) {
   }
   return bytes;
 }
-void write_tet_case(const fs::path& dir, bool big_endian) {
+// `first_vertex`: the first face's first vertex (0 in the tet).
+void write_tet_case(const fs::path& dir, bool big_endian, int64_t first_vertex = 0) {
   fs::create_directories(dir / "constant" / "polyMesh");
   fs::create_directories(dir / "1.5");
   const auto header = [&](const char* cls) {
@@ -254,8 +255,8 @@ void write_tet_case(const fs::path& dir, bool big_endian) {
   test::write_bytes(m / "points", header("vectorField") + "4\n(" +
                                       raw<float>({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, big_endian) + ")\n");
   test::write_bytes(m / "faces", header("faceCompactList") + "5\n(" + raw<int64_t>({0, 3, 6, 9, 12}, big_endian) +
-                                     ")\n12\n(" + raw<int64_t>({0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2}, big_endian) +
-                                     ")\n");
+                                     ")\n12\n(" +
+                                     raw<int64_t>({first_vertex, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2}, big_endian) + ")\n");
   test::write_bytes(m / "owner", header("labelList") + "4\n(" + raw<int64_t>({0, 0, 0, 0}, big_endian) + ")\n");
   test::write_bytes(m / "neighbour", header("labelList") + "0()\n");
   test::write_bytes(dir / "1.5" / "T",
@@ -279,6 +280,18 @@ TEST(OpenFoam, BinaryOf64BitLabelsAnd32BitScalarsEitherEndian) {
     EXPECT_EQ(m.points[3], (vec3d{0, 0, 1}));
     EXPECT_EQ(test::array_named(m.cell_data, "T").values, std::vector<double>{2.5});
     EXPECT_EQ(test::array_named(m.cell_data, "U").values, (std::vector<double>{1, 2, 3}));
+  }
+}
+
+// Face vertices are kept in 32 bits (PolyhedronFaces): a 64-bit label past them is out of range,
+// not wrapped to a point of the mesh (2^32 would be point 0), and so is a negative one.
+TEST(OpenFoam, FaceVertexPast32BitsIsOutOfRange) {
+  for (const int64_t label : {int64_t(1) << 32, (int64_t(1) << 32) + 2, int64_t(-1)}) {
+    SCOPED_TRACE(label);
+    const fs::path dir = test::scratch_dir("openfoam_tet_wide") / "tet";
+    write_tet_case(dir, false, label);
+    const std::string error = test::input_error_line([&] { OpenFoamCase(dir).read_step(0); });
+    EXPECT_NE(error.find("point 4294967295 out of range 0..3"), std::string::npos) << error;
   }
 }
 

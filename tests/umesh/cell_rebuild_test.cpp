@@ -78,9 +78,7 @@ TEST(SplitMemo, PolyhedraOfTheNextStepAreSplitAsItsOwnSplitWould) {
 
   for (int step : {1, 2}) {
     MeshData reused = with_step_values(mesh, step), own = reused;
-    const auto key = {std::span<const uint64_t>(faces.cell_face_offsets), std::span<const uint64_t>(faces.cell_faces),
-                      std::span<const uint64_t>(faces.face_offsets), std::span<const uint64_t>(faces.face_vertices)};
-    EXPECT_TRUE(memo.reuse(reused, key, "step"));
+    EXPECT_TRUE(memo.reuse(reused, faces.key(), "step"));
     split_polyhedra(own, faces, "step");
     expect_same_mesh(reused, own);
   }
@@ -95,10 +93,7 @@ TEST(SplitMemo, PolyhedraOfTheNextStepAreSplitAsItsOwnSplitWould) {
   PolyhedronFaces turned = faces;
   std::swap(turned.face_vertices[0], turned.face_vertices[1]);
   MeshData other = with_step_values(mesh, 4);
-  const auto turned_key = {std::span<const uint64_t>(turned.cell_face_offsets),
-                           std::span<const uint64_t>(turned.cell_faces), std::span<const uint64_t>(turned.face_offsets),
-                           std::span<const uint64_t>(turned.face_vertices)};
-  EXPECT_FALSE(memo.reuse(other, turned_key, "other"));
+  EXPECT_FALSE(memo.reuse(other, turned.key(), "other"));
 }
 
 // FixedMeshSplit (polyhedra.h), for a solver case's steps: its mesh and each step's data combined

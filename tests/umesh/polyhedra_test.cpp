@@ -321,6 +321,19 @@ TEST(Polyhedra, BadFaceStreamsAreRefused) {
   EXPECT_NE(error({1, 4, 0, 1}).find("ends inside face 0"), std::string::npos);
   EXPECT_NE(error({1, 3, 0, 1, 2, 7}).find("holds 1 values after"), std::string::npos);
   EXPECT_NE(error({uint64_t(1) << 62}).find("ends before face 0"), std::string::npos);
+  // Point indices are kept in 32 bits: one past them is refused, not wrapped (2^32 + 1 to 1).
+  EXPECT_NE(error({1, 3, 0, (uint64_t(1) << 32) + 1, 2}).find("names point 4294967297 (more than 32 bits)"),
+            std::string::npos);
+}
+
+// A reader's index as a FaceIndex: the largest where it does not fit, which no point has.
+TEST(Polyhedra, FaceIndicesSaturate) {
+  EXPECT_EQ(saturated_face_index(0), 0u);
+  EXPECT_EQ(saturated_face_index(4294967294), 4294967294u);
+  for (const int64_t wide : {int64_t(-1), int64_t(4294967295), int64_t(1) << 32, INT64_MAX, INT64_MIN})
+    EXPECT_EQ(saturated_face_index(wide), 4294967295u) << wide;
+  EXPECT_NO_THROW(check_face_index_count(4294967295, "points", "f"));
+  EXPECT_THROW(check_face_index_count(4294967296, "points", "f"), InputError);
 }
 
 TEST(Polyhedra, BadPolyhedronArraysInVtuFilesAreRefused) {
@@ -335,6 +348,13 @@ TEST(Polyhedra, BadPolyhedronArraysInVtuFilesAreRefused) {
   std::string bad_face = cube_vtu(true);
   bad_face.replace(bad_face.find(">0 1 2 3 4 5<"), 13, ">0 1 2 3 4 9<");
   EXPECT_THROW(read_text(bad_face, "bad_face"), InputError);
+  // Point indices past 32 bits are out of range, not wrapped (2^32 + 3 would be point 3).
+  std::string wide_vertex = cube_vtu(true);
+  wide_vertex.replace(wide_vertex.find(">0 3 2 1 "), 9, ">0 4294967299 2 1 ");
+  EXPECT_NE(test::input_error_line([&] {
+              read_text(wide_vertex, "wide_vertex");
+            }).find("face vertex 4294967295 is out of range (8 points)"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -445,7 +445,7 @@ struct CgnsFile::Impl {
       if (!(v >= 1 && v <= vertices))
         input_error(file, where + ", face " + std::to_string(number) + ": node " + std::to_string(v) +
                               " out of range 1.." + std::to_string(vertices));
-      zone.faces.face_vertices.push_back(uint64_t(v - 1));
+      zone.faces.face_vertices.push_back(saturated_face_index(int64_t(v - 1)));  // past 32 bits: refused by the split
     }
     zone.faces.face_offsets.push_back(zone.faces.face_vertices.size());
   }
@@ -453,7 +453,7 @@ struct CgnsFile::Impl {
   void add_polyhedron(Zone& zone, std::span<const cgsize_t> faces, cgsize_t number, const std::string& where) {
     for (cgsize_t f : faces) {
       const cgsize_t face = f == std::numeric_limits<cgsize_t>::min() ? 0 : f < 0 ? -f : f;  // 0: in no section
-      zone.faces.cell_faces.push_back(face_index(zone, face, number, where));
+      zone.faces.cell_faces.push_back(saturated_face_index(int64_t(face_index(zone, face, number, where))));
     }
     zone.faces.cell_face_offsets.push_back(zone.faces.cell_faces.size());
     MeshData& t = zone.topology;

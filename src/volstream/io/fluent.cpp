@@ -193,8 +193,9 @@ struct CaseMesh {
   std::vector<vec3d> nodes;
   std::vector<uint8_t> cell_types;  // Fluent's element type per cell (0: not in a zone yet)
   std::vector<CellZone> cell_zones;
-  std::vector<FaceCells> faces;                          // c0 and c1 of each face
-  std::vector<uint64_t> face_offsets{0}, face_vertices;  // 0-based nodes
+  std::vector<FaceCells> faces;  // c0 and c1 of each face
+  std::vector<uint64_t> face_offsets{0};
+  std::vector<FaceIndex> face_vertices;  // 0-based nodes
   std::map<uint64_t, std::string> zone_names;
 };
 
@@ -382,7 +383,7 @@ class CaseReader {
     if (n < 1 || n > mesh_.node_count)
       in_.fail("face " + std::to_string(id) + ": node " + std::to_string(n) + " out of range 1.." +
                std::to_string(mesh_.node_count));
-    mesh_.face_vertices.push_back(n - 1);
+    mesh_.face_vertices.push_back(saturated_face_index(int64_t(n - 1)));  // past 32 bits: refused by the split
   }
   void add_face_cells(uint64_t id, const FaceCells& f) {
     mesh_.face_offsets.push_back(mesh_.face_vertices.size());
@@ -478,7 +479,8 @@ std::vector<uint64_t> keep_zones(CaseMesh& m, const std::vector<char>& chosen) {
     }
   constexpr uint64_t kUnused = ~uint64_t(0);
   std::vector<uint64_t> new_node(m.nodes.size(), kUnused);
-  std::vector<uint64_t> offsets{0}, vertices;
+  std::vector<uint64_t> offsets{0};
+  std::vector<FaceIndex> vertices;
   std::vector<FaceCells> faces;
   for (size_t f = 0; f < m.faces.size(); ++f) {
     const FaceCells sides{new_cell[m.faces[f].first], new_cell[m.faces[f].second]};
@@ -488,12 +490,12 @@ std::vector<uint64_t> keep_zones(CaseMesh& m, const std::vector<char>& chosen) {
     offsets.push_back(vertices.size());
   }
   std::vector<vec3d> nodes;
-  for (uint64_t& v : vertices) {
+  for (FaceIndex& v : vertices) {
     if (new_node[v] == kUnused) {
       new_node[v] = nodes.size();
       nodes.push_back(m.nodes[v]);
     }
-    v = new_node[v];
+    v = FaceIndex(new_node[v]);  // below v
   }
   std::vector<uint8_t> types;
   for (uint64_t c : kept) types.push_back(m.cell_types[c]);
@@ -780,13 +782,13 @@ std::vector<MeshArray> FluentFile::read_cell_data(size_t step) {
 }
 
 MeshData FluentFile::read_step(size_t step) {
-  std::vector<MeshArray> cell_data = read_cell_data(step);
-  return split_mesh().mesh_with(std::move(cell_data), impl_->case_file.string());
+  FixedMeshSplit& split = split_mesh();  // first, so that the step's values are not held beside the split's peak
+  return split.mesh_with(read_cell_data(step), impl_->case_file.string());
 }
 
 MeshData FluentFile::take_step(size_t step) {
-  std::vector<MeshArray> cell_data = read_cell_data(step);
-  return split_mesh().take_mesh_with(std::move(cell_data), impl_->case_file.string());
+  FixedMeshSplit& split = split_mesh();  // first, so that the step's values are not held beside the split's peak
+  return split.take_mesh_with(read_cell_data(step), impl_->case_file.string());
 }
 
 std::string FluentFile::summary() const {

@@ -226,6 +226,16 @@ class Cursor : public ParseCursor {
   }
 };
 
+// A label as Label: int64_t as it is; a FaceIndex (face vertices, which the caller checks against
+// the point count) saturated, so that a negative label or one past 32 bits is out of range.
+template <typename Label>
+Label label_as(int64_t v) {
+  if constexpr (std::is_same_v<Label, FaceIndex>)
+    return saturated_face_index(v);
+  else
+    return Label(v);
+}
+
 // `n` binary values of type T from one block of the file, each as Out: the block is taken and
 // checked once, then decoded in a loop without a check per value (a mesh's faces are tens of
 // millions of labels).
@@ -234,9 +244,25 @@ void decode_block(Cursor& in, bool big_endian, uint64_t n, Out* out, const char*
   load_values<T>(in.take(n * sizeof(T), what), n, big_endian, out);
 }
 
-// A list of labels, "N ( a b ... )" or "N { a }" (uniform), ascii or binary as `h` says; as
-// Label (uint64_t for face vertices, which the caller checks against the point count: a
-// negative label becomes one far out of range).
+// decode_block for labels of type T, each as Label (label_as), through a small buffer.
+template <typename T, typename Label>
+void decode_labels(Cursor& in, bool big_endian, uint64_t n, Label* out, const char* what) {
+  if constexpr (!std::is_same_v<Label, FaceIndex>) {
+    decode_block<T>(in, big_endian, n, out, what);
+  } else {
+    const char* bytes = in.take(n * sizeof(T), what);
+    constexpr uint64_t kChunk = 4096;
+    int64_t labels[kChunk];
+    for (uint64_t first = 0; first < n; first += kChunk) {
+      const uint64_t count = std::min(kChunk, n - first);
+      load_values<T>(bytes + first * sizeof(T), count, big_endian, labels);
+      for (uint64_t i = 0; i < count; ++i) out[first + i] = label_as<Label>(labels[i]);
+    }
+  }
+}
+
+// A list of labels, "N ( a b ... )" or "N { a }" (uniform), ascii or binary as `h` says; each as
+// Label (label_as).
 template <typename Label = int64_t>
 std::vector<Label> read_labels(Cursor& in, const Header& h, const char* what) {
   const int64_t n = in.label(what);
@@ -246,7 +272,7 @@ std::vector<Label> read_labels(Cursor& in, const Header& h, const char* what) {
     in.require_fits(uint64_t(n) / 64, 1, what);  // a uniform list of labels, in a mesh file, is short
     const int64_t v = in.label(what);
     in.expect('}', "closing a uniform list");
-    return std::vector<Label>(size_t(n), Label(v));
+    return std::vector<Label>(size_t(n), label_as<Label>(v));
   }
   in.expect('(', "opening a list");
   std::vector<Label> v;
@@ -254,13 +280,13 @@ std::vector<Label> read_labels(Cursor& in, const Header& h, const char* what) {
     in.require_fits(uint64_t(n), uint64_t(h.label_bytes), what);
     v.resize(size_t(n));
     if (h.label_bytes == 4)
-      decode_block<int32_t>(in, h.big_endian, uint64_t(n), v.data(), what);
+      decode_labels<int32_t>(in, h.big_endian, uint64_t(n), v.data(), what);
     else
-      decode_block<int64_t>(in, h.big_endian, uint64_t(n), v.data(), what);
+      decode_labels<int64_t>(in, h.big_endian, uint64_t(n), v.data(), what);
   } else {
     in.require_fits(uint64_t(n), 2, what);
     v.resize(size_t(n));
-    for (Label& x : v) x = Label(in.label(what));
+    for (Label& x : v) x = label_as<Label>(in.label(what));
   }
   in.expect(')', "closing a list");
   return v;
@@ -314,7 +340,8 @@ std::vector<double> read_scalars(Cursor& in, const Header& h, int components, st
 // The mesh of constant/polyMesh (or a decomposed case's processors' meshes joined).
 struct PolyMesh {
   std::vector<vec3d> points;
-  std::vector<uint64_t> face_offsets{0}, face_vertices;  // moved to the PolyhedronFaces once read
+  std::vector<uint64_t> face_offsets{0};  // with face_vertices, moved to the PolyhedronFaces once read
+  std::vector<FaceIndex> face_vertices;
   // Dropped once the cells' faces are built. A face past the neighbours, or whose neighbour is
   // -1 (a joined mesh's), has its owner alone.
   std::vector<int64_t> owner, neighbour;
@@ -422,6 +449,7 @@ std::vector<vec3d> read_points(CaseFiles& files, const fs::path& dir) {
   const std::vector<double> xyz = read_scalars(in, h, 3, std::nullopt, "points");
   expect_end(in);
   std::vector<vec3d> points(xyz.size() / 3);
+  if (points.size() > kFaceIndexLimit) in.fail("more than 2^32 - 1 points");  // faces name them in 32 bits
   for (size_t p = 0; p < points.size(); ++p) points[p] = {xyz[3 * p], xyz[3 * p + 1], xyz[3 * p + 2]};
   return points;
 }
@@ -436,7 +464,7 @@ void add_face(Cursor& in, PolyMesh& m, uint64_t face, uint64_t vertices) {
 }
 void add_vertex(Cursor& in, PolyMesh& m, uint64_t face, int64_t v) {
   if (v < 0 || uint64_t(v) >= m.points.size()) vertex_out_of_range(in, m, face, v);
-  m.face_vertices.push_back(uint64_t(v));
+  m.face_vertices.push_back(FaceIndex(v));  // below the point count, which fits (read_points)
 }
 
 // faceCompactList: the offsets (faces + 1), then every face's vertices; faceList: "N ( n(a b c)
@@ -446,7 +474,7 @@ void read_faces(CaseFiles& files, const fs::path& dir, PolyMesh& m) {
   Cursor in = open_mesh_file(files, dir, "faces", h);
   if (h.class_name == "faceCompactList") {
     const std::vector<int64_t> offsets = read_labels(in, h, "face offsets");
-    m.face_vertices = read_labels<uint64_t>(in, h, "face vertices");  // checked below
+    m.face_vertices = read_labels<FaceIndex>(in, h, "face vertices");  // checked below
     expect_end(in);
     if (offsets.empty() || offsets.front() != 0 || uint64_t(offsets.back()) != m.face_vertices.size())
       in.fail("the face offsets do not span the " + std::to_string(m.face_vertices.size()) + " face vertices");
@@ -681,7 +709,7 @@ void append_processor(PolyMesh& whole, const PolyMesh& part, const std::vector<i
   const int64_t first_cell = int64_t(whole.cell_count);
   for (size_t f = 1; f < part.face_offsets.size(); ++f)
     whole.face_offsets.push_back(first_vertex + part.face_offsets[f]);
-  for (uint64_t v : part.face_vertices) whole.face_vertices.push_back(uint64_t(ids[v]));
+  for (uint64_t v : part.face_vertices) whole.face_vertices.push_back(saturated_face_index(ids[v]));
   for (int64_t c : part.owner) whole.owner.push_back(first_cell + c);
   for (size_t f = 0; f < part.owner.size(); ++f)
     whole.neighbour.push_back(f < part.neighbour.size() && part.neighbour[f] >= 0 ? first_cell + part.neighbour[f]
@@ -1141,13 +1169,13 @@ std::vector<MeshArray> OpenFoamCase::read_cell_data(size_t step) {
 }
 
 MeshData OpenFoamCase::read_step(size_t step) {
-  std::vector<MeshArray> cell_data = read_cell_data(step);
-  return split_mesh().mesh_with(std::move(cell_data), impl_->steps[step].dir.string());
+  FixedMeshSplit& split = split_mesh();  // first, so that the step's values are not held beside the split's peak
+  return split.mesh_with(read_cell_data(step), impl_->steps[step].dir.string());
 }
 
 MeshData OpenFoamCase::take_step(size_t step) {
-  std::vector<MeshArray> cell_data = read_cell_data(step);
-  return split_mesh().take_mesh_with(std::move(cell_data), impl_->steps[step].dir.string());
+  FixedMeshSplit& split = split_mesh();  // first, so that the step's values are not held beside the split's peak
+  return split.take_mesh_with(read_cell_data(step), impl_->steps[step].dir.string());
 }
 
 std::string OpenFoamCase::summary() const {

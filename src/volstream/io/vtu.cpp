@@ -490,6 +490,17 @@ std::vector<MeshArray> read_attribute_arrays(const VtuFile& f, const XmlElement*
   return arrays;
 }
 
+// A cell array of point indices or face ids, as PolyhedronFaces holds them (saturated where one
+// does not fit 32 bits: the split's range checks refuse it).
+std::vector<FaceIndex> read_face_index_array(const VtuFile& f, const XmlElement& cells, std::string_view name,
+                                             uint64_t count, const std::string& what) {
+  const std::vector<uint64_t> wide = read_cell_array(f, cells, name, count, what);
+  std::vector<FaceIndex> ids(wide.size());
+  for (size_t i = 0; i < wide.size(); ++i)
+    ids[i] = wide[i] < kFaceIndexLimit ? FaceIndex(wide[i]) : FaceIndex(kFaceIndexLimit);
+  return ids;
+}
+
 // The faces of a piece's polyhedra (umesh/polyhedra.h), in either of VTK's layouts: VTK 9.4's
 // four arrays (polyhedron_offsets: each cell's end in polyhedron_to_faces, whose face ids index
 // face_offsets: each face's end in face_connectivity), or the face streams of the files before
@@ -501,13 +512,14 @@ PolyhedronFaces read_polyhedron_faces(const VtuFile& f, const XmlElement& cells,
   if (find_named_array(cells, "polyhedron_offsets")) {
     const std::vector<uint64_t> ends = read_cell_array(f, cells, "polyhedron_offsets", types.size(), what);
     faces.cell_face_offsets.insert(faces.cell_face_offsets.end(), ends.begin(), ends.end());
-    faces.cell_faces = read_cell_array(f, cells, "polyhedron_to_faces", ends.empty() ? 0 : ends.back(), what);
-    const uint64_t face_count =
-        faces.cell_faces.empty() ? 0 : *std::max_element(faces.cell_faces.begin(), faces.cell_faces.end()) + 1;
+    faces.cell_faces = read_face_index_array(f, cells, "polyhedron_to_faces", ends.empty() ? 0 : ends.back(), what);
+    const uint64_t face_count = faces.cell_faces.empty()
+                                    ? 0
+                                    : uint64_t(*std::max_element(faces.cell_faces.begin(), faces.cell_faces.end())) + 1;
     const std::vector<uint64_t> face_ends = read_cell_array(f, cells, "face_offsets", face_count, what);
     faces.face_offsets.insert(faces.face_offsets.end(), face_ends.begin(), face_ends.end());
     faces.face_vertices =
-        read_cell_array(f, cells, "face_connectivity", face_ends.empty() ? 0 : face_ends.back(), what);
+        read_face_index_array(f, cells, "face_connectivity", face_ends.empty() ? 0 : face_ends.back(), what);
     return faces;
   }
   const XmlElement& offsets_array = named_array(f, cells, "faceoffsets", what);

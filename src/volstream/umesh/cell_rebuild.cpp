@@ -113,11 +113,10 @@ bool same_topology(const MeshData& a, const MeshData& b) {
 
 }  // namespace
 
-bool SplitMemo::reuse(MeshData& m, std::initializer_list<std::span<const uint64_t>> key,
-                      const std::string& file) const {
+bool SplitMemo::reuse(MeshData& m, SplitKey key, const std::string& file) const {
   if (!remembered_ || key.size() != key_.size() || !same_topology(m, source_)) return false;
   auto remembered = key_.begin();
-  for (std::span<const uint64_t> k : key) {
+  for (std::span<const std::byte> k : key) {
     if (!std::equal(k.begin(), k.end(), remembered->begin(), remembered->end())) return false;
     ++remembered;
   }
@@ -127,11 +126,11 @@ bool SplitMemo::reuse(MeshData& m, std::initializer_list<std::span<const uint64_
   return true;
 }
 
-void SplitMemo::split_begins(const MeshData& source, std::initializer_list<std::span<const uint64_t>> key) {
+void SplitMemo::split_begins(const MeshData& source, SplitKey key) {
   remembered_ = false;
   source_ = topology_of(source);
   key_.clear();
-  for (std::span<const uint64_t> k : key) key_.emplace_back(k.begin(), k.end());
+  for (std::span<const std::byte> k : key) key_.emplace_back(k.begin(), k.end());
 }
 
 void SplitMemo::split_ends(CellRebuild rebuild, const std::vector<vec3d>& points) {

@@ -2,8 +2,8 @@
 // replaced by linear elements on the cells' vertices and on points they add; mesh_pieces.h:
 // ghost cells dropped).
 #pragma once
+#include <cstddef>
 #include <cstdint>
-#include <initializer_list>
 #include <span>
 #include <string>
 #include <vector>
@@ -51,6 +51,9 @@ class CellRebuild {
   std::vector<double> added_weights_;
 };
 
+// What else a split read besides the mesh (polyhedron faces: PolyhedronFaces::key), as bytes.
+using SplitKey = std::span<const std::span<const std::byte>>;
+
 // The last split (polyhedra.h, quadratic.h) of a reader's series, kept for its next step: a time
 // series' steps mostly have the same points and cells, and then the split need not run again;
 // only the step's data is combined, as the split combined the first's. Readers pass theirs only
@@ -60,16 +63,16 @@ class SplitMemo {
   // True, with `mesh` split as the remembered one was, when its points, cell types, offsets and
   // connectivity, and `key` (what else the split read: polyhedron faces), are that one's.
   // InputError naming `file` when its data arrays do not match its points or cells.
-  bool reuse(MeshData& mesh, std::initializer_list<std::span<const uint64_t>> key, const std::string& file) const;
+  bool reuse(MeshData& mesh, SplitKey key, const std::string& file) const;
   // A split remembered in two halves: the mesh and key before it, then the rebuild and the
   // points after it (when it did not throw).
-  void split_begins(const MeshData& source, std::initializer_list<std::span<const uint64_t>> key);
+  void split_begins(const MeshData& source, SplitKey key);
   void split_ends(CellRebuild rebuild, const std::vector<vec3d>& points);
 
  private:
   MeshData source_;  // points and cells only
   std::vector<vec3d> split_points_;
-  std::vector<std::vector<uint64_t>> key_;
+  std::vector<std::vector<std::byte>> key_;
   CellRebuild rebuild_;
   bool remembered_ = false;
 };

@@ -70,8 +70,10 @@ void check_faces(const PolyhedronFaces& f, uint64_t cells, uint64_t points, cons
   check_csr(f.cell_face_offsets, cells, f.cell_faces.size(), "cell face");
   const uint64_t faces = f.face_offsets.empty() ? 0 : f.face_offsets.size() - 1;
   check_csr(f.face_offsets, faces, f.face_vertices.size(), "face");
+  check_face_index_count(faces, "polyhedron faces", file);  // so that a saturated id is out of range
   for (uint64_t id : f.cell_faces)
     if (id >= faces) input_error(file, "polyhedra: face id " + str(id) + " is out of range (" + str(faces) + " faces)");
+  check_face_index_count(points, "points", file);
   for (uint64_t v : f.face_vertices)
     if (v >= points)
       input_error(file, "polyhedra: face vertex " + str(v) + " is out of range (" + str(points) + " points)");
@@ -107,7 +109,7 @@ class PolyhedronSplitter {
   }
 
  private:
-  std::span<const uint64_t> face(uint64_t f) const {
+  std::span<const FaceIndex> face(uint64_t f) const {
     return std::span(faces_.face_vertices)
         .subspan(faces_.face_offsets[f], faces_.face_offsets[f + 1] - faces_.face_offsets[f]);
   }
@@ -119,7 +121,7 @@ class PolyhedronSplitter {
     vertices_.clear();
     edges_.clear();
     for (uint64_t i = first; i < end; ++i) {
-      const std::span<const uint64_t> v = face(faces_.cell_faces[i]);
+      const std::span<const FaceIndex> v = face(faces_.cell_faces[i]);
       if (v.size() < 3) fail("has a face of " + str(v.size()) + " vertices");
       for (size_t k = 0; k < v.size(); ++k) {
         const uint64_t a = v[k], b = v[(k + 1) % v.size()];
@@ -164,7 +166,7 @@ class PolyhedronSplitter {
     const bool wedge = faces == 5 && triangles == 2 && vertices == 6;
     const bool hex = faces == 6 && quads == 6 && vertices == 8;
     if (!(tet || pyramid || wedge || hex)) return false;
-    const std::span<const uint64_t> base = first_face_of(pyramid || hex ? 4 : 3, first, end);
+    const std::span<const FaceIndex> base = first_face_of(pyramid || hex ? 4 : 3, first, end);
     Piece p{int(vertices), {}};
     std::copy(base.begin(), base.end(), p.v.begin());
     for (size_t k = 0; k < base.size() && (wedge || hex); ++k) {
@@ -181,14 +183,14 @@ class PolyhedronSplitter {
     return true;
   }
 
-  std::span<const uint64_t> first_face_of(size_t vertices, uint64_t first, uint64_t end) const {
+  std::span<const FaceIndex> first_face_of(size_t vertices, uint64_t first, uint64_t end) const {
     for (uint64_t i = first; i < end; ++i)
       if (face(faces_.cell_faces[i]).size() == vertices) return face(faces_.cell_faces[i]);
     return {};
   }
 
   // The one vertex that shares an edge with v and is not in `base`; none if there are more.
-  std::optional<uint64_t> neighbour_off(uint64_t v, std::span<const uint64_t> base) const {
+  std::optional<uint64_t> neighbour_off(uint64_t v, std::span<const FaceIndex> base) const {
     std::optional<uint64_t> found;
     for (size_t i = 0; i < edges_.size(); i += 2) {  // each edge twice, once check_closed passed
       const Edge& e = edges_[i];
@@ -229,7 +231,7 @@ class PolyhedronSplitter {
   // is a hex, a wedge or another polyhedron); a face of more vertices a tet on each edge from
   // its centre, which the two polyhedra sharing the face share (a fan from one of its vertices
   // would make flat tets where three vertices lie on a line, as at a refinement step).
-  void add_pieces(std::span<const uint64_t> v, uint64_t centroid) {
+  void add_pieces(std::span<const FaceIndex> v, uint64_t centroid) {
     const size_t n = v.size();
     if (n == 3) return pieces_.push_back({4, {v[0], v[1], v[2], centroid}});
     if (n == 4) return pieces_.push_back({5, {v[0], v[1], v[2], v[3], centroid}});
@@ -237,7 +239,7 @@ class PolyhedronSplitter {
     for (size_t k = 0; k < n; ++k) pieces_.push_back({4, {centre, v[k], v[(k + 1) % n], centroid}});
   }
 
-  uint64_t face_centre(std::span<const uint64_t> v) {
+  uint64_t face_centre(std::span<const FaceIndex> v) {
     key_.assign(v.begin(), v.end());
     std::sort(key_.begin(), key_.end());
     const auto [at, added] = face_centres_.try_emplace(key_, 0);
@@ -283,6 +285,11 @@ class PolyhedronSplitter {
 
 }  // namespace
 
+void check_face_index_count(uint64_t count, const char* what, const std::string& file) {
+  input_check(count <= kFaceIndexLimit, file,
+              "more than 2^32 - 1 " + std::string(what) + " (polyhedra are read with 32-bit point and face ids)");
+}
+
 void PolyhedronFaces::add_face_stream(std::span<const uint64_t> stream, uint64_t cell, const std::string& file) {
   auto fail = [&](const std::string& why) {
     input_error(file, "polyhedron cell " + str(cell) + ": its face stream " + why);
@@ -294,9 +301,13 @@ void PolyhedronFaces::add_face_stream(std::span<const uint64_t> stream, uint64_t
     if (pos >= stream.size()) fail("ends before face " + str(f) + " of " + str(count));
     const uint64_t n = stream[pos++];
     if (n > stream.size() - pos) fail("ends inside face " + str(f));
-    face_vertices.insert(face_vertices.end(), stream.begin() + int64_t(pos), stream.begin() + int64_t(pos + n));
+    for (const uint64_t v : stream.subspan(pos, n)) {
+      if (v >= kFaceIndexLimit) fail("names point " + str(v) + " (more than 32 bits)");
+      face_vertices.push_back(FaceIndex(v));
+    }
     face_offsets.push_back(face_vertices.size());
-    cell_faces.push_back(face_offsets.size() - 2);
+    check_face_index_count(face_offsets.size() - 1, "polyhedron faces", file);
+    cell_faces.push_back(FaceIndex(face_offsets.size() - 2));
     pos += n;
   }
   if (pos != stream.size()) fail("holds " + str(stream.size() - pos) + " values after its " + str(count) + " faces");
@@ -315,9 +326,10 @@ PolyhedronFaces faces_in_connectivity(const MeshData& m, const std::string& file
   return faces;
 }
 
-PolyhedronFaces polyhedra_from_face_cells(std::vector<uint64_t> face_offsets, std::vector<uint64_t> face_vertices,
+PolyhedronFaces polyhedra_from_face_cells(std::vector<uint64_t> face_offsets, std::vector<FaceIndex> face_vertices,
                                           std::span<const FaceCells> face_cells, uint64_t cell_count,
                                           const std::string& file) {
+  check_face_index_count(face_cells.size(), "faces", file);
   PolyhedronFaces p;
   p.face_offsets = std::move(face_offsets);
   p.face_vertices = std::move(face_vertices);
@@ -332,7 +344,7 @@ PolyhedronFaces polyhedra_from_face_cells(std::vector<uint64_t> face_offsets, st
   std::vector<uint64_t> next(p.cell_face_offsets.begin(), p.cell_face_offsets.end() - 1);
   for (uint64_t f = 0; f < face_cells.size(); ++f)
     for (uint64_t c : {face_cells[f].first, face_cells[f].second})
-      if (c != 0) p.cell_faces[next[c - 1]++] = f;
+      if (c != 0) p.cell_faces[next[c - 1]++] = FaceIndex(f);
   return p;
 }
 
@@ -362,8 +374,7 @@ CellRebuild split_cells(MeshData& m, const PolyhedronFaces& faces, const std::st
 
 void split_polyhedra(MeshData& m, const PolyhedronFaces& faces, const std::string& file, SplitMemo* memo) {
   if (!has_polyhedra(m)) return;
-  const auto key = {std::span<const uint64_t>(faces.cell_face_offsets), std::span<const uint64_t>(faces.cell_faces),
-                    std::span<const uint64_t>(faces.face_offsets), std::span<const uint64_t>(faces.face_vertices)};
+  const auto key = faces.key();
   if (memo && memo->reuse(m, key, file)) return;
   if (memo) memo->split_begins(m, key);
   CellRebuild cells = split_cells(m, faces, file);

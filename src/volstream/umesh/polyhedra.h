@@ -3,6 +3,8 @@
 // hex, prism, pyramid or tet as one (the cells at a refinement step, whose faces are split to meet
 // their smaller neighbours), and ParaView writes them from Fluent and CGNS polyhedral meshes.
 #pragma once
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -16,14 +18,35 @@ namespace vs {
 
 constexpr uint8_t kVtkPolyhedron = 42;
 
+// A point index or a face id in PolyhedronFaces: 32 bits, as the encodings' vertex and element
+// ids are (umesh/umesh.h), which halves the largest arrays a solver case's read holds (a mesh of
+// 2^32 points or faces or more is refused, by fits_face_index).
+using FaceIndex = uint32_t;
+inline constexpr uint64_t kFaceIndexLimit = uint64_t(UINT32_MAX);  // the ids below this fit
+// InputError naming `file` unless `count` ids (points or faces) fit a FaceIndex.
+void check_face_index_count(uint64_t count, const char* what, const std::string& file);
+// A reader's point index as a FaceIndex, or the largest FaceIndex where it does not fit (negative
+// or 2^32 - 1 and up): no point has that index (check_face_index_count), so the range checks
+// that follow refuse it.
+inline FaceIndex saturated_face_index(int64_t v) {
+  return v >= 0 && uint64_t(v) < kFaceIndexLimit ? FaceIndex(v) : FaceIndex(kFaceIndexLimit);
+}
+
 // The faces of a mesh's polyhedra, in two CSR levels (the layout of VTK 9.4's XML files): cell
 // c's faces are the face ids cell_faces[cell_face_offsets[c] .. cell_face_offsets[c + 1]) (none
 // for a cell of another type), and face f's vertices, in order around it, are the point indices
 // face_vertices[face_offsets[f] .. face_offsets[f + 1]).
 struct PolyhedronFaces {
-  std::vector<uint64_t> cell_face_offsets{0}, cell_faces;
-  std::vector<uint64_t> face_offsets{0}, face_vertices;
+  std::vector<uint64_t> cell_face_offsets{0};
+  std::vector<FaceIndex> cell_faces;
+  std::vector<uint64_t> face_offsets{0};
+  std::vector<FaceIndex> face_vertices;
 
+  // The four arrays as bytes, for a SplitMemo to compare.
+  std::array<std::span<const std::byte>, 4> key() const {
+    return {std::as_bytes(std::span(cell_face_offsets)), std::as_bytes(std::span(cell_faces)),
+            std::as_bytes(std::span(face_offsets)), std::as_bytes(std::span(face_vertices))};
+  }
   // The next cell, with no faces (a cell of another type).
   void add_other_cell() { cell_face_offsets.push_back(cell_face_offsets.back()); }
   // The next cell from VTK's face stream (the faces of older XML files and of legacy files): its
@@ -43,7 +66,7 @@ struct FaceCells {
 // are face_vertices[face_offsets[f] .. face_offsets[f + 1]), and each of cells 1..cell_count has
 // the faces that name it, in face order. InputError naming `file` for a cell number above
 // cell_count.
-PolyhedronFaces polyhedra_from_face_cells(std::vector<uint64_t> face_offsets, std::vector<uint64_t> face_vertices,
+PolyhedronFaces polyhedra_from_face_cells(std::vector<uint64_t> face_offsets, std::vector<FaceIndex> face_vertices,
                                           std::span<const FaceCells> face_cells, uint64_t cell_count,
                                           const std::string& file);
 

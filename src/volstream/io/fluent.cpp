@@ -782,13 +782,13 @@ std::vector<MeshArray> FluentFile::read_cell_data(size_t step) {
 }
 
 MeshData FluentFile::read_step(size_t step) {
-  FixedMeshSplit& split = split_mesh();  // first, so that the step's values are not held beside the split's peak
-  return split.mesh_with(read_cell_data(step), impl_->case_file.string());
+  std::vector<MeshArray> cell_data = read_cell_data(step);
+  return split_mesh().mesh_with(std::move(cell_data), impl_->case_file.string());
 }
 
 MeshData FluentFile::take_step(size_t step) {
-  FixedMeshSplit& split = split_mesh();  // first, so that the step's values are not held beside the split's peak
-  return split.take_mesh_with(read_cell_data(step), impl_->case_file.string());
+  std::vector<MeshArray> cell_data = read_cell_data(step);
+  return split_mesh().take_mesh_with(std::move(cell_data), impl_->case_file.string());
 }
 
 std::string FluentFile::summary() const {

@@ -1169,13 +1169,13 @@ std::vector<MeshArray> OpenFoamCase::read_cell_data(size_t step) {
 }
 
 MeshData OpenFoamCase::read_step(size_t step) {
-  FixedMeshSplit& split = split_mesh();  // first, so that the step's values are not held beside the split's peak
-  return split.mesh_with(read_cell_data(step), impl_->steps[step].dir.string());
+  std::vector<MeshArray> cell_data = read_cell_data(step);
+  return split_mesh().mesh_with(std::move(cell_data), impl_->steps[step].dir.string());
 }
 
 MeshData OpenFoamCase::take_step(size_t step) {
-  FixedMeshSplit& split = split_mesh();  // first, so that the step's values are not held beside the split's peak
-  return split.take_mesh_with(read_cell_data(step), impl_->steps[step].dir.string());
+  std::vector<MeshArray> cell_data = read_cell_data(step);
+  return split_mesh().take_mesh_with(std::move(cell_data), impl_->steps[step].dir.string());
 }
 
 std::string OpenFoamCase::summary() const {

@@ -499,6 +499,7 @@ void read_faces(CaseFiles& files, const fs::path& dir, PolyMesh& m) {
   in.expect('(', "opening the faces");
   in.require_fits(uint64_t(n), h.binary ? 3 * uint64_t(h.label_bytes) : 8, "faces");
   m.face_offsets.reserve(size_t(n) + 1);
+  m.face_vertices.reserve(4 * size_t(n));  // quads, the common face: no doubling (the count fits the file)
   for (int64_t f = 0; f < n; ++f) {
     const int64_t vertices = in.label("a face's vertex count");
     if (vertices < 3) in.fail("face " + std::to_string(f) + " of " + std::to_string(vertices) + " vertices");

@@ -507,7 +507,7 @@ std::vector<uint64_t> keep_zones(CaseMesh& m, const std::vector<char>& chosen) {
       new_node[v] = nodes.size();
       nodes.push_back(m.nodes[v]);
     }
-    v = FaceIndex(new_node[v]);  // below v
+    v = FaceIndex(new_node[v]);  // a kept node's new number: below the case's node count, as v is
   }
   std::vector<uint8_t> types;
   for (uint64_t c : kept) types.push_back(m.cell_types[c]);

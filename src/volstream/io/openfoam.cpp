@@ -449,7 +449,6 @@ std::vector<vec3d> read_points(CaseFiles& files, const fs::path& dir) {
   const std::vector<double> xyz = read_scalars(in, h, 3, std::nullopt, "points");
   expect_end(in);
   std::vector<vec3d> points(xyz.size() / 3);
-  if (points.size() > kFaceIndexLimit) in.fail("more than 2^32 - 1 points");  // faces name them in 32 bits
   for (size_t p = 0; p < points.size(); ++p) points[p] = {xyz[3 * p], xyz[3 * p + 1], xyz[3 * p + 2]};
   return points;
 }
@@ -464,7 +463,7 @@ void add_face(Cursor& in, PolyMesh& m, uint64_t face, uint64_t vertices) {
 }
 void add_vertex(Cursor& in, PolyMesh& m, uint64_t face, int64_t v) {
   if (v < 0 || uint64_t(v) >= m.points.size()) vertex_out_of_range(in, m, face, v);
-  m.face_vertices.push_back(FaceIndex(v));  // below the point count, which fits (read_points)
+  m.face_vertices.push_back(saturated_face_index(v));  // a point count past 32 bits is refused by the split
 }
 
 // faceCompactList: the offsets (faces + 1), then every face's vertices; faceList: "N ( n(a b c)

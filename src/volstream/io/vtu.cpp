@@ -496,8 +496,7 @@ std::vector<FaceIndex> read_face_index_array(const VtuFile& f, const XmlElement&
                                              uint64_t count, const std::string& what) {
   const std::vector<uint64_t> wide = read_cell_array(f, cells, name, count, what);
   std::vector<FaceIndex> ids(wide.size());
-  for (size_t i = 0; i < wide.size(); ++i)
-    ids[i] = wide[i] < kFaceIndexLimit ? FaceIndex(wide[i]) : FaceIndex(kFaceIndexLimit);
+  for (size_t i = 0; i < wide.size(); ++i) ids[i] = saturated_face_index(int64_t(wide[i]));  // 2^63 up: negative
   return ids;
 }
 

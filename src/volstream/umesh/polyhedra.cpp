@@ -286,8 +286,10 @@ class PolyhedronSplitter {
 }  // namespace
 
 void check_face_index_count(uint64_t count, const char* what, const std::string& file) {
-  input_check(count <= kFaceIndexLimit, file,
-              "more than 2^32 - 1 " + std::string(what) + " (polyhedra are read with 32-bit point and face ids)");
+  // The message is built only on failure: add_face_stream asks once a face.
+  if (count > kFaceIndexLimit)
+    input_error(file,
+                "more than 2^32 - 1 " + std::string(what) + " (polyhedra are read with 32-bit point and face ids)");
 }
 
 void PolyhedronFaces::add_face_stream(std::span<const uint64_t> stream, uint64_t cell, const std::string& file) {

@@ -20,7 +20,7 @@ constexpr uint8_t kVtkPolyhedron = 42;
 
 // A point index or a face id in PolyhedronFaces: 32 bits, as the encodings' vertex and element
 // ids are (umesh/umesh.h), which halves the largest arrays a solver case's read holds (a mesh of
-// 2^32 points or faces or more is refused, by fits_face_index).
+// 2^32 points or faces or more is refused, by check_face_index_count).
 using FaceIndex = uint32_t;
 inline constexpr uint64_t kFaceIndexLimit = uint64_t(UINT32_MAX);  // the ids below this fit
 // InputError naming `file` unless `count` ids (points or faces) fit a FaceIndex.

@@ -18,8 +18,8 @@ echo "## images 512x512, closed form vs base (haze, blobs)"
 $BASE render $M $H -o /tmp/si/mh_b.png >/dev/null 2>&1; $PYR render $M $H -o /tmp/si/mh_p.png >/dev/null 2>&1
 $BASE render $M $B -o /tmp/si/mb_b.png >/dev/null 2>&1; $PYR render $M $B -o /tmp/si/mb_p.png >/dev/null 2>&1
 $C /tmp/si/mh_p.png /tmp/si/mh_b.png; $C /tmp/si/mb_p.png /tmp/si/mb_b.png
-echo "## farm-bench: A = closed form, B = base, mixed haze 512x512"
-farm-bench -n 10 --warmup 1 --timeout 400 --vs "$BASE render $M $H -o /tmp/si/fb_b.png" -- $PYR render $M $H -o /tmp/si/fb_a.png 2>&1
+echo "## paired-timer: A = closed form, B = base, mixed haze 512x512"
+paired-timer -n 10 --warmup 1 --timeout 400 --vs "$BASE render $M $H -o /tmp/si/fb_b.png" -- $PYR render $M $H -o /tmp/si/fb_a.png 2>&1
 echo
 echo "## 2. element maps precomputed (ISO_RECORDS=1) against the same binary without, mixed haze"
 cg $PROTO render $M $H128 -o /tmp/si/x0.png

@@ -11,6 +11,9 @@
 # On the device tool's machine (no -dev packages, no network), first here:
 #   bash scripts/device_deps.sh fetch        (the .deb files into .devdeps, about 3 MB)
 # then run with carry [".devdeps"]; the build phase unpacks them (DEPS_PREFIX, /opt/volstream-deps).
+# To spend no device time on the build: `bash scripts/gpu_prebuild.sh` here first (about 25 minutes
+# on 2 cores), and carry [".devdeps", ".gpuprebuilt"]: the build phase then unpacks that build when
+# it was made from this tree's sources, and builds otherwise.
 # Where one command may run only so long (e.g. 10 minutes), run one phase per command:
 #   scripts/gpu_check.sh L build; scripts/gpu_check.sh L test;
 #   scripts/gpu_check.sh L bench-data; scripts/gpu_check.sh L bench-stream; scripts/gpu_check.sh L bench-render
@@ -48,18 +51,48 @@ BUILD_DIR="${GPU_BUILD_DIR:-build-gpu}"  # GPU_BUILD_DIR: e.g. a CPU build, to t
 # The lent machine has no Debian -dev packages and no network: when the run carries .devdeps
 # (scripts/device_deps.sh fetch, here), they are unpacked and CMake looks there first.
 phase_build() {
-  local deps=()
+  local deps=() prefix=""
+  : >"$LOG_DIR/build.log"
   if [ -d .devdeps ]; then
-    local prefix
     prefix="$(bash scripts/device_deps.sh install .devdeps "${DEPS_PREFIX:-/opt/volstream-deps}")" || return 1
     deps=(-DCMAKE_PREFIX_PATH="$prefix")
-    echo "dependencies from .devdeps, unpacked in $prefix" >"$LOG_DIR/build.log"
+    echo "dependencies from .devdeps, unpacked in $prefix" >>"$LOG_DIR/build.log"
   fi
+  unpack_prebuilt "$prefix" >>"$LOG_DIR/build.log" 2>&1 && return 0
   BUILD_DIR=$BUILD_DIR bash scripts/build.sh -DVOLSTREAM_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES="${CUDA_ARCH:-90}" \
     "${deps[@]}" >>"$LOG_DIR/build.log" 2>&1 || { echo "build failed, see $LOG_DIR/build.log"; return 1; }
 }
 
+# scripts/gpu_prebuild.sh's archive (carried as .gpuprebuilt), when it was built from the sources of
+# this tree at this path: unpacked instead of a build. Its programs were linked here against
+# Debian's libraries, which the GPU machine has only from .devdeps, and CUDA's runtime by soname:
+# prebuilt_env.sh, beside them, puts both folders on the loader's path for every phase.
+unpack_prebuilt() {
+  local prefix="$1" archive=.gpuprebuilt/build-gpu.tar.gz stamp here
+  [ -f "$archive" ] && [ "$BUILD_DIR" = build-gpu ] || return 1
+  stamp="$(tar -xzOf "$archive" build-gpu/prebuilt_sources.sha256)" || return 1
+  here="$(bash scripts/gpu_source_hash.sh; pwd)"
+  if [ "$stamp" != "$here" ]; then
+    echo "prebuilt archive not used: built from other sources or another path ($(echo $stamp | cut -c1-12) against $(echo $here | cut -c1-12))"
+    return 1
+  fi
+  rm -rf build-gpu && tar -xzf "$archive" || return 1
+  local cuda_lib
+  cuda_lib="$(dirname "$(dirname "$(command -v nvcc || echo /usr/local/cuda/bin/nvcc)")")/lib64"
+  echo "export LD_LIBRARY_PATH=\"${prefix:+$prefix/lib/x86_64-linux-gnu:}$cuda_lib\${LD_LIBRARY_PATH:+:\$LD_LIBRARY_PATH}\"" \
+    >build-gpu/prebuilt_env.sh
+  # A library the machine lacks would fail every test: then build instead.
+  if ! (source build-gpu/prebuilt_env.sh && build-gpu/volstream --help >/dev/null); then
+    echo "prebuilt volstream does not start here: building instead"
+    rm -rf build-gpu
+    return 1
+  fi
+  echo "prebuilt build-gpu unpacked from $archive (sources $(echo $stamp | cut -c1-12)); no build"
+}
+use_prebuilt_env() { [ ! -f "$BUILD_DIR/prebuilt_env.sh" ] || source "$BUILD_DIR/prebuilt_env.sh"; }
+
 phase_test() {
+  use_prebuilt_env
   [ -x "$BUILD_DIR/volstream" ] || { echo "no $BUILD_DIR/volstream: run the build phase first"; return 1; }
   ctest --test-dir "$BUILD_DIR" --output-on-failure -j"${CTEST_JOBS:-4}" --timeout "${CTEST_TIMEOUT:-600}" >"$LOG_DIR/tests.log" 2>&1
   local status=$?
@@ -69,6 +102,7 @@ phase_test() {
 
 # bench, bench-data, bench-stream, bench-render: bench/run_gpu.sh with the parts asked for.
 phase_bench() {
+  use_prebuilt_env
   [ -x "$BUILD_DIR/volstream" ] || { echo "no $BUILD_DIR/volstream: run the build phase first"; return 1; }
   local part="${1:-all}" before=0
   [ -f "$LOG_DIR/bench.log" ] && before=$(wc -l <"$LOG_DIR/bench.log")

@@ -1,7 +1,8 @@
 // Face adjacency of a mesh, for the walk of point location (element_bvh.h): per element and per
 // face (shape.h's face numbering) the element on the other side, or kNoNeighbor on the mesh's
 // boundary and where faces do not match vertex for vertex (a quad against two triangles).
-// kMaxFaces slots per element: 24 B per element.
+// kMaxFaces slots per element: 24 B per element. Built by buckets of each face's smallest vertex
+// (16 B a face while building; adjacency.cpp).
 #pragma once
 #include <cstdint>
 #include <vector>

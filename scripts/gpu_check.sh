@@ -11,7 +11,7 @@
 # On the device tool's machine (no -dev packages, no network), first here:
 #   bash scripts/device_deps.sh fetch        (the .deb files into .devdeps, about 3 MB)
 # then run with carry [".devdeps"]; the build phase unpacks them (DEPS_PREFIX, /opt/volstream-deps).
-# To spend no device time on the build: `bash scripts/gpu_prebuild.sh` here first (about 25 minutes
+# To spend no device time on the build: `bash scripts/gpu_prebuild.sh` here first (about 17 minutes
 # on 2 cores), and carry [".devdeps", ".gpuprebuilt"]: the build phase then unpacks that build when
 # it was made from this tree's sources, and builds otherwise.
 # Where one command may run only so long (e.g. 10 minutes), run one phase per command:

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Here, before a session spends its lent GPU time: builds the CUDA configuration that
 # scripts/gpu_check.sh would build on the GPU machine, and packs what its test and bench phases
-# run into .gpuprebuilt/build-gpu.tar.gz (about 20 MB), so that the device's few minutes go to
+# run into .gpuprebuilt/build-gpu.tar.gz (about 15 MB), so that the device's few minutes go to
 # running, not compiling (its CUDA builds took 200-250 s of a 900 s budget). nvcc compiles here;
 # nothing CUDA runs here.
 #
-# usage: scripts/gpu_prebuild.sh        (about 25 minutes on 2 cores; then carry [".devdeps",
+# usage: scripts/gpu_prebuild.sh        (about 17 minutes on 2 cores; then carry [".devdeps",
 #                                        ".gpuprebuilt"] with scripts/gpu_check.sh LOG build test ...)
 # Environment: CUDA_ARCH (90), GPU_BUILD_DIR (build-gpu).
 #

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "io/mixed_mesh.h"
@@ -141,6 +142,23 @@ TEST_P(MeshProbeTest, TetWalkRecordsAreTheTetsSolvesAndNeighbours) {
   d.mesh.vertices[d.mesh.elements[0].v[3]] = d.mesh.vertices[d.mesh.elements[0].v[0]];
   if (d.mesh.elements[0].vertex_count() == 4) {
     EXPECT_FALSE(tet_walk_records(d.mesh, accel.neighbors)[0].is_tet());
+  }
+}
+
+// The records a convert writes block by block are those built whole, byte for byte, whatever
+// the block (one element, a block that does not divide the count, one larger than the mesh).
+TEST_P(MeshProbeTest, WalkRecordsInBlocksAreTheWholeRecords) {
+  const DemoMesh d = demo(GetParam(), 3000);
+  const MeshAccel accel = build_mesh_accel(d.mesh);
+  const TetWalkRecords whole = tet_walk_records(d.mesh, accel.neighbors);
+  for (const size_t block : {size_t(1), size_t(1000), size_t(1) << 20}) {
+    std::vector<TetWalkRecord> blocks;
+    const uint64_t count = for_each_tet_walk_block(
+        d.mesh, accel.neighbors,
+        [&](const TetWalkRecord* records, size_t n) { blocks.insert(blocks.end(), records, records + n); }, block);
+    ASSERT_EQ(count, whole.size()) << "block " << block;
+    ASSERT_EQ(blocks.size(), whole.size()) << "block " << block;
+    EXPECT_EQ(std::memcmp(blocks.data(), whole.data(), whole.size() * sizeof(TetWalkRecord)), 0) << "block " << block;
   }
 }
 

@@ -437,10 +437,16 @@ void DatasetWriter::write_mesh(const UMesh& mesh) {
   write_file(dir_ / dataset_files::kMeshBvhItems, accel.bvh.items.data(), accel.bvh.items.size() * sizeof(uint32_t));
   write_file(dir_ / dataset_files::kMeshNeighbors, accel.neighbors.data(), accel.neighbors.size() * sizeof(uint32_t));
   // The CPU walk's records, so that a render maps them instead of building 64 B an element in
-  // fresh memory (bench/RESULTS.md, "Walk records stored").
-  const TetWalkRecords walk = tet_walk_records(mesh, accel.neighbors);
-  manifest_.mesh.tet_walk_records = walk.size();
-  if (!walk.empty()) write_file(dir_ / dataset_files::kMeshTetWalk, walk.data(), walk.size() * sizeof(TetWalkRecord));
+  // fresh memory (bench/RESULTS.md, "Walk records stored"); written block by block as made.
+  if (has_tets(mesh)) {
+    AtomicFile walk(dir_ / dataset_files::kMeshTetWalk);
+    manifest_.mesh.tet_walk_records = for_each_tet_walk_block(
+        mesh, accel.neighbors,
+        [&](const TetWalkRecord* records, size_t count) { walk.write(records, count * sizeof(TetWalkRecord)); });
+    walk.commit();
+  } else {
+    manifest_.mesh.tet_walk_records = 0;
+  }
   // The vertices' bounds (those of a vertex of no element too: one process's world bounds),
   // then the chunk boxes: what a rank chooses its elements by (umesh/mesh_index.h).
   box3f bounds = box3f::make_empty();

@@ -64,13 +64,33 @@ bool has_tets(const UMesh& mesh) {
                      [](const UElement& el) { return el.vertex_count() == 4; });
 }
 
+namespace {
+// The records of elements [first, first + count) into out[0, count), in parallel.
+void fill_tet_walk_records(const UMesh& mesh, std::span<const uint32_t> neighbors, size_t first, size_t count,
+                           TetWalkRecord* out) {
+  parallel_for("tet walk records", int64_t(count),
+               [&](int64_t i) { new (out + i) TetWalkRecord(tet_walk_record(mesh, neighbors, first + size_t(i))); });
+}
+}  // namespace
+
 TetWalkRecords tet_walk_records(const UMesh& mesh, std::span<const uint32_t> neighbors) {
   if (!has_tets(mesh)) return {};
   TetWalkRecords records(mesh.elements.size());
-  TetWalkRecord* out = records.writable_data();
-  parallel_for("tet walk records", int64_t(records.size()),
-               [&](int64_t e) { new (out + e) TetWalkRecord(tet_walk_record(mesh, neighbors, size_t(e))); });
+  fill_tet_walk_records(mesh, neighbors, 0, records.size(), records.writable_data());
   return records;
+}
+
+uint64_t for_each_tet_walk_block(const UMesh& mesh, std::span<const uint32_t> neighbors,
+                                 const std::function<void(const TetWalkRecord*, size_t)>& consume, size_t block) {
+  if (!has_tets(mesh)) return 0;
+  const size_t elements = mesh.elements.size();
+  TetWalkRecords records(std::min(block, elements));
+  for (size_t first = 0; first < elements; first += block) {
+    const size_t count = std::min(block, elements - first);
+    fill_tet_walk_records(mesh, neighbors, first, count, records.writable_data());
+    consume(records.data(), count);
+  }
+  return elements;
 }
 
 namespace {

@@ -62,6 +62,12 @@ bool has_tets(const UMesh& mesh);
 // One walk record per element (another type's, or a degenerate tet's, with is_tet() false),
 // from the mesh and its face adjacency. Empty for a mesh without tets.
 TetWalkRecords tet_walk_records(const UMesh& mesh, std::span<const uint32_t> neighbors);
+// The same records in order, `block` elements at a time, each block handed to `consume` (records,
+// count) and then overwritten: a convert writes them as they are made, never 64 B an element at
+// once. Returns how many there were (0, and no call, for a mesh without tets).
+uint64_t for_each_tet_walk_block(const UMesh& mesh, std::span<const uint32_t> neighbors,
+                                 const std::function<void(const TetWalkRecord*, size_t)>& consume,
+                                 size_t block = size_t(1) << 16);
 // InputError naming `file` unless `stored` holds exactly the records tet_walk_records would
 // build: one per element, a tet's where the mesh has a sound tet (its corner 0, its neighbours
 // the adjacency's) and none elsewhere. The rows may differ by rounding (a build with fused

@@ -83,6 +83,7 @@ TetWalkRecords tet_walk_records(const UMesh& mesh, std::span<const uint32_t> nei
 uint64_t for_each_tet_walk_block(const UMesh& mesh, std::span<const uint32_t> neighbors,
                                  const std::function<void(const TetWalkRecord*, size_t)>& consume, size_t block) {
   if (!has_tets(mesh)) return 0;
+  block = std::max<size_t>(block, 1);  // a block of none would never end
   const size_t elements = mesh.elements.size();
   TetWalkRecords records(std::min(block, elements));
   for (size_t first = 0; first < elements; first += block) {

@@ -158,6 +158,7 @@ TEST_P(MeshProbeTest, WalkRecordsInBlocksAreTheWholeRecords) {
         [&](const TetWalkRecord* records, size_t n) { blocks.insert(blocks.end(), records, records + n); }, block);
     ASSERT_EQ(count, whole.size()) << "block " << block;
     ASSERT_EQ(blocks.size(), whole.size()) << "block " << block;
+    if (whole.empty()) continue;  // no tets (the mixed demo): no records either way
     EXPECT_EQ(std::memcmp(blocks.data(), whole.data(), whole.size() * sizeof(TetWalkRecord)), 0) << "block " << block;
   }
 }

@@ -55,7 +55,9 @@ void for_each_face(const UMesh& mesh, Visit&& visit) {
 // Faces are sorted into buckets by their smallest vertex (a counting sort: no 24-byte key per
 // face and no sort of them all), then each bucket, a few faces, by the other three. A run of
 // equal faces is two elements sharing a conforming face (three or more: a broken mesh, no
-// neighbour there, and the walk falls back to the BVH).
+// neighbour there, and the walk falls back to the BVH). Each face is made and sorted twice, to
+// count it and to place it, rather than kept from the first pass (4 more bytes a face held);
+// the converts' times did not move with it (bench/RESULTS.md, "Face adjacency by buckets").
 template <typename Slot>
 std::vector<uint32_t> match_faces(const UMesh& mesh) {
   const size_t vertices = mesh.vertices.size();
